@@ -1,0 +1,29 @@
+"""Exact visibility and occlusion of road users in omega-prime traffic recordings.
+
+>>> from omega_prime_visibility import get_visibility_df
+"""
+
+from .api import get_visibility_df, get_visibility_df_for_frame
+from .engines import ENGINES, Observation
+from .scene import VisibilityInputWarning
+from .table import SCHEMA
+
+__all__ = [
+    "ENGINES",
+    "SCHEMA",
+    "Observation",
+    "VisibilityInputWarning",
+    "get_visibility_df",
+    "get_visibility_df_for_frame",
+    "metrics",
+    "visibility",
+]
+
+
+def __getattr__(name: str):
+    # the Metric imports omega-prime, which takes seconds: load it only when asked for
+    if name in ("visibility", "metrics"):
+        from . import metric
+
+        return getattr(metric, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -1,0 +1,228 @@
+"""The user's entry points: ``get_visibility_df`` and ``get_visibility_df_for_frame``."""
+
+from __future__ import annotations
+
+import warnings
+from collections import Counter
+from collections.abc import Sequence
+from typing import Any, Literal
+
+import numpy as np
+import polars as pl
+import shapely
+from tqdm.auto import tqdm
+
+from .engines import Observation, get_engine
+from .geometry import covers_point
+from .scene import (
+    FrameObjects,
+    ObjectTable,
+    OnInvalid,
+    StaticOccluders,
+    VisibilityInputWarning,
+    load_objects,
+    load_static_occluders,
+)
+from .table import TableBuilder
+
+EgoSpec = int | Sequence[int] | Literal["all"]
+PROGRESS_MIN_FRAMES = 200
+
+
+def resolve_egos(ego_idx: EgoSpec, objects: ObjectTable) -> tuple[np.ndarray, bool]:
+    """The observers' idx as an ascending array, and whether the table needs an ``ego_idx`` column."""
+    present = np.unique(objects.idx)
+    if isinstance(ego_idx, str):
+        if ego_idx != "all":
+            raise ValueError(f"ego_idx must be an int, a list of ints or 'all', not {ego_idx!r}")
+        return present, True
+    many = not isinstance(ego_idx, int | np.integer)
+    egos = np.unique(np.atleast_1d(np.asarray(ego_idx)))
+    if egos.size == 0 or not np.issubdtype(egos.dtype, np.integer):
+        raise ValueError(f"ego_idx must be an int, a list of ints or 'all', not {ego_idx!r}")
+    missing = egos[~np.isin(egos, present)]
+    if len(missing):
+        shown = present[:20].tolist()
+        raise ValueError(
+            f"ego idx {missing.tolist()} never occurs among the usable rows of the table "
+            f"(idx present: {shown}{' ...' if len(present) > 20 else ''})"
+        )
+    return egos.astype(np.int64), many
+
+
+class _ContainmentLog:
+    """Counts objects that contain an observer, for one summarising warning."""
+
+    def __init__(self) -> None:
+        self.frames: Counter[tuple[int, int]] = Counter()
+        self.first: dict[tuple[int, int], int] = {}
+
+    def add(self, ego: int, idx: np.ndarray, frame: int) -> None:
+        for i in idx.tolist():
+            self.frames[(ego, i)] += 1
+            self.first.setdefault((ego, i), frame)
+
+    def warn(self) -> None:
+        if not self.frames:
+            return
+        parts = [
+            f"idx {i} contains observer {e} in {c} frame(s) (first frame {self.first[(e, i)]})"
+            for (e, i), c in sorted(self.frames.items())[:10]
+        ]
+        more = len(self.frames) - 10
+        warnings.warn(
+            "objects containing the observer are treated as transparent (never occluders) and reported with "
+            f"visibility 1.0: {'; '.join(parts)}{f'; and {more} more' if more > 0 else ''}",
+            VisibilityInputWarning,
+            stacklevel=3,
+        )
+
+
+def _static_transparent(statics: StaticOccluders, observer: np.ndarray) -> np.ndarray:
+    if statics.n_sources == 0:
+        return np.zeros(0, dtype=bool)
+    return np.asarray(shapely.intersects(statics.geometries, shapely.Point(observer)), dtype=bool)
+
+
+def observe_frame(
+    engine: Any,
+    statics: StaticOccluders,
+    objects: FrameObjects,
+    egos: np.ndarray,
+    builder: TableBuilder,
+    containment: _ContainmentLog,
+) -> None:
+    """Run the engine for every observer present in this frame and add the rows to ``builder``."""
+    n = len(objects)
+    present = egos[np.isin(egos, objects.idx)]
+    if len(present) == 0:
+        return
+    pos = np.searchsorted(objects.idx, present)
+    observers = objects.position[pos]
+    transparent = np.zeros((len(pos), n), dtype=bool)
+    static_transparent = np.zeros((len(pos), statics.n_sources), dtype=bool)
+    for k, p in enumerate(pos):
+        transparent[k] = covers_point(observers[k], objects.rings)
+        transparent[k, p] = True
+        static_transparent[k] = _static_transparent(statics, observers[k])
+    results: list[Observation] = engine.observe_many(objects, observers, transparent, static_transparent)
+    for k, (p, obs) in enumerate(zip(pos, results, strict=True)):
+        rows = np.flatnonzero(np.arange(n) != p)
+        inside = transparent[k, rows]
+        if inside.any():
+            containment.add(int(objects.idx[p]), objects.idx[rows[inside]], objects.frame)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            vis = np.clip(obs.visible_angle[rows] / obs.angular_extent[rows], 0.0, 1.0)
+        occ_off, occ = _select(obs.occluder_offsets, obs.occluders, rows, inside)
+        st_off, st = _select(obs.static_offsets, obs.static_occluders, rows, inside)
+        # nothing hit before the target in any direction means, by definition, fully visible
+        unblocked = (np.diff(occ_off) == 0) & (np.diff(st_off) == 0)
+        vis = np.where(inside | unblocked, 1.0, vis)
+        builder.add(
+            objects.frame,
+            objects.total_nanos,
+            int(objects.idx[p]),
+            objects.idx[rows],
+            vis,
+            occ_off,
+            objects.idx[occ],
+            st_off,
+            st,
+        )
+
+
+def _select(
+    offsets: np.ndarray, values: np.ndarray, rows: np.ndarray, empty: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Ragged lists of ``rows`` (in order), with the lists of rows flagged ``empty`` emptied."""
+    sizes = np.where(empty, 0, offsets[rows + 1] - offsets[rows])
+    out = np.zeros(len(rows) + 1, dtype=np.int64)
+    np.cumsum(sizes, out=out[1:])
+    take = np.repeat(offsets[rows] - out[:-1], sizes) + np.arange(out[-1])
+    return out, values[take]
+
+
+def get_visibility_df(
+    df: Any,
+    ego_idx: EgoSpec,
+    static_occluder_polys: Sequence[shapely.Geometry] | None = None,
+    *,
+    engine: str = "visilibity",
+    progress: bool | None = None,
+    on_invalid: OnInvalid = "warn",
+) -> pl.DataFrame:
+    """Visibility and occluders of every object, seen from the ego, in every frame where the ego exists.
+
+    Parameters
+    ----------
+    df : omega_prime.Recording, polars.DataFrame or polars.LazyFrame
+        The moving-object table: ``frame, total_nanos, idx, x, y`` and either a ``polygon`` column (shapely
+        polygons) or ``length, width, yaw`` (metres, radians counter-clockwise from +x).
+    ego_idx : int, list of int or "all"
+        The observing object(s); the observer sits at the centre ``(x, y)`` of its bounding box. With more than
+        one, the table gains an ``ego_idx`` column.
+    static_occluder_polys : sequence of shapely geometries, optional
+        Static occluders (Polygon, MultiPolygon, LineString, ...), reported by their position in this sequence.
+    engine : str
+        Registered engine name (``"visilibity"``, the default).
+    progress : bool, optional
+        Show a progress bar; by default only for long recordings.
+    on_invalid : {"warn", "raise"}
+        Skip unusable rows (NaN pose, zero-size or invalid outline) with a warning, or raise.
+
+    Returns
+    -------
+    polars.DataFrame
+        One row per (frame, observer, target): ``frame, total_nanos, [ego_idx], idx, occluder_idxs,
+        static_occluder_idxs, visibility`` where ``visibility`` in [0, 1] is the fraction of the target's
+        angular extent along which it is the first thing hit, and the occluder lists hold, ascending, the
+        objects and static occluders hit before the target along at least one direction.
+
+    Examples
+    --------
+    >>> import polars as pl
+    >>> objects = pl.DataFrame({"frame": [0, 0, 0], "total_nanos": [0, 0, 0], "idx": [0, 1, 2],
+    ...     "x": [0.0, 10.0, 20.0], "y": [0.0, 0.0, 0.0], "length": [4.0, 4.0, 4.0],
+    ...     "width": [2.0, 4.0, 2.0], "yaw": [0.0, 0.0, 0.0]})
+    >>> get_visibility_df(objects, ego_idx=0).select("idx", "occluder_idxs", "visibility").rows()
+    [(1, [], 1.0), (2, [1], 0.0)]
+    """
+    objects = load_objects(df, on_invalid=on_invalid)
+    statics = load_static_occluders(static_occluder_polys)
+    egos, with_ego = resolve_egos(ego_idx, objects)
+    eng = get_engine(engine)(statics)
+    builder = TableBuilder(with_ego=with_ego)
+    containment = _ContainmentLog()
+    show = objects.n_frames >= PROGRESS_MIN_FRAMES if progress is None else progress
+    for k in tqdm(range(objects.n_frames), disable=not show, desc="visibility", unit="frame"):
+        observe_frame(eng, statics, objects.frame_objects(k), egos, builder, containment)
+    containment.warn()
+    return builder.build()
+
+
+def get_visibility_df_for_frame(
+    df: Any,
+    ego_idx: EgoSpec,
+    frame: int,
+    static_occluder_polys: Sequence[shapely.Geometry] | None = None,
+    *,
+    engine: str = "visilibity",
+    on_invalid: OnInvalid = "warn",
+) -> pl.DataFrame:
+    """:func:`get_visibility_df` for a single frame number (same parameters and columns).
+
+    Raises
+    ------
+    ValueError
+        If the frame does not occur in the table.
+    """
+    table = df._df if hasattr(df, "_df") and not isinstance(df, pl.DataFrame | pl.LazyFrame) else df
+    lazy = table.lazy() if isinstance(table, pl.DataFrame) else table
+    if not isinstance(lazy, pl.LazyFrame):
+        raise TypeError(f"expected an omega_prime.Recording or a polars DataFrame/LazyFrame, got {type(df)!r}")
+    if "frame" not in lazy.collect_schema().names():
+        raise ValueError("the moving-object table lacks the column 'frame'")
+    one = lazy.filter(pl.col("frame") == frame).collect()
+    if one.height == 0:
+        raise ValueError(f"frame {frame} does not occur in the table")
+    return get_visibility_df(one, ego_idx, static_occluder_polys, engine=engine, progress=False, on_invalid=on_invalid)

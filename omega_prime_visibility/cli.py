@@ -1,0 +1,97 @@
+"""Command line: ``omega-prime-visibility run RECORDING --ego 0`` prints or writes the visibility table."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import polars as pl
+import typer
+
+from .engines import ENGINES
+
+app = typer.Typer(add_completion=False, no_args_is_help=True, help=__doc__)
+
+
+def _parse_ego(ego: str) -> int | list[int] | str:
+    if ego == "all":
+        return "all"
+    try:
+        values = [int(v) for v in ego.split(",")]
+    except ValueError:
+        raise typer.BadParameter(f"--ego takes an idx, a comma-separated list of idx, or 'all', not {ego!r}") from None
+    return values[0] if len(values) == 1 else values
+
+
+def load_recording(path: Path, map_path: Path | None = None):
+    """An ``omega_prime.Recording`` from an MCAP or OSI file, with polygons; clear errors for bad files."""
+    import omega_prime
+
+    if not path.exists():
+        raise typer.BadParameter(f"{path} does not exist")
+    try:
+        kwargs = {"map_path": str(map_path)} if map_path else {}
+        return omega_prime.Recording.from_file(str(path), compute_polygons=True, **kwargs)
+    except Exception as e:  # omega-prime raises many kinds; name the file
+        raise typer.BadParameter(f"cannot read {path} as an omega-prime recording: {type(e).__name__}: {e}") from e
+
+
+@app.command()
+def run(
+    recording: Annotated[Path, typer.Argument(help="omega-prime MCAP (or OSI trace with --map)")],
+    ego: Annotated[str, typer.Option(help="observer idx, comma-separated idx, or 'all'; default: host vehicle")] = "",
+    engine: Annotated[str, typer.Option(help=f"one of {sorted(ENGINES)}")] = "visilibity",
+    output: Annotated[Path | None, typer.Option("-o", "--output", help="write .parquet or .csv here")] = None,
+    map_path: Annotated[Path | None, typer.Option("--map", help="OpenDRIVE map for OSI traces")] = None,
+    progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
+    rows: Annotated[int, typer.Option(help="rows to print when no output is given")] = 20,
+) -> None:
+    """Compute the visibility table of one recording."""
+    from .api import get_visibility_df
+
+    r = load_recording(recording, map_path)
+    if ego:
+        ego_idx = _parse_ego(ego)
+    elif r.host_vehicle_idx is not None:
+        ego_idx = int(r.host_vehicle_idx)
+    else:
+        raise typer.BadParameter(f"{recording} names no host vehicle: pass --ego IDX")
+    try:
+        table = get_visibility_df(r, ego_idx, engine=engine, progress=progress)
+    except ValueError as e:
+        typer.echo(f"error: {e}", err=True)
+        raise typer.Exit(2) from e
+    if output is None:
+        with pl.Config(tbl_rows=rows, tbl_cols=-1, fmt_table_cell_list_len=8):
+            typer.echo(table)
+        summary = table.group_by("idx").agg(
+            pl.col("visibility").mean().alias("mean_visibility"),
+            (pl.col("visibility") < 1e-9).mean().alias("hidden_share"),
+            pl.col("occluder_idxs").flatten().unique().drop_nulls().sort().alias("occluders"),
+        )
+        with pl.Config(tbl_rows=-1, fmt_table_cell_list_len=8):
+            typer.echo(summary.sort("idx"))
+    elif output.suffix == ".parquet":
+        table.write_parquet(output)
+    elif output.suffix == ".csv":
+        table.with_columns(
+            pl.col("occluder_idxs", "static_occluder_idxs").list.eval(pl.element().cast(pl.String)).list.join(" ")
+        ).write_csv(output)
+    else:
+        raise typer.BadParameter(f"output must end in .parquet or .csv, not {output.suffix!r}")
+
+
+@app.command()
+def engines() -> None:
+    """List the available engines."""
+    for name in sorted(ENGINES):
+        typer.echo(name)
+
+
+def main() -> None:
+    app(sys.argv[1:])
+
+
+if __name__ == "__main__":
+    main()

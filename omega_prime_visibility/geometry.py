@@ -1,0 +1,218 @@
+"""Plane geometry over ragged ring arrays.
+
+All functions here are pure and vectorised over numpy arrays. Conventions used throughout the package:
+
+- lengths in metres, angles in radians, measured counter-clockwise from the +x axis of the recording's frame;
+- a set of polygon rings is stored *ragged*: ``coords`` of shape ``(m, 2)`` holds the vertices of all rings one
+  after the other (first vertex not repeated at the end) and ``offsets`` of shape ``(n + 1,)`` says that ring ``i``
+  is ``coords[offsets[i]:offsets[i + 1]]``;
+- rings are oriented so that the material lies on the left of every directed edge (exterior rings
+  counter-clockwise, interior rings clockwise).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+TWO_PI = 2.0 * np.pi
+
+
+@dataclass(frozen=True, slots=True)
+class Rings:
+    """Closed polygon rings as ragged arrays.
+
+    Attributes
+    ----------
+    coords : ndarray, shape (m, 2), float64
+        Vertices of all rings, ring after ring, in metres. The first vertex of a ring is not repeated at its end.
+    offsets : ndarray, shape (n + 1,), int64
+        Ring ``i`` is ``coords[offsets[i]:offsets[i + 1]]``; every ring has at least three vertices.
+    """
+
+    coords: np.ndarray
+    offsets: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.offsets) - 1
+
+    @property
+    def sizes(self) -> np.ndarray:
+        """Number of vertices of each ring, shape (n,)."""
+        return np.diff(self.offsets)
+
+    def ring(self, i: int) -> np.ndarray:
+        """Vertices of ring ``i``, shape (k, 2)."""
+        return self.coords[self.offsets[i] : self.offsets[i + 1]]
+
+    def take(self, positions: np.ndarray) -> Rings:
+        """The rings at ``positions`` (in that order) as a new ``Rings``."""
+        positions = np.asarray(positions, dtype=np.int64)
+        sizes = self.sizes[positions]
+        offsets = np.zeros(len(positions) + 1, dtype=np.int64)
+        np.cumsum(sizes, out=offsets[1:])
+        vertex = np.repeat(self.offsets[positions] - offsets[:-1], sizes) + np.arange(offsets[-1])
+        return Rings(self.coords[vertex], offsets)
+
+    def slice(self, start: int, stop: int) -> Rings:
+        """Rings ``start`` to ``stop - 1`` as a view-backed ``Rings``."""
+        offsets = self.offsets[start : stop + 1]
+        return Rings(self.coords[offsets[0] : offsets[-1]], offsets - offsets[0])
+
+    @staticmethod
+    def empty() -> Rings:
+        return Rings(np.zeros((0, 2)), np.zeros(1, dtype=np.int64))
+
+
+def ring_ids(offsets: np.ndarray) -> np.ndarray:
+    """Ring number of every vertex, shape (m,)."""
+    return np.repeat(np.arange(len(offsets) - 1), np.diff(offsets))
+
+
+def next_vertex(offsets: np.ndarray) -> np.ndarray:
+    """Index of the following vertex of the same ring (wrapping to the ring's first), shape (m,)."""
+    nxt = np.arange(1, offsets[-1] + 1)
+    ends = offsets[1:] - 1
+    nxt[ends] = offsets[:-1]
+    return nxt
+
+
+def edges(rings: Rings) -> tuple[np.ndarray, np.ndarray]:
+    """Start and end points of every edge, each shape (m, 2); edge ``j`` belongs to ring ``ring_ids[j]``."""
+    return rings.coords, rings.coords[next_vertex(rings.offsets)]
+
+
+def signed_area(rings: Rings) -> np.ndarray:
+    """Signed area of each ring in square metres (positive when counter-clockwise), shape (n,)."""
+    if len(rings) == 0:
+        return np.zeros(0)
+    a, b = edges(rings)
+    cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    return 0.5 * np.add.reduceat(cross, rings.offsets[:-1]) if len(cross) else np.zeros(len(rings))
+
+
+def orient(rings: Rings, counter_clockwise: np.ndarray | bool = True) -> Rings:
+    """Reverse the rings whose orientation differs from the requested one.
+
+    Parameters
+    ----------
+    rings : Rings
+    counter_clockwise : bool or ndarray of bool, shape (n,)
+        Wanted orientation of each ring.
+    """
+    want = np.broadcast_to(np.asarray(counter_clockwise, dtype=bool), (len(rings),))
+    flip = (signed_area(rings) > 0) != want
+    if not flip.any():
+        return rings
+    coords = rings.coords.copy()
+    for i in np.flatnonzero(flip):
+        s, e = rings.offsets[i], rings.offsets[i + 1]
+        coords[s:e] = coords[s:e][::-1]
+    return Rings(coords, rings.offsets)
+
+
+def box_rings(x: np.ndarray, y: np.ndarray, length: np.ndarray, width: np.ndarray, yaw: np.ndarray) -> Rings:
+    """Counter-clockwise rectangles from centre, size and heading.
+
+    Parameters
+    ----------
+    x, y : ndarray, shape (n,)
+        Centre of each rectangle, metres.
+    length, width : ndarray, shape (n,)
+        Extent along and across the heading, metres.
+    yaw : ndarray, shape (n,)
+        Heading, radians counter-clockwise from +x.
+    """
+    c, s = np.cos(yaw), np.sin(yaw)
+    hl, hw = 0.5 * np.asarray(length), 0.5 * np.asarray(width)
+    # corners in the body frame, counter-clockwise: rear-right, front-right, front-left, rear-left
+    bx = np.stack([-hl, hl, hl, -hl], axis=1)
+    by = np.stack([-hw, -hw, hw, hw], axis=1)
+    coords = np.empty((len(c), 4, 2))
+    coords[..., 0] = np.asarray(x)[:, None] + c[:, None] * bx - s[:, None] * by
+    coords[..., 1] = np.asarray(y)[:, None] + s[:, None] * bx + c[:, None] * by
+    return Rings(coords.reshape(-1, 2), np.arange(0, 4 * len(c) + 1, 4, dtype=np.int64))
+
+
+def angular_extent(observer: np.ndarray, rings: Rings) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Directions from an observer that hit each ring's polygon.
+
+    For an observer outside a polygon the directions hitting it form one interval ``[start, start + width]``
+    with ``0 < width < 2 pi``; it may straddle the -pi/pi wrap. The interval is found by unwrapping the vertex
+    bearings along the ring (robust at the wrap), not by min/max of ``atan2``.
+
+    Parameters
+    ----------
+    observer : ndarray, shape (2,)
+        Observer position, metres.
+    rings : Rings
+        n polygon rings (any orientation).
+
+    Returns
+    -------
+    start : ndarray, shape (n,)
+        Bearing where the interval starts, radians in [-pi, pi).
+    width : ndarray, shape (n,)
+        Width of the interval, radians. Meaningless where ``winding`` is not 0.
+    winding : ndarray, shape (n,), int64
+        Winding number of the ring around the observer: 0 when the observer is outside.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> sq = box_rings(np.array([10.0]), np.array([0.0]), np.array([2.0]), np.array([2.0]), np.array([0.0]))
+    >>> start, width, winding = angular_extent(np.zeros(2), sq)
+    >>> bool(np.isclose(width[0], 2 * np.arctan2(1, 9))), int(winding[0])
+    (True, 0)
+    """
+    n = len(rings)
+    if n == 0:
+        return np.zeros(0), np.zeros(0), np.zeros(0, dtype=np.int64)
+    a, b = edges(rings)
+    a = a - observer
+    b = b - observer
+    step = np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1])
+    first = rings.offsets[:-1]
+    cum = np.cumsum(step)
+    base = np.concatenate([[0.0], cum])[first]
+    # unwrapped bearing of each vertex's successor, relative to the ring's first vertex
+    rel = cum - np.repeat(base, rings.sizes)
+    lo = np.minimum(np.minimum.reduceat(rel, first), 0.0)
+    hi = np.maximum(np.maximum.reduceat(rel, first), 0.0)
+    total = rel[rings.offsets[1:] - 1]
+    winding = np.rint(total / TWO_PI).astype(np.int64)
+    bearing0 = np.arctan2(a[first, 1], a[first, 0])
+    start = np.mod(bearing0 + lo + np.pi, TWO_PI) - np.pi
+    return start, hi - lo, winding
+
+
+def distance_to_rings(point: np.ndarray, rings: Rings) -> np.ndarray:
+    """Euclidean distance from ``point`` to the boundary of each ring, metres, shape (n,)."""
+    if len(rings) == 0:
+        return np.zeros(0)
+    a, b = edges(rings)
+    d = b - a
+    p = point - a
+    t = np.clip(np.einsum("ij,ij->i", p, d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-300), 0.0, 1.0)
+    dist = np.hypot(p[:, 0] - t * d[:, 0], p[:, 1] - t * d[:, 1])
+    return np.minimum.reduceat(dist, rings.offsets[:-1])
+
+
+def covers_point(point: np.ndarray, rings: Rings, tolerance: float = 1e-9) -> np.ndarray:
+    """Whether each ring's polygon contains ``point`` or has it on (within ``tolerance`` metres of) its boundary."""
+    _, _, winding = angular_extent(point, rings)
+    return (winding != 0) | (distance_to_rings(point, rings) <= tolerance)
+
+
+def bearing(points: np.ndarray, observer: np.ndarray) -> np.ndarray:
+    """Bearing of each point seen from ``observer``, radians in (-pi, pi], shape (k,)."""
+    d = np.asarray(points) - observer
+    return np.arctan2(d[..., 1], d[..., 0])
+
+
+def subtended_angle(a: np.ndarray, b: np.ndarray, observer: np.ndarray) -> np.ndarray:
+    """Signed angle from ``a`` to ``b`` seen from ``observer`` (positive counter-clockwise), radians, shape (k,)."""
+    a = a - observer
+    b = b - observer
+    return np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1])

@@ -1,0 +1,51 @@
+"""The ``visibility`` Metric for omega-prime's metric pipeline.
+
+>>> import omega_prime
+>>> from omega_prime_visibility import visibility
+>>> manager = omega_prime.metrics.MetricManager(metrics=[visibility])  # doctest: +SKIP
+>>> df, properties = manager.compute(recording, ego_id=0)  # doctest: +SKIP
+>>> properties["visibility"]  # the table of get_visibility_df  # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Literal
+
+import polars as pl
+import shapely
+from omega_prime.metrics import metric
+
+from .api import EgoSpec, get_visibility_df
+from .scene import OnInvalid
+
+
+@metric(computes_properties=["visibility"])
+def visibility(
+    df: pl.LazyFrame,
+    /,
+    ego_id: EgoSpec,
+    static_occluder_polys: Sequence[shapely.Geometry] | None = None,
+    engine: str = "visilibity",
+    progress: bool | Literal[False] = False,
+    on_invalid: OnInvalid = "warn",
+) -> tuple[pl.LazyFrame, dict[str, pl.LazyFrame]]:
+    """Visibility of every object from ``ego_id`` (one idx, a list, or ``"all"``) in every frame.
+
+    The property ``"visibility"`` is the table of :func:`omega_prime_visibility.get_visibility_df`; the
+    object table passes through unchanged. The perspective parameter is named ``ego_id`` as in omega-prime's
+    own metrics, so one ``MetricManager.compute(r, ego_id=...)`` call serves them all.
+    """
+    table = get_visibility_df(
+        df,
+        ego_id,
+        static_occluder_polys,
+        engine=engine,
+        progress=progress,
+        on_invalid=on_invalid,
+    )
+    return df, {"visibility": table.lazy()}
+
+
+metrics = [visibility]
+"""All metrics of this package, for omega-prime's plugin discovery."""

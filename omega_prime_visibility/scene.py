@@ -1,0 +1,332 @@
+"""From a recording to per-frame scene arrays: input checks with clear errors, grouping by frame once.
+
+Data flows one way: :func:`load_objects` validates the moving-object table a single time and sorts it by
+``(frame, idx)``; :meth:`ObjectTable.frames` then hands out one :class:`FrameObjects` per frame as slices of
+the same arrays (no per-frame filtering of the table). :func:`load_static_occluders` does the same for static
+geometry, which is shared by all frames.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import numpy as np
+import polars as pl
+import shapely
+
+from .geometry import Rings, box_rings, orient, signed_area
+
+REQUIRED_COLUMNS = ("frame", "total_nanos", "idx", "x", "y")
+BOX_COLUMNS = ("length", "width", "yaw")
+MIN_AREA = 1e-6  # m²; smaller polygons are "zero-size"
+
+OnInvalid = Literal["warn", "raise"]
+
+
+class VisibilityInputWarning(UserWarning):
+    """Rows or geometries were skipped, or treated specially, because of a problem in the input."""
+
+
+@dataclass(frozen=True, slots=True)
+class FrameObjects:
+    """The objects of one frame as arrays.
+
+    Attributes
+    ----------
+    frame, total_nanos : int
+        Frame number and timestamp (nanoseconds) of the frame.
+    idx : ndarray, shape (n,), int64
+        Object ids, ascending.
+    position : ndarray, shape (n, 2), float64
+        Bounding-box centres, metres.
+    yaw : ndarray, shape (n,), float64
+        Headings, radians counter-clockwise from +x (0 where the table had no ``yaw``).
+    rings : Rings
+        One counter-clockwise outline per object.
+    """
+
+    frame: int
+    total_nanos: int
+    idx: np.ndarray
+    position: np.ndarray
+    yaw: np.ndarray
+    rings: Rings
+
+    def __len__(self) -> int:
+        return len(self.idx)
+
+
+@dataclass(frozen=True, slots=True)
+class ObjectTable:
+    """A validated moving-object table, sorted by ``(frame, idx)``, with one outline per row."""
+
+    frame: np.ndarray
+    total_nanos: np.ndarray
+    idx: np.ndarray
+    position: np.ndarray
+    yaw: np.ndarray
+    rings: Rings
+    frame_starts: np.ndarray  # (f + 1,) row where each frame starts
+
+    @property
+    def n_frames(self) -> int:
+        return len(self.frame_starts) - 1
+
+    def frame_objects(self, k: int) -> FrameObjects:
+        """The ``k``-th frame (0-based position, not the frame number)."""
+        s, e = int(self.frame_starts[k]), int(self.frame_starts[k + 1])
+        return FrameObjects(
+            frame=int(self.frame[s]),
+            total_nanos=int(self.total_nanos[s]),
+            idx=self.idx[s:e],
+            position=self.position[s:e],
+            yaw=self.yaw[s:e],
+            rings=self.rings.slice(s, e),
+        )
+
+    def frames(self) -> Iterator[FrameObjects]:
+        for k in range(self.n_frames):
+            yield self.frame_objects(k)
+
+
+@dataclass(frozen=True, slots=True)
+class StaticOccluders:
+    """Static geometry shared by all frames.
+
+    Attributes
+    ----------
+    rings : Rings
+        Polygon rings, material on the left (exteriors counter-clockwise, interiors clockwise).
+    ring_source : ndarray, shape (r,), int64
+        Position, in the user's list, of the occluder each ring comes from.
+    segments : ndarray, shape (s, 2, 2), float64
+        Two-sided wall segments from LineStrings, ``segments[j] = [[x0, y0], [x1, y1]]``.
+    segment_source : ndarray, shape (s,), int64
+        Position, in the user's list, of the occluder each segment comes from.
+    geometries : ndarray of shapely geometries, shape (n_sources,)
+        The occluders as given (validated).
+    """
+
+    rings: Rings
+    ring_source: np.ndarray
+    segments: np.ndarray
+    segment_source: np.ndarray
+    geometries: np.ndarray
+
+    @property
+    def n_sources(self) -> int:
+        return len(self.geometries)
+
+    @staticmethod
+    def none() -> StaticOccluders:
+        return load_static_occluders(None)
+
+
+def _report(problem: str, on_invalid: OnInvalid) -> None:
+    if on_invalid == "raise":
+        raise ValueError(problem)
+    warnings.warn(problem, VisibilityInputWarning, stacklevel=4)
+
+
+def as_polars(data: Any) -> pl.DataFrame:
+    """Accept an ``omega_prime.Recording``, a polars ``DataFrame`` or ``LazyFrame``; return a DataFrame."""
+    if isinstance(data, pl.LazyFrame):
+        return data.collect()
+    if isinstance(data, pl.DataFrame):
+        return data
+    inner = getattr(data, "_df", None)
+    if isinstance(inner, pl.DataFrame | pl.LazyFrame):
+        return as_polars(inner)
+    raise TypeError(
+        f"expected an omega_prime.Recording or a polars DataFrame/LazyFrame of moving objects, got {type(data)!r}"
+    )
+
+
+def _check_columns(df: pl.DataFrame) -> bool:
+    """Raise on missing columns; return whether outlines come from the ``polygon`` column."""
+    missing = [c for c in REQUIRED_COLUMNS if c not in df.columns]
+    if missing:
+        raise ValueError(
+            f"the moving-object table lacks the column(s) {missing}; it needs {list(REQUIRED_COLUMNS)} "
+            f"and either 'polygon' or {list(BOX_COLUMNS)} (columns present: {df.columns})"
+        )
+    use_polygon = "polygon" in df.columns and df["polygon"].dtype == pl.Object
+    if not use_polygon and any(c not in df.columns for c in BOX_COLUMNS):
+        raise ValueError(
+            f"the moving-object table has no 'polygon' column of shapely polygons and lacks "
+            f"{[c for c in BOX_COLUMNS if c not in df.columns]} to build box outlines"
+        )
+    return use_polygon
+
+
+def _float(df: pl.DataFrame, name: str) -> np.ndarray:
+    return df[name].cast(pl.Float64).fill_null(np.nan).to_numpy()
+
+
+def _polygon_rings(polygons: np.ndarray, candidate: np.ndarray) -> tuple[Rings, np.ndarray, list[str]]:
+    """Exterior rings of the usable shapely polygons among the ``candidate`` rows.
+
+    Returns the rings of the usable rows (in row order), the mask of usable rows and the reasons for the others.
+    """
+    is_polygon = candidate & np.array([isinstance(p, shapely.Polygon) for p in polygons], dtype=bool)
+    reasons = []
+    if (candidate & ~is_polygon).any():
+        reasons.append(f"{int((candidate & ~is_polygon).sum())} outline(s) not a shapely Polygon")
+    geoms = np.where(is_polygon, polygons, None)
+    valid = is_polygon & np.asarray(shapely.is_valid(geoms), dtype=bool)
+    if (is_polygon & ~valid).any():
+        reasons.append(f"{int((is_polygon & ~valid).sum())} invalid (e.g. self-intersecting) polygon(s)")
+    area = np.where(valid, shapely.area(np.where(valid, geoms, None)), 0.0)
+    small = valid & (~np.isfinite(area) | (area < MIN_AREA))
+    if small.any():
+        reasons.append(f"{int(small.sum())} zero-size or non-finite polygon(s)")
+    good = valid & ~small
+    rings = orient(_rings_from(shapely.get_exterior_ring(geoms[good])), True)
+    return rings, good, reasons
+
+
+def load_objects(data: Any, *, on_invalid: OnInvalid = "warn") -> ObjectTable:
+    """Validate the moving-object table once and group it by frame.
+
+    Parameters
+    ----------
+    data : omega_prime.Recording, polars.DataFrame or polars.LazyFrame
+        Needs ``frame, total_nanos, idx, x, y`` and either a ``polygon`` column of shapely polygons or
+        ``length, width, yaw`` (metres, radians) to build box outlines around ``(x, y)``.
+    on_invalid : {"warn", "raise"}
+        What to do with rows that cannot be used (NaN or infinite pose, zero-size or invalid outline): skip them
+        with a :class:`VisibilityInputWarning` naming how many and which, or raise ``ValueError``.
+
+    Raises
+    ------
+    ValueError
+        Missing columns, an empty table, duplicate ``(frame, idx)`` rows, or (with ``on_invalid="raise"``) a bad row.
+    """
+    df = as_polars(data)
+    use_polygon = _check_columns(df)
+    if df.height == 0:
+        raise ValueError("the moving-object table is empty: there is nothing to compute visibility for")
+    for name in ("frame", "total_nanos", "idx"):
+        if df[name].null_count():
+            raise ValueError(f"column {name!r} has {df[name].null_count()} null value(s)")
+    df = df.sort("frame", "idx")
+    frame = df["frame"].cast(pl.Int64).to_numpy()
+    idx = df["idx"].cast(pl.Int64).to_numpy()
+    dup = (np.diff(frame) == 0) & (np.diff(idx) == 0)
+    if dup.any():
+        k = int(np.flatnonzero(dup)[0])
+        raise ValueError(f"object idx {idx[k]} appears more than once in frame {frame[k]}: (frame, idx) must be unique")
+    x, y = _float(df, "x"), _float(df, "y")
+    yaw = _float(df, "yaw") if "yaw" in df.columns else np.zeros(df.height)
+    good = np.isfinite(x) & np.isfinite(y)
+    problems = []
+    if (~good).any():
+        problems.append(f"{int((~good).sum())} NaN or infinite position(s) (x, y)")
+    if use_polygon:
+        rings, ok, reasons = _polygon_rings(df["polygon"].to_numpy(), good)
+        problems += reasons
+    else:
+        length, width = _float(df, "length"), _float(df, "width")
+        pose_ok = np.isfinite(yaw) & np.isfinite(length) & np.isfinite(width)
+        if (good & ~pose_ok).any():
+            problems.append(f"{int((good & ~pose_ok).sum())} NaN or infinite yaw/length/width")
+        size_ok = pose_ok & (length * width >= MIN_AREA)
+        if (good & pose_ok & ~size_ok).any():
+            problems.append(f"{int((good & pose_ok & ~size_ok).sum())} zero-size box(es) (length * width ~ 0)")
+        ok = good & size_ok
+        rings = box_rings(x[ok], y[ok], length[ok], width[ok], yaw[ok])
+    if not ok.all():
+        bad = np.flatnonzero(~ok)
+        examples = ", ".join(f"(frame {frame[i]}, idx {idx[i]})" for i in bad[:5])
+        _report(
+            f"skipping {len(bad)} of {len(ok)} object row(s): {'; '.join(problems)}; e.g. {examples}",
+            on_invalid,
+        )
+    frame, idx = frame[ok], idx[ok]
+    total_nanos = df["total_nanos"].cast(pl.Int64).to_numpy()[ok]
+    position = np.column_stack([x[ok], y[ok]])
+    yaw = np.where(np.isfinite(yaw[ok]), yaw[ok], 0.0)
+    frame_starts = np.concatenate([[0], np.flatnonzero(np.diff(frame)) + 1, [len(frame)]]).astype(np.int64)
+    if len(frame) == 0:
+        frame_starts = np.zeros(1, dtype=np.int64)
+    return ObjectTable(frame, total_nanos, idx, position, yaw, rings, frame_starts)
+
+
+def _rings_from(geoms: Sequence[Any]) -> Rings:
+    coords, which = shapely.get_coordinates(np.asarray(geoms, dtype=object), return_index=True)
+    sizes = np.bincount(which, minlength=len(geoms))
+    keep = np.ones(len(coords), dtype=bool)
+    keep[np.cumsum(sizes) - 1] = False
+    offsets = np.zeros(len(geoms) + 1, dtype=np.int64)
+    np.cumsum(sizes - 1, out=offsets[1:])
+    return Rings(np.ascontiguousarray(coords[keep]), offsets)
+
+
+def load_static_occluders(geometries: Sequence[Any] | Any | None) -> StaticOccluders:
+    """Validate static occluders and split them into oriented rings and two-sided wall segments.
+
+    Parameters
+    ----------
+    geometries : sequence of shapely geometries, or None
+        Polygons, MultiPolygons (buildings, parked vehicles, vegetation) and LineStrings, MultiLineStrings or
+        LinearRings (walls, guard rails). They are reported by their position in this sequence.
+
+    Raises
+    ------
+    ValueError
+        An entry that is not one of these types, empty, invalid, or with non-finite coordinates.
+    """
+    if geometries is None:
+        geometries = []
+    elif isinstance(geometries, shapely.Geometry):
+        geometries = [geometries]
+    geoms = list(geometries)
+    rings, ring_source, ccw = [], [], []
+    segments, segment_source = [], []
+    for k, g in enumerate(geoms):
+        if not isinstance(g, shapely.Geometry):
+            raise ValueError(f"static occluder {k} is not a shapely geometry but {type(g).__name__}")
+        if g.is_empty:
+            raise ValueError(f"static occluder {k} is empty")
+        if not np.isfinite(shapely.get_coordinates(g)).all():
+            raise ValueError(f"static occluder {k} has NaN or infinite coordinates")
+        if isinstance(g, shapely.Polygon | shapely.MultiPolygon):
+            if not g.is_valid:
+                raise ValueError(
+                    f"static occluder {k} is an invalid polygon ({shapely.is_valid_reason(g)}); "
+                    "repair it, e.g. with shapely.make_valid"
+                )
+            for poly in getattr(g, "geoms", [g]):
+                if poly.area < MIN_AREA:
+                    raise ValueError(f"static occluder {k} has a zero-size polygon part")
+                for j, ring in enumerate([poly.exterior, *poly.interiors]):
+                    rings.append(ring)
+                    ring_source.append(k)
+                    ccw.append(j == 0)
+        elif isinstance(g, shapely.LineString | shapely.MultiLineString | shapely.LinearRing):
+            for line in getattr(g, "geoms", [g]):
+                c = np.asarray(line.coords)[:, :2]
+                seg = np.stack([c[:-1], c[1:]], axis=1)
+                seg = seg[np.hypot(*(seg[:, 1] - seg[:, 0]).T) > 0]
+                if len(seg) == 0:
+                    raise ValueError(f"static occluder {k} is a line of zero length")
+                segments.append(seg)
+                segment_source.extend([k] * len(seg))
+        else:
+            raise ValueError(
+                f"static occluder {k} is a {g.geom_type}; expected Polygon, MultiPolygon, LineString, "
+                "MultiLineString or LinearRing"
+            )
+    ring_arrays = orient(_rings_from(rings), np.array(ccw, dtype=bool)) if rings else Rings.empty()
+    if len(ring_arrays) and (np.abs(signed_area(ring_arrays)) < MIN_AREA).any():
+        raise ValueError("a static occluder has a zero-size ring")
+    return StaticOccluders(
+        rings=ring_arrays,
+        ring_source=np.asarray(ring_source, dtype=np.int64),
+        segments=np.concatenate(segments) if segments else np.zeros((0, 2, 2)),
+        segment_source=np.asarray(segment_source, dtype=np.int64),
+        geometries=np.asarray([*geoms, None], dtype=object)[:-1],
+    )

@@ -1,0 +1,37 @@
+"""Shared fixtures: scene builders and the real recordings in ../shared/data (skipped when absent)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import polars as pl
+import pytest
+
+REPO = Path(__file__).resolve().parent.parent
+SHARED_DATA = REPO.parent / "shared" / "data"
+
+
+def boxes_table(boxes: list[tuple[float, float, float, float, float]], frame: int = 0) -> pl.DataFrame:
+    """A one-frame object table from ``(x, y, length, width, yaw)`` boxes; idx = position."""
+    arr = np.asarray(boxes, dtype=float).reshape(-1, 5)
+    return pl.DataFrame(
+        {
+            "frame": np.full(len(arr), frame, dtype=np.int64),
+            "total_nanos": np.full(len(arr), frame * 100_000_000, dtype=np.int64),
+            "idx": np.arange(len(arr), dtype=np.int64),
+            "x": arr[:, 0],
+            "y": arr[:, 1],
+            "length": arr[:, 2],
+            "width": arr[:, 3],
+            "yaw": arr[:, 4],
+        }
+    )
+
+
+@pytest.fixture(scope="session")
+def shared_data() -> Path:
+    """The folder of real esmini recordings; tests using it are skipped where it is absent."""
+    if not (SHARED_DATA / "highway_merge.mcap").exists():
+        pytest.skip(f"real recordings not available at {SHARED_DATA}")
+    return SHARED_DATA

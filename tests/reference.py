@@ -1,0 +1,673 @@
+"""Independent brute-force reference for 2D visibility, used to check the real engines.
+
+Everything here is written from scratch with numpy (shapely is only used to read the input
+geometries and to validate generated scenes), so that it shares no code with the engines under test.
+
+Definitions (angles in radians, counter-clockwise from +x, distances in metres):
+
+* A scene is an observer point ``o``, a list of object polygons (which may overlap each other) and a
+  list of static occluders (``Polygon``, ``MultiPolygon``, ``LineString`` or ``MultiLineString``; a
+  line string is a thin wall that blocks rays from both sides).  Objects flagged as *transparent*
+  never block anything and are never reported as occluders (ego, objects containing the observer).
+* The angular extent of a target ``T`` (observer outside ``T``) is the set of directions whose ray
+  from ``o`` hits ``T``: an interval ``[start, start + width]`` with ``0 < width < 2*pi``, possibly
+  straddling the -pi/pi direction.
+* ``visibility(T)`` is the measure of the directions within ``T``'s extent along which the first thing
+  hit (among all non-transparent objects and all static occluders) is ``T``, divided by the measure of
+  the extent.
+* ``occluders(T)`` are the non-transparent objects ``J != T`` that are hit strictly before ``T`` along at
+  least one direction inside ``T``'s extent; ``static_occluders(T)`` likewise for static occluders.
+
+The reference is a dense ray cast: for each target, ``n_rays`` rays are cast through the midpoints of
+``n_rays`` equal sub-intervals of its extent, and for each ray the nearest hit distance on every
+object / static occluder is computed by a vectorised ray-segment intersection over all their edges.
+The discretisation error of the fractions is of order ``1 / n_rays``.
+
+The module also provides seeded random scene generators (:func:`random_box`, :func:`random_scene`)
+for property tests, and hypothesis strategies (:func:`scenes`) when hypothesis is installed.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, NamedTuple
+
+import numpy as np
+from shapely.geometry import LineString, MultiLineString, MultiPolygon, Point, Polygon
+from shapely.geometry.base import BaseGeometry
+
+__all__ = [
+    "ReferenceResult",
+    "Scene",
+    "angular_extent_reference",
+    "geometry_segments",
+    "nearest_hit_distances",
+    "random_box",
+    "random_scene",
+    "random_static",
+    "reference_visibility",
+]
+
+TWO_PI = 2.0 * np.pi
+
+#: Relative tolerance used to decide that a hit is *strictly* before another one.
+_TIE_RTOL = 1e-9
+#: Tolerance on the segment parameter so that rays through a shared vertex hit at least one edge.
+_SEG_TOL = 1e-12
+#: Upper bound on the number of ray x edge pairs evaluated at once (memory bound).
+_CHUNK_PAIRS = 2_000_000
+
+
+# ----------------------------------------------------------------------------------------------
+# Geometry helpers
+# ----------------------------------------------------------------------------------------------
+
+
+def _wrap_angle(a: np.ndarray | float) -> np.ndarray:
+    """Wrap angles into ``[-pi, pi)``."""
+    return (np.asarray(a, dtype=float) + np.pi) % TWO_PI - np.pi
+
+
+def _as_geometry(geom: Any) -> BaseGeometry:
+    """Convert a shapely geometry or an ``(N, 2)`` vertex array (polygon ring) to a shapely geometry."""
+    if isinstance(geom, BaseGeometry):
+        return geom
+    arr = np.asarray(geom, dtype=float)
+    if arr.ndim != 2 or arr.shape[1] != 2 or arr.shape[0] < 3:
+        raise TypeError(f"cannot interpret {type(geom).__name__} of shape {arr.shape} as a polygon")
+    return Polygon(arr)
+
+
+def _ring_segments(coords: np.ndarray) -> np.ndarray:
+    coords = np.asarray(coords, dtype=float)[:, :2]
+    if len(coords) < 2:
+        return np.empty((0, 4))
+    return np.hstack([coords[:-1], coords[1:]])
+
+
+def geometry_segments(geom: Any) -> np.ndarray:
+    """Return all boundary segments of a geometry.
+
+    Parameters
+    ----------
+    geom : shapely geometry or array_like
+        A ``Polygon`` (exterior and interior rings are used), ``MultiPolygon``, ``LineString``,
+        ``LinearRing``, ``MultiLineString`` or ``GeometryCollection`` of those, or an ``(N, 2)``
+        array of polygon vertices.
+
+    Returns
+    -------
+    np.ndarray
+        ``(k, 4)`` array of segments ``[x1, y1, x2, y2]``; zero-length segments are dropped.
+    """
+    geom = _as_geometry(geom)
+    if geom.is_empty:
+        return np.empty((0, 4))
+    if isinstance(geom, Polygon):
+        parts = [_ring_segments(np.asarray(geom.exterior.coords))]
+        parts += [_ring_segments(np.asarray(r.coords)) for r in geom.interiors]
+    elif isinstance(geom, LineString):  # includes LinearRing
+        parts = [_ring_segments(np.asarray(geom.coords))]
+    elif hasattr(geom, "geoms"):  # MultiPolygon, MultiLineString, GeometryCollection
+        parts = [geometry_segments(g) for g in geom.geoms]
+    else:
+        raise TypeError(f"unsupported geometry type for an occluder: {geom.geom_type}")
+    segs = np.vstack([p for p in parts if len(p)] or [np.empty((0, 4))])
+    keep = (segs[:, 0] != segs[:, 2]) | (segs[:, 1] != segs[:, 3])
+    return segs[keep]
+
+
+def angular_extent_reference(observer: Any, polygon: Any) -> tuple[float, float]:
+    """Angular extent of a polygon as seen from an observer outside it.
+
+    The vertex angles are unwrapped along the exterior ring (each edge subtends less than pi as
+    the observer is not on it), so the result is robust to the -pi/pi wrap.
+
+    Parameters
+    ----------
+    observer : array_like
+        Observer position ``(2,)``.
+    polygon : shapely.Polygon or array_like
+        The target polygon (or its ``(N, 2)`` vertices).
+
+    Returns
+    -------
+    tuple of float
+        ``(start, width)`` in radians with ``start`` in ``[-pi, pi)`` and ``0 < width < 2*pi``; the
+        extent is ``[start, start + width]`` (``start + width`` may exceed pi).
+
+    Raises
+    ------
+    ValueError
+        If the observer is inside or on the boundary of the polygon.
+    """
+    o = np.asarray(observer, dtype=float).reshape(2)
+    poly = _as_geometry(polygon)
+    if not isinstance(poly, Polygon):
+        raise TypeError(f"angular extent needs a Polygon, got {poly.geom_type}")
+    if poly.intersects(Point(o)):
+        raise ValueError("observer is inside or on the boundary of the polygon")
+    ring = np.asarray(poly.exterior.coords, dtype=float)[:, :2]
+    ang = np.arctan2(ring[:, 1] - o[1], ring[:, 0] - o[0])
+    steps = _wrap_angle(np.diff(ang))
+    unwrapped = ang[0] + np.concatenate([[0.0], np.cumsum(steps)])
+    lo, hi = float(unwrapped.min()), float(unwrapped.max())
+    width = hi - lo
+    if not 0.0 < width < TWO_PI:
+        raise ValueError(f"degenerate angular extent width {width}")
+    return float(_wrap_angle(lo)), width
+
+
+def _edge_intervals(o: np.ndarray, segs: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Angular interval ``[start, start + width]`` subtended by each segment, and an 'always keep' mask."""
+    a1 = np.arctan2(segs[:, 1] - o[1], segs[:, 0] - o[0])
+    a2 = np.arctan2(segs[:, 3] - o[1], segs[:, 2] - o[0])
+    delta = _wrap_angle(a2 - a1)
+    start = a1 + np.minimum(delta, 0.0)
+    width = np.abs(delta)
+    # Segments touching the observer or (nearly) passing through it: angles are unreliable.
+    r1 = np.hypot(segs[:, 0] - o[0], segs[:, 1] - o[1])
+    r2 = np.hypot(segs[:, 2] - o[0], segs[:, 3] - o[1])
+    always = (r1 < 1e-9) | (r2 < 1e-9) | (width > np.pi - 1e-6)
+    return start, width, always
+
+
+def _ray_segment_distances(o: np.ndarray, angles: np.ndarray, segs: np.ndarray) -> np.ndarray:
+    """Hit distance of every ray on every segment, ``inf`` where it misses. Shape ``(n_rays, k)``."""
+    dx = np.cos(angles)[:, None]
+    dy = np.sin(angles)[:, None]
+    px, py = segs[:, 0] - o[0], segs[:, 1] - o[1]
+    ex, ey = segs[:, 2] - segs[:, 0], segs[:, 3] - segs[:, 1]
+    # o + t d = p + s e  =>  t = (w x e) / (d x e),  s = (w x d) / (d x e),  with w = p - o.
+    denom = dx * ey - dy * ex
+    num_t = px * ey - py * ex
+    num_s = px * dy - py * dx
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = num_t / denom
+        s = num_s / denom
+    seg_len = np.hypot(ex, ey)
+    ok = (np.abs(denom) > 1e-14 * seg_len) & (t > 0.0) & (s >= -_SEG_TOL) & (s <= 1.0 + _SEG_TOL)
+    return np.where(ok, t, np.inf)
+
+
+def _owner_distances(
+    o: np.ndarray, angles: np.ndarray, segs: np.ndarray, owner: np.ndarray, n_owners: int
+) -> np.ndarray:
+    """Nearest hit distance per ray and owner. ``segs`` must be sorted by ``owner``."""
+    out = np.full((len(angles), n_owners), np.inf)
+    if len(segs) == 0 or len(angles) == 0:
+        return out
+    present, first = np.unique(owner, return_index=True)
+    chunk = max(1, _CHUNK_PAIRS // len(segs))
+    for i in range(0, len(angles), chunk):
+        t = _ray_segment_distances(o, angles[i : i + chunk], segs)
+        out[i : i + chunk, present] = np.minimum.reduceat(t, first, axis=1)
+    return out
+
+
+def nearest_hit_distances(observer: Any, geometries: Sequence[Any], angles: Any) -> np.ndarray:
+    """Distance from the observer to the nearest boundary hit of each geometry along each ray.
+
+    Parameters
+    ----------
+    observer : array_like
+        Observer position ``(2,)``.
+    geometries : sequence of shapely geometries or vertex arrays
+        Polygons (all rings), multi-polygons, line strings or multi-line strings.
+    angles : array_like
+        Ray directions in radians, shape ``(m,)``.
+
+    Returns
+    -------
+    np.ndarray
+        ``(m, len(geometries))`` distances, ``inf`` where the ray misses the geometry.
+    """
+    o = np.asarray(observer, dtype=float).reshape(2)
+    angles = np.atleast_1d(np.asarray(angles, dtype=float))
+    seg_list = [geometry_segments(g) for g in geometries]
+    owner = np.concatenate([np.full(len(s), i) for i, s in enumerate(seg_list)] or [np.empty(0, int)])
+    segs = np.vstack(seg_list) if seg_list else np.empty((0, 4))
+    return _owner_distances(o, angles, segs, owner.astype(int), len(seg_list))
+
+
+# ----------------------------------------------------------------------------------------------
+# Reference visibility
+# ----------------------------------------------------------------------------------------------
+
+
+@dataclass
+class ReferenceResult:
+    """Result of :func:`reference_visibility`.
+
+    Attributes
+    ----------
+    visibility : np.ndarray
+        ``(n_objects,)`` visible fraction of each object's angular extent in ``[0, 1]``; ``nan`` for
+        transparent objects.
+    occluders : list of dict
+        Per object, ``{object position: fraction of the extent along which it is hit strictly before
+        the object}``; only positive fractions are listed, empty for transparent objects.
+    static_occluders : list of dict
+        Per object, ``{position in the static list: blocked fraction}``, as for ``occluders``.
+    angular_extent : np.ndarray
+        ``(n_objects,)`` width of each object's angular extent in radians (``nan`` when the observer
+        is inside a transparent object).
+    extent_start : np.ndarray
+        ``(n_objects,)`` start angle of each extent in ``[-pi, pi)`` (``nan`` as above).
+    """
+
+    visibility: np.ndarray
+    occluders: list[dict[int, float]]
+    static_occluders: list[dict[int, float]]
+    angular_extent: np.ndarray
+    extent_start: np.ndarray
+
+
+def _interval_overlaps(s1: float, w1: float, s2: np.ndarray, w2: np.ndarray, margin: float) -> np.ndarray:
+    """Whether circular intervals ``[s2, s2 + w2]`` intersect ``[s1, s1 + w1]`` (with a margin)."""
+    x = (s2 - s1) % TWO_PI
+    return (x <= w1 + margin) | (x + w2 >= TWO_PI - margin)
+
+
+def reference_visibility(
+    observer: Any,
+    objects: Sequence[Any],
+    statics: Sequence[Any] = (),
+    transparent: Any = None,
+    n_rays: int = 20000,
+    prefilter: bool = True,
+) -> ReferenceResult:
+    """Brute-force visibility of every object by dense ray casting.
+
+    Parameters
+    ----------
+    observer : array_like
+        Observer position ``(2,)``.
+    objects : sequence of shapely.Polygon or array_like
+        Object footprints (may overlap each other). The observer must be outside every
+        non-transparent object.
+    statics : sequence of shapely geometries
+        Static occluders: ``Polygon``, ``MultiPolygon``, ``LineString`` or ``MultiLineString``.
+    transparent : array_like of bool, optional
+        ``(n_objects,)`` mask of objects that never block and are never occluders (ego, objects
+        containing the observer). Their visibility is ``nan``. Default: none transparent.
+    n_rays : int
+        Number of rays per target (midpoints of equal sub-intervals of its extent).
+    prefilter : bool
+        Skip edges whose angular interval does not meet the target's extent (pure speed-up; the
+        result is identical up to floating point).
+
+    Returns
+    -------
+    ReferenceResult
+        Visibility fractions, occluders with blocked fractions and angular extents.
+
+    Raises
+    ------
+    ValueError
+        If the observer is inside or on a non-transparent object, or ``n_rays < 1``.
+    """
+    if n_rays < 1:
+        raise ValueError("n_rays must be >= 1")
+    o = np.asarray(observer, dtype=float).reshape(2)
+    objs = [_as_geometry(g) for g in objects]
+    stats = [_as_geometry(g) for g in statics]
+    n_obj, n_stat = len(objs), len(stats)
+    if transparent is None:
+        transp = np.zeros(n_obj, dtype=bool)
+    else:
+        transp = np.asarray(transparent, dtype=bool).reshape(-1)
+        if transp.shape != (n_obj,):
+            raise ValueError(f"transparent mask has shape {transp.shape}, expected ({n_obj},)")
+
+    starts = np.full(n_obj, np.nan)
+    widths = np.full(n_obj, np.nan)
+    pt = Point(o)
+    for i, g in enumerate(objs):
+        if not isinstance(g, Polygon):
+            raise TypeError(f"object {i} is a {g.geom_type}, expected a Polygon")
+        if g.intersects(pt):
+            if not transp[i]:
+                raise ValueError(f"observer is inside or on non-transparent object {i}")
+            continue
+        starts[i], widths[i] = angular_extent_reference(o, g)
+
+    # Blockers: non-transparent objects (owner ids 0..n_obj-1) then statics (n_obj..n_obj+n_stat-1).
+    owners = [i for i in range(n_obj) if not transp[i]] + list(range(n_obj, n_obj + n_stat))
+    geoms = objs + stats
+    seg_list = [geometry_segments(geoms[k]) for k in owners]
+    owner_col = np.concatenate([np.full(len(s), c, dtype=int) for c, s in enumerate(seg_list)] or [np.empty(0, int)])
+    segs = np.vstack(seg_list) if seg_list else np.empty((0, 4))
+    col_of = {k: c for c, k in enumerate(owners)}
+    e_start, e_width, e_always = _edge_intervals(o, segs)
+
+    visibility = np.full(n_obj, np.nan)
+    occ: list[dict[int, float]] = [{} for _ in range(n_obj)]
+    socc: list[dict[int, float]] = [{} for _ in range(n_obj)]
+    for i in range(n_obj):
+        if transp[i]:
+            continue
+        start, width = starts[i], widths[i]
+        angles = start + (np.arange(n_rays) + 0.5) * (width / n_rays)
+        if prefilter:
+            keep = e_always | _interval_overlaps(start, width, e_start, e_width, 1e-9)
+            keep |= owner_col == col_of[i]
+        else:
+            keep = np.ones(len(segs), dtype=bool)
+        dist = _owner_distances(o, angles, segs[keep], owner_col[keep], len(owners))
+        d_t = dist[:, col_of[i]]
+        if not np.all(np.isfinite(d_t)):  # pragma: no cover - would indicate a bug in the extent
+            raise RuntimeError(f"{np.sum(~np.isfinite(d_t))} rays inside the extent of object {i} miss it")
+        blocked = dist < (d_t - _TIE_RTOL * (1.0 + d_t))[:, None]
+        blocked[:, col_of[i]] = False
+        visibility[i] = 1.0 - np.count_nonzero(blocked.any(axis=1)) / n_rays
+        frac = np.count_nonzero(blocked, axis=0) / n_rays
+        for c in np.flatnonzero(frac):
+            k = owners[c]
+            if k < n_obj:
+                occ[i][k] = float(frac[c])
+            else:
+                socc[i][k - n_obj] = float(frac[c])
+    return ReferenceResult(
+        visibility=visibility,
+        occluders=occ,
+        static_occluders=socc,
+        angular_extent=widths,
+        extent_start=starts,
+    )
+
+
+# ----------------------------------------------------------------------------------------------
+# Random scene generators
+# ----------------------------------------------------------------------------------------------
+
+
+class Scene(NamedTuple):
+    """A random scene (unpack as ``observer, objects, statics, transparent = scene``)."""
+
+    observer: np.ndarray
+    objects: list[Polygon]
+    statics: list[BaseGeometry]
+    transparent: np.ndarray
+
+
+def _place(local: np.ndarray, center: Any, yaw: float) -> np.ndarray:
+    c, s = np.cos(yaw), np.sin(yaw)
+    rot = np.array([[c, -s], [s, c]])
+    return local @ rot.T + np.asarray(center, dtype=float).reshape(2)
+
+
+def _rect(length: float, width: float) -> np.ndarray:
+    hl, hw = length / 2.0, width / 2.0
+    return np.array([[-hl, -hw], [hl, -hw], [hl, hw], [-hl, hw]])
+
+
+def random_box(
+    rng: np.random.Generator,
+    center: Any = (0.0, 0.0),
+    yaw: float | None = None,
+    length: float | None = None,
+    width: float | None = None,
+) -> Polygon:
+    """Random oriented rectangle of car / truck size.
+
+    Parameters
+    ----------
+    rng : np.random.Generator
+        Random generator.
+    center : array_like
+        Box centre ``(2,)``.
+    yaw : float, optional
+        Heading in radians; uniform in ``[-pi, pi)`` if not given.
+    length, width : float, optional
+        Box dimensions in metres. If not given, a car (length 3-5.5 m, width 1.5-2.1 m) is drawn with
+        probability 0.7, otherwise a truck / bus (length 5.5-18 m, width 2.1-2.6 m).
+
+    Returns
+    -------
+    shapely.Polygon
+        Counter-clockwise rectangle.
+    """
+    truck = rng.random() < 0.3
+    if length is None:
+        length = rng.uniform(5.5, 18.0) if truck else rng.uniform(3.0, 5.5)
+    if width is None:
+        width = rng.uniform(2.1, 2.6) if truck else rng.uniform(1.5, 2.1)
+    if yaw is None:
+        yaw = rng.uniform(-np.pi, np.pi)
+    return Polygon(_place(_rect(length, width), center, yaw))
+
+
+def random_static(rng: np.random.Generator, center: Any = (0.0, 0.0), kind: str | None = None) -> BaseGeometry:
+    """Random static occluder around ``center``.
+
+    Parameters
+    ----------
+    rng : np.random.Generator
+        Random generator.
+    center : array_like
+        Approximate centre ``(2,)``.
+    kind : str, optional
+        One of ``"box"``, ``"L"``, ``"U"``, ``"star"`` (non-convex star-shaped polygon),
+        ``"multipolygon"``, ``"line"``, ``"multiline"``; random if not given.
+
+    Returns
+    -------
+    shapely geometry
+        A valid ``Polygon``, ``MultiPolygon``, ``LineString`` or ``MultiLineString``.
+    """
+    kinds = ("box", "L", "U", "star", "multipolygon", "line", "multiline")
+    if kind is None:
+        kind = str(rng.choice(kinds))
+    yaw = rng.uniform(-np.pi, np.pi)
+    if kind == "box":
+        return Polygon(_place(_rect(rng.uniform(4, 30), rng.uniform(4, 20)), center, yaw))
+    if kind in ("L", "U"):
+        a, b = rng.uniform(8, 25), rng.uniform(8, 25)
+        t = rng.uniform(2, min(a, b) / 3)
+        if kind == "L":
+            loc = [(0, 0), (a, 0), (a, t), (t, t), (t, b), (0, b)]
+        else:
+            loc = [(0, 0), (a, 0), (a, b), (a - t, b), (a - t, t), (t, t), (t, b), (0, b)]
+        local = np.array(loc, dtype=float) - [a / 2, b / 2]
+        return Polygon(_place(local, center, yaw))
+    if kind == "star":
+        k = int(rng.integers(5, 11))
+        ang = np.sort(rng.uniform(0, TWO_PI, k))
+        while np.min(np.diff(np.r_[ang, ang[0] + TWO_PI])) < 0.05:
+            ang = np.sort(rng.uniform(0, TWO_PI, k))
+        rad = rng.uniform(2, 10, k)
+        local = np.c_[rad * np.cos(ang), rad * np.sin(ang)]
+        return Polygon(_place(local, center, yaw))
+    if kind == "multipolygon":
+        n = int(rng.integers(2, 4))
+        parts, x = [], 0.0
+        for _ in range(n):
+            length, width = rng.uniform(3, 12), rng.uniform(3, 12)
+            parts.append(_rect(length, width) + np.array([x + length / 2, 0.0]))
+            x += length + rng.uniform(1, 6)
+        shift = np.array([x / 2, 0.0])
+        return MultiPolygon([Polygon(_place(p - shift, center, yaw)) for p in parts])
+    if kind == "line":
+        n = int(rng.integers(2, 5))
+        steps = rng.uniform(4, 15, n - 1)
+        turns = np.cumsum(np.r_[0.0, rng.uniform(-np.pi / 2, np.pi / 2, n - 2)])
+        local = np.vstack([[0.0, 0.0], np.cumsum(np.c_[steps * np.cos(turns), steps * np.sin(turns)], 0)])
+        return LineString(_place(local - local.mean(axis=0), center, yaw))
+    if kind == "multiline":
+        lines = []
+        for _ in range(int(rng.integers(2, 4))):
+            p = rng.uniform(-10, 10, 2)
+            a = rng.uniform(0, TWO_PI)
+            q = p + rng.uniform(4, 12) * np.array([np.cos(a), np.sin(a)])
+            lines.append(_place(np.array([p, q]), center, yaw))
+        return MultiLineString(lines)
+    raise ValueError(f"unknown static kind {kind!r}")
+
+
+def _polar(o: np.ndarray, dist: float, ang: float) -> np.ndarray:
+    return o + dist * np.array([np.cos(ang), np.sin(ang)])
+
+
+def random_scene(
+    rng: np.random.Generator,
+    n_objects: int,
+    overlap: bool = True,
+    with_statics: bool = True,
+    include_ego: bool = False,
+    radius: float = 60.0,
+    n_statics: int | None = None,
+    p_wrap: float = 0.2,
+    p_behind: float = 0.3,
+    clearance: float = 0.3,
+    max_tries: int = 2000,
+) -> Scene:
+    """Seeded random traffic scene for property tests.
+
+    Parameters
+    ----------
+    rng : np.random.Generator
+        Random generator (the scene is a deterministic function of its state).
+    n_objects : int
+        Number of road users besides the ego.
+    overlap : bool
+        If True, objects may overlap each other and static occluders (and some are placed on purpose
+        so that they overlap another object). If False, no two objects / static occluders intersect.
+    with_statics : bool
+        Whether to generate static occluders (a mix of boxes, L / U shaped and star-shaped non-convex
+        polygons, multi-polygons, line strings and multi-line strings).
+    include_ego : bool
+        If True, object 0 is the ego box, which contains the observer and is marked transparent.
+    radius : float
+        Objects' centres are within this distance of the observer.
+    n_statics : int, optional
+        Number of static occluders (default: 1-5 if ``with_statics``).
+    p_wrap : float
+        Probability that an object is placed straddling the -pi/pi direction (directly at -x of the
+        observer).
+    p_behind : float
+        Probability that an object is placed behind an already placed object (partially or fully
+        occluded by it).
+    clearance : float
+        Minimum distance from the observer to every non-transparent object and static occluder;
+        the observer is never inside any of them.
+    max_tries : int
+        Attempts per element before giving up with ``RuntimeError``.
+
+    Returns
+    -------
+    Scene
+        ``(observer, objects, statics, transparent)``; ``len(objects) == n_objects + include_ego``
+        and ``transparent`` is True only for the ego.
+    """
+    o = rng.uniform(-100.0, 100.0, 2)
+    pt = Point(o)
+    objects: list[Polygon] = []
+    statics: list[BaseGeometry] = []
+
+    if include_ego:
+        yaw = rng.uniform(-np.pi, np.pi)
+        length, width = rng.uniform(3.5, 5.2), rng.uniform(1.6, 2.0)
+        local_obs = np.array([rng.uniform(-0.3, 0.3) * length, rng.uniform(-0.3, 0.3) * width])
+        center = o - _place(local_obs[None], (0.0, 0.0), yaw)[0]
+        ego = random_box(rng, center, yaw, length, width)
+        assert ego.contains(pt)
+        objects.append(ego)
+
+    def clear_of_observer(g: BaseGeometry) -> bool:
+        return g.is_valid and not g.intersects(pt) and g.distance(pt) >= clearance
+
+    if with_statics:
+        n_st = int(rng.integers(1, 6)) if n_statics is None else n_statics
+        for _ in range(n_st):
+            for _ in range(max_tries):
+                ang = np.pi + rng.uniform(-0.1, 0.1) if rng.random() < p_wrap else rng.uniform(-np.pi, np.pi)
+                g = random_static(rng, _polar(o, rng.uniform(8.0, radius + 10.0), ang))
+                if not clear_of_observer(g):
+                    continue
+                if not overlap and any(g.intersects(h) for h in [*statics, *objects]):
+                    continue
+                statics.append(g)
+                break
+            else:
+                raise RuntimeError("could not place a static occluder")
+
+    others: list[tuple[float, float]] = []  # (distance, angle) of placed road users' centres
+    for _ in range(n_objects):
+        for _ in range(max_tries):
+            u = rng.random()
+            if u < p_wrap:
+                center = _polar(o, rng.uniform(4.0, radius), np.pi + rng.uniform(-0.1, 0.1))
+            elif u < p_wrap + p_behind and others:
+                d_ref, a_ref = others[int(rng.integers(len(others)))]
+                dist = d_ref + rng.uniform(3.0, 25.0)
+                if dist > radius:
+                    continue
+                center = _polar(o, dist, a_ref + rng.uniform(-1.0, 1.0) * np.arctan2(2.5, d_ref))
+            elif overlap and u < p_wrap + p_behind + 0.15 and others:
+                d_ref, a_ref = others[int(rng.integers(len(others)))]
+                center = _polar(o, d_ref, a_ref) + rng.uniform(-2.5, 2.5, 2)
+            else:
+                center = _polar(o, rng.uniform(3.0, radius), rng.uniform(-np.pi, np.pi))
+            box = random_box(rng, center)
+            if not clear_of_observer(box):
+                continue
+            if not overlap and any(box.intersects(h) for h in [*statics, *objects]):
+                continue
+            objects.append(box)
+            rel = np.asarray(center) - o
+            others.append((float(np.hypot(*rel)), float(np.arctan2(rel[1], rel[0]))))
+            break
+        else:
+            raise RuntimeError("could not place an object")
+
+    transparent = np.zeros(len(objects), dtype=bool)
+    if include_ego:
+        transparent[0] = True
+    return Scene(o, objects, statics, transparent)
+
+
+# ----------------------------------------------------------------------------------------------
+# Hypothesis strategies (optional)
+# ----------------------------------------------------------------------------------------------
+
+try:  # pragma: no cover - depends on the environment
+    from hypothesis import strategies as st
+except ImportError:  # pragma: no cover
+    st = None
+
+if st is not None:
+    __all__ += ["scenes"]
+
+    @st.composite
+    def scenes(
+        draw: Any,
+        min_objects: int = 1,
+        max_objects: int = 8,
+        overlap: bool | None = None,
+        with_statics: bool | None = None,
+        include_ego: bool | None = None,
+    ) -> Scene:
+        """Hypothesis strategy drawing a :func:`random_scene` (``None`` flags are drawn at random).
+
+        Parameters
+        ----------
+        draw : callable
+            Supplied by hypothesis.
+        min_objects, max_objects : int
+            Range of the number of road users besides the ego.
+        overlap, with_statics, include_ego : bool, optional
+            Fixed flags for :func:`random_scene`; drawn with ``st.booleans()`` when ``None``.
+
+        Returns
+        -------
+        Scene
+            ``(observer, objects, statics, transparent)``.
+        """
+        seed = draw(st.integers(0, 2**32 - 1))
+        n = draw(st.integers(min_objects, max_objects))
+        flags = [draw(st.booleans()) if f is None else f for f in (overlap, with_statics, include_ego)]
+        return random_scene(
+            np.random.default_rng(seed), n, overlap=flags[0], with_statics=flags[1], include_ego=flags[2]
+        )

@@ -1,0 +1,180 @@
+"""Hand-made scenes with answers derived on paper, through the public front end."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import polars as pl
+import pytest
+import shapely
+from conftest import boxes_table
+
+from omega_prime_visibility import SCHEMA, VisibilityInputWarning, get_visibility_df, get_visibility_df_for_frame
+
+ENGINES = ["visilibity"]
+
+
+def row(df: pl.DataFrame, idx: int) -> dict:
+    return df.filter(pl.col("idx") == idx).row(0, named=True)
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_free_view_and_fully_hidden(engine: str) -> None:
+    # ego at origin; a 4 m wide wall-like car at x=10 hides a 2 m wide car at x=20 completely
+    df = get_visibility_df(boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 4, 0), (20, 0, 4, 2, 0)]), 0, engine=engine)
+    assert df.columns == [c for c in SCHEMA if c != "ego_idx"]
+    assert row(df, 1)["visibility"] == 1.0 and row(df, 1)["occluder_idxs"] == []
+    assert row(df, 2)["visibility"] == 0.0 and row(df, 2)["occluder_idxs"] == [1]
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_half_hidden_behind_static_wall(engine: str) -> None:
+    # target: square side 2 centred at (10, 0); its extent from the origin is symmetric about +x, so a wall
+    # along the +x axis between observer and target (y from -5 to 0 at x = 5) hides exactly the lower half.
+    wall = shapely.Polygon([(5, -5), (5.1, -5), (5.1, 0), (5, 0)])
+    df = get_visibility_df(boxes_table([(0, 0, 1, 1, 0), (10, 0, 2, 2, 0)]), 0, [wall], engine=engine)
+    assert row(df, 1)["visibility"] == pytest.approx(0.5, abs=1e-9)
+    assert row(df, 1)["static_occluder_idxs"] == [0]
+    assert row(df, 1)["occluder_idxs"] == []
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_linestring_wall(engine: str) -> None:
+    wall = shapely.LineString([(5, -5), (5, 0)])
+    df = get_visibility_df(boxes_table([(0, 0, 1, 1, 0), (10, 0, 2, 2, 0)]), 0, [wall], engine=engine)
+    assert row(df, 1)["visibility"] == pytest.approx(0.5, abs=1e-6)
+    assert row(df, 1)["static_occluder_idxs"] == [0]
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+@pytest.mark.parametrize("angle", [math.pi, -math.pi + 1e-3, math.pi / 2, -3 * math.pi / 4])
+def test_wraparound_and_behind(engine: str, angle: float) -> None:
+    # the same scene rotated: a blocker half covering the target; at pi the target straddles the -pi/pi cut
+    c, s = math.cos(angle), math.sin(angle)
+    boxes = [(0, 0, 1, 1, 0), (10 * c, 10 * s, 2, 2, angle), (5 * c + 2.5 * s, 5 * s - 2.5 * c, 0.2, 5, angle)]
+    df = get_visibility_df(boxes_table(boxes), 0, engine=engine)
+    assert row(df, 1)["visibility"] == pytest.approx(0.5, abs=1e-9)
+    assert row(df, 1)["occluder_idxs"] == [2]
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_object_containing_observer_is_transparent(engine: str) -> None:
+    # a big object (idx 1) contains the ego's centre: it is transparent, visibility 1, never an occluder
+    boxes = [(0, 0, 4, 2, 0), (1, 0, 10, 6, 0), (20, 0, 4, 2, 0)]
+    with pytest.warns(VisibilityInputWarning, match="contains observer"):
+        df = get_visibility_df(boxes_table(boxes), 0, engine=engine)
+    assert row(df, 1)["visibility"] == 1.0 and row(df, 1)["occluder_idxs"] == []
+    assert row(df, 2)["visibility"] == 1.0 and row(df, 2)["occluder_idxs"] == []
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_overlapping_objects_and_statics(engine: str) -> None:
+    # two overlapping cars at x~10 and a static polygon overlapping one of them, a target behind all
+    boxes = [(0, 0, 4, 2, 0), (10, 0.5, 4, 2, 0.3), (10.5, -0.5, 4, 2, -0.2), (30, 0, 4, 16, 0)]
+    static = shapely.box(9, -1.5, 12, 1.5)
+    df = get_visibility_df(boxes_table(boxes), 0, [static], engine=engine)
+    assert 0 < row(df, 3)["visibility"] < 1
+    assert row(df, 3)["occluder_idxs"] == [1, 2]
+    assert row(df, 3)["static_occluder_idxs"] == [0]
+
+
+def test_only_ego_frame_and_missing_ego_frames() -> None:
+    df = pl.concat([boxes_table([(0, 0, 4, 2, 0)], frame=0), boxes_table([(0, 0, 4, 2, 0), (9, 0, 4, 2, 0)], 1)])
+    df = df.vstack(boxes_table([(0, 0, 4, 2, 0), (9, 0, 4, 2, 0)], 2).filter(pl.col("idx") == 1))
+    out = get_visibility_df(df, 0)
+    assert out["frame"].to_list() == [1]
+
+
+def test_for_frame_matches_full() -> None:
+    df = pl.concat([boxes_table([(0, 0, 4, 2, 0), (9, 0, 4, 2, 0)], f) for f in range(3)])
+    one = get_visibility_df_for_frame(df, 0, 1)
+    assert one.equals(get_visibility_df(df, 0).filter(pl.col("frame") == 1))
+    with pytest.raises(ValueError, match="frame 7 does not occur"):
+        get_visibility_df_for_frame(df, 0, 7)
+
+
+@pytest.mark.parametrize(
+    ("mutate", "message"),
+    [
+        (lambda d: d.drop("x"), r"lacks the column\(s\) \['x'\]"),
+        (lambda d: d.drop("yaw"), "lacks \\['yaw'\\]"),
+        (lambda d: d.clear(), "empty"),
+        (lambda d: d.vstack(d), "appears more than once"),
+    ],
+)
+def test_bad_tables(mutate, message: str) -> None:
+    with pytest.raises(ValueError, match=message):
+        get_visibility_df(mutate(boxes_table([(0, 0, 4, 2, 0), (9, 0, 4, 2, 0)])), 0)
+
+
+def test_unknown_ego() -> None:
+    with pytest.raises(ValueError, match=r"ego idx \[5\] never occurs"):
+        get_visibility_df(boxes_table([(0, 0, 4, 2, 0), (9, 0, 4, 2, 0)]), 5)
+
+
+def test_nan_pose_row_is_skipped_with_warning() -> None:
+    df = boxes_table([(0, 0, 4, 2, 0), (np.nan, 0, 4, 2, 0), (20, 0, 4, 2, 0)])
+    with pytest.warns(VisibilityInputWarning, match=r"NaN or infinite position.*idx 1"):
+        out = get_visibility_df(df, 0)
+    assert out["idx"].to_list() == [2]
+    with pytest.raises(ValueError, match="NaN"):
+        get_visibility_df(df, 0, on_invalid="raise")
+
+
+def test_nan_ego_pose_skips_frame() -> None:
+    df = pl.concat([boxes_table([(0, 0, 4, 2, 0), (9, 0, 4, 2, 0)], f) for f in range(2)])
+    df = df.with_columns(x=pl.when((pl.col("frame") == 0) & (pl.col("idx") == 0)).then(None).otherwise(pl.col("x")))
+    with pytest.warns(VisibilityInputWarning):
+        out = get_visibility_df(df, 0)
+    assert out["frame"].to_list() == [1]
+
+
+def test_zero_size_box_is_skipped() -> None:
+    with pytest.warns(VisibilityInputWarning, match="zero-size"):
+        out = get_visibility_df(boxes_table([(0, 0, 4, 2, 0), (9, 0, 0, 2, 0), (20, 0, 4, 2, 0)]), 0)
+    assert out["idx"].to_list() == [2]
+
+
+def test_polygon_column_is_used_and_oriented() -> None:
+    # clockwise outlines, as omega-prime produces them, give the same answer as boxes
+    base = boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 4, 0), (20, 0, 4, 2, 0)])
+    polys = [
+        shapely.box(x - 2, y - w / 2, x + 2, y + w / 2, ccw=False) for x, y, w in [(0, 0, 2), (10, 0, 4), (20, 0, 2)]
+    ]
+    with_poly = base.drop("length", "width", "yaw").with_columns(polygon=pl.Series(polys, dtype=pl.Object))
+    assert get_visibility_df(with_poly, 0).equals(get_visibility_df(base, 0))
+
+
+def test_invalid_polygon_rejected() -> None:
+    base = boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 4, 0)])
+    bowtie = shapely.Polygon([(8, -1), (12, 1), (12, -1), (8, 1)])
+    polys = [shapely.box(-2, -1, 2, 1), bowtie]
+    df = base.with_columns(polygon=pl.Series(polys, dtype=pl.Object))
+    with pytest.raises(ValueError, match="invalid"):
+        get_visibility_df(df, 0, on_invalid="raise")
+
+
+@pytest.mark.parametrize(
+    ("static", "message"),
+    [
+        (shapely.Polygon([(0, 0), (1, 1), (1, 0), (0, 1)]), "invalid polygon"),
+        (shapely.Point(1, 1), "Point"),
+        ("wall", "not a shapely geometry"),
+        (shapely.LineString([(1, 1), (1, 1)]), "zero length"),
+    ],
+)
+def test_bad_static_occluders(static, message: str) -> None:
+    with pytest.raises(ValueError, match=message):
+        get_visibility_df(boxes_table([(0, 0, 4, 2, 0), (9, 0, 4, 2, 0)]), 0, [static])
+
+
+def test_several_observers() -> None:
+    df = boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 4, 0), (20, 0, 4, 2, 0)])
+    out = get_visibility_df(df, "all")
+    assert out.columns == list(SCHEMA)
+    assert out.height == 6
+    seen_from_2 = out.filter(pl.col("ego_idx") == 2)
+    assert row(seen_from_2, 0)["visibility"] == 0.0 and row(seen_from_2, 0)["occluder_idxs"] == [1]
+    single = get_visibility_df(df, [0])
+    assert single.columns == list(SCHEMA)
