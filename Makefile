@@ -2,6 +2,8 @@
 SHELL := /bin/bash
 export UV_PYTHON_DOWNLOADS := never
 UV := $(shell command -v uv 2>/dev/null || echo .tools/bin/uv)
+# uv itself: from PATH, else installed once into .tools/ with the machine's python3
+UV_DEP := $(if $(filter .tools/bin/uv,$(UV)),.tools/bin/uv,)
 PYTEST_ARGS ?= -n 2
 
 .PHONY: run test lint bench scenario
@@ -10,21 +12,18 @@ PYTEST_ARGS ?= -n 2
 	python3 -m venv .tools
 	.tools/bin/python -m pip install --quiet uv
 
-$(UV):
-	$(MAKE) .tools/bin/uv
-
-run: | $(UV)
+run: | $(UV_DEP)
 	$(UV) run omega-prime-visibility run highway_merge.mcap --ego 0
 
-lint: | $(UV)
+lint: | $(UV_DEP)
 	$(UV) run ruff check .
 	$(UV) run ruff format --check .
 
-test: lint
+test: lint | $(UV_DEP)
 	$(UV) run pytest $(PYTEST_ARGS)
 
-bench: | $(UV)
+bench: | $(UV_DEP)
 	$(UV) run python benchmarks/bench.py
 
-scenario: | $(UV)
+scenario: | $(UV_DEP)
 	$(UV) run python scenarios/highway_merge.py -o highway_merge.mcap
