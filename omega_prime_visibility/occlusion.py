@@ -145,3 +145,79 @@ def occludes(
         np.asarray(extent_start, dtype=np.float64),
         np.asarray(extent_width, dtype=np.float64),
     )
+
+
+@numba.njit(cache=True)
+def _candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, max_dist):
+    """Pairs (body, target) where some edge of a blocking body overlaps the target's extent and comes nearer
+    than the target's farthest point; each pair once."""
+    n_bodies = len(blocking)
+    # per-edge bearing interval and nearest distance
+    m = len(seg)
+    e_start = np.empty(m)
+    e_width = np.empty(m)
+    e_near = np.empty(m)
+    for j in range(m):
+        ax, ay = seg[j, 0, 0] - ox, seg[j, 0, 1] - oy
+        bx, by = seg[j, 1, 0] - ox, seg[j, 1, 1] - oy
+        span = np.arctan2(ax * by - ay * bx, ax * bx + ay * by)
+        ta = np.arctan2(ay, ax)
+        e_start[j] = ta if span >= 0 else ta + span
+        e_width[j] = abs(span)
+        ex, ey = bx - ax, by - ay
+        ee = ex * ex + ey * ey
+        t = -(ax * ex + ay * ey) / ee if ee > 0 else 0.0
+        t = min(max(t, 0.0), 1.0)
+        e_near[j] = np.hypot(ax + t * ex, ay + t * ey)
+    out_body = np.empty(len(targets) * 8, dtype=np.int64)
+    out_target = np.empty(len(targets) * 8, dtype=np.int64)
+    k = 0
+    seen = np.full(n_bodies, -1, dtype=np.int64)
+    two_pi = 2.0 * np.pi
+    for t in targets:
+        for j in range(m):
+            b = seg_body[j]
+            if b == t or not blocking[b] or seen[b] == t or e_near[j] >= max_dist[t]:
+                continue
+            rel = e_start[j] - start[t]
+            rel = rel - two_pi * np.floor(rel / two_pi)
+            if rel < width[t] or rel + e_width[j] > two_pi:
+                seen[b] = t
+                if k == len(out_body):
+                    out_body = np.concatenate((out_body, np.empty(k, dtype=np.int64)))
+                    out_target = np.concatenate((out_target, np.empty(k, dtype=np.int64)))
+                out_body[k] = b
+                out_target[k] = t
+                k += 1
+    return out_body[:k], out_target[:k]
+
+
+def candidate_pairs(
+    observer: np.ndarray,
+    segments: np.ndarray,
+    segment_body: np.ndarray,
+    blocking: np.ndarray,
+    targets: np.ndarray,
+    extent_start: np.ndarray,
+    extent_width: np.ndarray,
+    max_distance: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Cheap superset of the occluding pairs: a blocking body with an edge inside a target's angular extent
+    that comes nearer to the observer than the target's farthest vertex.
+
+    Returns ``(occluder, target)`` body numbers, each pair once. ``max_distance`` (metres) and the extents are
+    indexed by body number and read for targets only.
+    """
+    if len(targets) == 0 or len(segments) == 0:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    return _candidate_pairs(
+        float(observer[0]),
+        float(observer[1]),
+        np.ascontiguousarray(segments, dtype=np.float64),
+        np.asarray(segment_body, dtype=np.int64),
+        np.asarray(blocking, dtype=np.bool_),
+        np.asarray(targets, dtype=np.int64),
+        np.asarray(extent_start, dtype=np.float64),
+        np.asarray(extent_width, dtype=np.float64),
+        np.asarray(max_distance, dtype=np.float64),
+    )

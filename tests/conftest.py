@@ -35,3 +35,28 @@ def shared_data() -> Path:
     if not (SHARED_DATA / "highway_merge.mcap").exists():
         pytest.skip(f"real recordings not available at {SHARED_DATA}")
     return SHARED_DATA
+
+
+def scene_table(observer, objects, include_ego: bool) -> pl.DataFrame:
+    """A one-frame table with a ``polygon`` column for a reference scene; the ego (idx 0) sits at ``observer``.
+
+    With ``include_ego`` the scene's object 0 is the ego's outline; otherwise a 0.2 m square at the observer is
+    added as idx 0. Scene object ``k`` gets idx ``k`` (with ego) or ``k + 1`` (without).
+    """
+    import shapely
+
+    polys = (
+        list(objects) if include_ego else [shapely.box(*(np.r_[observer, observer] + [-0.1, -0.1, 0.1, 0.1])), *objects]
+    )
+    centres = np.array([[p.centroid.x, p.centroid.y] for p in polys])
+    centres[0] = observer
+    return pl.DataFrame(
+        {
+            "frame": np.zeros(len(polys), dtype=np.int64),
+            "total_nanos": np.zeros(len(polys), dtype=np.int64),
+            "idx": np.arange(len(polys), dtype=np.int64),
+            "x": centres[:, 0],
+            "y": centres[:, 1],
+            "polygon": pl.Series(polys, dtype=pl.Object),
+        }
+    )

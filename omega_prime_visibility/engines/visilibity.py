@@ -2,17 +2,19 @@
 
 Per frame and observer:
 
-1. Everything is shifted so that the observer sits at the origin (precision with large map coordinates).
-2. A *valid* VisiLibity environment is built: the blocking bodies (objects, static polygons, wall lines thickened
-   to ``2 * wall_half_width``) are merged with shapely, the free space is a box around them minus that union, and
-   the connected piece of free space holding the observer becomes the environment: its exterior is the outer
-   boundary (counter-clockwise), its interiors the holes (clockwise). Merging overlapping bodies keeps the holes
-   disjoint; where two holes would only touch at a point, they are joined by a ``touch_gap`` wide buffer.
-3. VisiLibity computes the visibility polygon. Each of its edges either runs along some body's boundary (then it
-   lies on exactly one original edge, found as the nearest edge to its midpoint) or points straight at the
-   observer (subtends no angle). The angle each body's edges subtend is its visible angle.
-4. Occluders: candidate bodies intersect the convex hull of the observer and the target (shapely STRtree); the
-   exact pairwise test in :mod:`..occlusion` keeps those really hit before the target.
+1. Coordinates are taken relative to a fixed origin (the first observer seen), for precision with large map
+   coordinates, and so that static geometry is converted to VisiLibity once.
+2. A *valid* VisiLibity environment is built (outer boundary counter-clockwise, holes clockwise, disjoint and
+   inside): blocking bodies (objects, static polygons, LineString walls thickened to ``2 * wall_half_width``) whose
+   bounding boxes overlap are tested exactly and overlapping groups are merged with shapely; every group becomes
+   one hole, inside a box around everything. Groups that only touch at a point are joined by a ``touch_gap``
+   buffer. If the observer is enclosed by a group (say a ring of cars around it), the environment is instead the
+   piece of free space holding the observer.
+3. VisiLibity computes the visibility polygon. Each of its edges either runs along some body's boundary (it then
+   lies on one original edge, found as the nearest edge to the edge's midpoint) or points straight at the
+   observer (it subtends no angle). The angle subtended by a body's edges is its visible angle.
+4. Occluders: candidate bodies have an edge inside the target's angular extent nearer than the target's farthest
+   point; the exact pairwise test of :mod:`..occlusion` keeps those really hit before the target.
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ import shapely
 import visilibity as vis
 
 from ..geometry import Rings, angular_extent, edges, ring_ids
-from ..occlusion import occludes
+from ..occlusion import candidate_pairs, occludes
 from ..scene import FrameObjects, StaticOccluders
 from . import EngineBase, Observation, group_pairs
 
@@ -32,7 +34,7 @@ BOX_MARGIN = 10.0  # metres of free space around everything
 
 @numba.njit(cache=True)
 def _nearest_body(points, seg, seg_body):
-    """For each point, the body owning the nearest segment and the distance to it."""
+    """For each point, the body owning the nearest segment and the distance to it (metres)."""
     body = np.full(len(points), -1, dtype=np.int64)
     dist = np.full(len(points), np.inf)
     for i in range(len(points)):
@@ -57,12 +59,53 @@ def _nearest_body(points, seg, seg_body):
     return body, dist
 
 
+@numba.njit(cache=True)
+def _box_overlaps(lo, hi):
+    """Pairs (i, j), i < j, of axis-aligned boxes ``[lo, hi]`` that overlap (sort and sweep on x)."""
+    order = np.argsort(lo[:, 0])
+    first = []
+    second = []
+    for a in range(len(order)):
+        i = order[a]
+        for b in range(a + 1, len(order)):
+            j = order[b]
+            if lo[j, 0] > hi[i, 0]:
+                break
+            if lo[j, 1] <= hi[i, 1] and lo[i, 1] <= hi[j, 1]:
+                first.append(min(i, j))
+                second.append(max(i, j))
+    return np.array(first, dtype=np.int64), np.array(second, dtype=np.int64)
+
+
+def _components(n: int, first: np.ndarray, second: np.ndarray) -> np.ndarray:
+    """Connected-component label of each of ``n`` nodes given undirected edges."""
+    parent = np.arange(n)
+
+    def find(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    for i, j in zip(first.tolist(), second.tolist(), strict=True):
+        ri, rj = find(i), find(j)
+        if ri != rj:
+            parent[max(ri, rj)] = min(ri, rj)
+    return np.array([find(i) for i in range(n)], dtype=np.int64)
+
+
 def _vis_polygon(coords: np.ndarray) -> vis.Polygon:
-    return vis.Polygon([vis.Point(float(x), float(y)) for x, y in coords])
+    return vis.Polygon([vis.Point(x, y) for x, y in coords.tolist()])
 
 
-def _ring_coords(ring: shapely.LinearRing) -> np.ndarray:
-    return shapely.get_coordinates(ring)[:-1]
+def _exterior_cw(polygon: shapely.Polygon) -> np.ndarray:
+    """Exterior vertices of a polygon, clockwise, closing vertex dropped."""
+    c = shapely.get_coordinates(polygon.exterior)[:-1]
+    return c if not shapely.is_ccw(polygon.exterior) else c[::-1]
+
+
+class _Unenclosable(Exception):
+    """The fast environment does not apply (the observer is enclosed by a group of bodies)."""
 
 
 class VisiLibityEngine(EngineBase):
@@ -76,7 +119,7 @@ class VisiLibityEngine(EngineBase):
     wall_half_width : float
         Half thickness, metres, given to LineString walls (VisiLibity needs areas).
     touch_gap : float
-        Buffer, metres, that joins obstacles touching at a single point (only applied when needed).
+        Buffer, metres, that joins bodies touching at a single point (only applied where that happens).
     """
 
     name = "visilibity"
@@ -91,25 +134,59 @@ class VisiLibityEngine(EngineBase):
         self.statics = statics
         self.epsilon = epsilon
         self.touch_gap = touch_gap
-        n_src = statics.n_sources
-        parts: list[list[shapely.Geometry]] = [[] for _ in range(n_src)]
-        for k, g in enumerate(statics.geometries):
-            if isinstance(g, shapely.Polygon | shapely.MultiPolygon):
-                parts[k].append(g)
-            else:
-                parts[k].append(
-                    shapely.buffer(g, wall_half_width, cap_style="flat", join_style="mitre", mitre_limit=10.0)
-                )
-        self._static_polygons = np.array([shapely.union_all(p) for p in parts] + [None], dtype=object)[:-1]
-        # static edges per source: ring edges and wall segments, grouped by source
-        a, b = edges(statics.rings)
-        ring_seg = np.stack([a, b], axis=1)
-        seg = np.concatenate([ring_seg, statics.segments])
-        src = np.concatenate([statics.ring_source[ring_ids(statics.rings.offsets)], statics.segment_source])
-        order = np.argsort(src, kind="stable")
-        self._static_segments = seg[order].reshape(-1, 2, 2)
-        self._static_segment_source = src[order].astype(np.int64)
+        self.wall_half_width = wall_half_width
+        self._origin: np.ndarray | None = None
 
+    # -- static geometry, converted once relative to the origin ------------------------------------------------
+    def _prepare_statics(self, origin: np.ndarray) -> None:
+        st = self.statics
+        self._origin = origin.copy()
+        shifted = shapely.transform(st.geometries, lambda c: c - origin) if st.n_sources else st.geometries
+        self._static_shapes = np.array(
+            [
+                g
+                if isinstance(g, shapely.Polygon | shapely.MultiPolygon)
+                else shapely.buffer(g, self.wall_half_width, cap_style="flat", join_style="mitre", mitre_limit=10.0)
+                for g in shifted
+            ]
+            + [None],
+            dtype=object,
+        )[:-1]
+        a, b = edges(st.rings)
+        seg = np.concatenate([np.stack([a, b], axis=1), st.segments]) - origin
+        src = np.concatenate([st.ring_source[ring_ids(st.rings.offsets)], st.segment_source]).astype(np.int64)
+        order = np.argsort(src, kind="stable")
+        self._static_segments = np.ascontiguousarray(seg[order].reshape(-1, 2, 2))
+        self._static_segment_source = src[order]
+        self._static_cache: dict[bytes, tuple] = {}
+
+    def _static_parts(self, static_blocking: np.ndarray) -> tuple:
+        """Merged static parts for this set of blocking sources: shapely parts, their boxes, VisiLibity holes."""
+        key = np.packbits(static_blocking).tobytes()
+        if key not in self._static_cache:
+            shapes = self._static_shapes[static_blocking]
+            parts = []
+            if len(shapes):
+                merged = shapely.union_all(shapes)
+                parts = list(getattr(merged, "geoms", [merged]))
+                if len(parts) > 1 and self._touching(parts):
+                    merged = shapely.buffer(merged, self.touch_gap, join_style="mitre")
+                    parts = list(getattr(merged, "geoms", [merged]))
+            parts_arr = np.array([*parts, None], dtype=object)[:-1]
+            bounds = shapely.bounds(parts_arr).reshape(-1, 4) if parts else np.zeros((0, 4))
+            holes = [_vis_polygon(_exterior_cw(p)) for p in parts]
+            enclosing = [k for k, p in enumerate(parts) if len(p.interiors)]
+            self._static_cache[key] = (parts_arr, bounds, holes, enclosing)
+        return self._static_cache[key]
+
+    @staticmethod
+    def _touching(parts: list[shapely.Polygon]) -> bool:
+        """Whether disjoint parts share a vertex (touch at a point); every ring repeats its first vertex once."""
+        coords = np.concatenate([shapely.get_coordinates(p) for p in parts])
+        closing = sum(1 + len(p.interiors) for p in parts)
+        return len(np.unique(coords, axis=0)) < len(coords) - closing
+
+    # -- one observer ------------------------------------------------------------------------------------------
     def observe(
         self,
         objects: FrameObjects,
@@ -117,113 +194,158 @@ class VisiLibityEngine(EngineBase):
         transparent: np.ndarray,
         static_transparent: np.ndarray,
     ) -> Observation:
+        observer = np.asarray(observer, dtype=np.float64)
+        if self._origin is None:
+            self._prepare_statics(observer)
+        origin = self._origin
         n = len(objects)
         n_src = self.statics.n_sources
-        origin = np.asarray(observer, dtype=np.float64)
-        # bodies: objects 0..n-1, then static sources n..n+n_src-1; all shifted so the observer is at the origin
-        coords = objects.rings.coords - origin
-        obj_ids = ring_ids(objects.rings.offsets)
-        a, b = edges(objects.rings)
-        obj_seg = np.stack([a - origin, b - origin], axis=1)
-        static_seg = self._static_segments - origin
-        segments = np.concatenate([obj_seg, static_seg])
+        o = observer - origin
+        rings = Rings(objects.rings.coords - origin, objects.rings.offsets)
+        obj_ids = ring_ids(rings.offsets)
+        a, b = edges(rings)
+        segments = np.concatenate([np.stack([a, b], axis=1), self._static_segments])
         seg_body = np.concatenate([obj_ids, n + self._static_segment_source])
         seg_offsets = np.zeros(n + n_src + 1, dtype=np.int64)
         np.cumsum(np.bincount(seg_body, minlength=n + n_src), out=seg_offsets[1:])
+        obj_blocking = ~np.asarray(transparent, dtype=bool)
+        static_blocking = ~np.asarray(static_transparent, dtype=bool)
+        blocking = np.concatenate([obj_blocking, static_blocking])
 
-        polygons = shapely.polygons(shapely.linearrings(coords, indices=obj_ids))
-        static_polygons = shapely.transform(self._static_polygons, lambda c: c - origin)
-        body_polygons = np.concatenate([polygons, static_polygons])
-        blocking = np.concatenate([~np.asarray(transparent, bool), ~np.asarray(static_transparent, bool)])
-
-        zero = np.zeros(2)
-        start, width, _ = angular_extent(zero, Rings(coords, objects.rings.offsets))
+        start, width, _ = angular_extent(o, rings)
         if blocking.any():
-            visible = self._visible_angles(body_polygons[blocking], segments, seg_body, blocking, n)
+            visible = self._visible_angles(rings, obj_blocking, static_blocking, o, segments, seg_body, blocking, n)
         else:
             visible = width.copy()
 
-        occ_offsets, occ, st_offsets, st = self._occluders(
-            body_polygons, blocking, transparent, segments, seg_offsets, start, width, n
-        )
+        targets = np.flatnonzero(obj_blocking)
+        rel = rings.coords - o
+        max_dist = np.maximum.reduceat(np.hypot(rel[:, 0], rel[:, 1]), rings.offsets[:-1]) if n else np.zeros(0)
+        body, target = candidate_pairs(o, segments, seg_body, blocking, targets, start, width, max_dist)
+        hit = occludes(o, segments, seg_offsets, body, target, start, width)
+        body, target = body[hit], target[hit]
+        is_obj = body < n
+        occ_offsets, occ = group_pairs(target[is_obj], body[is_obj], n)
+        st_offsets, st = group_pairs(target[~is_obj], body[~is_obj] - n, n)
         return Observation(visible, width, occ_offsets, occ, st_offsets, st)
-
-    # -- step 2 and 3 ------------------------------------------------------------------------------------------
-    def _environment(self, obstacles: np.ndarray) -> vis.Environment:
-        merged = shapely.union_all(obstacles)
-        xmin, ymin, xmax, ymax = shapely.total_bounds(merged)
-        r = max(abs(xmin), abs(ymin), abs(xmax), abs(ymax)) + BOX_MARGIN
-        box = shapely.box(-r, -r, r, r)
-        free = shapely.difference(box, merged)
-        piece = self._piece_with_origin(free)
-        rings = [piece.exterior, *piece.interiors]
-        ring_coords = [_ring_coords(ring) for ring in rings]
-        allc = np.concatenate(ring_coords)
-        if len(np.unique(allc, axis=0)) < len(allc):
-            # bodies touching at a point: join them by a hair so that the holes stay disjoint
-            merged = shapely.buffer(merged, self.touch_gap, join_style="mitre")
-            piece = self._piece_with_origin(shapely.difference(box, merged))
-        piece = shapely.orient_polygons(piece, exterior_cw=False)
-        polys = [_vis_polygon(_ring_coords(piece.exterior))]
-        polys += [_vis_polygon(_ring_coords(hole)) for hole in piece.interiors]
-        return vis.Environment(polys)
-
-    @staticmethod
-    def _piece_with_origin(free: shapely.Geometry) -> shapely.Polygon:
-        origin = shapely.Point(0.0, 0.0)
-        for piece in getattr(free, "geoms", [free]):
-            if shapely.intersects(piece, origin):
-                return piece
-        raise RuntimeError("internal error: the observer is not in free space although no body contains it")
 
     def _visible_angles(
         self,
-        obstacles: np.ndarray,
+        rings: Rings,
+        obj_blocking: np.ndarray,
+        static_blocking: np.ndarray,
+        o: np.ndarray,
         segments: np.ndarray,
         seg_body: np.ndarray,
         blocking: np.ndarray,
         n: int,
     ) -> np.ndarray:
-        env = self._environment(obstacles)
-        vp = vis.Visibility_Polygon(vis.Point(0.0, 0.0), env, self.epsilon)
-        m = vp.n()
-        pts = np.array([(vp[i].x(), vp[i].y()) for i in range(m)], dtype=np.float64).reshape(-1, 2)
+        try:
+            env = self._environment(rings, obj_blocking, static_blocking, o)
+        except _Unenclosable:
+            env = self._enclosed_environment(rings, obj_blocking, static_blocking, o)
+        vp = vis.Visibility_Polygon(vis.Point(float(o[0]), float(o[1])), env, self.epsilon)
+        pts = np.array([(vp[i].x(), vp[i].y()) for i in range(vp.n())], dtype=np.float64).reshape(-1, 2) - o
         a, b = pts, np.roll(pts, -1, axis=0)
         span = np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1])
         keep = span > 0.0
-        mid = 0.5 * (a[keep] + b[keep])
+        mid = 0.5 * (a[keep] + b[keep]) + o
         use = blocking[seg_body]
         body, dist = _nearest_body(mid, np.ascontiguousarray(segments[use]), seg_body[use])
-        on_body = dist <= 1e-6 * np.maximum(1.0, np.hypot(mid[:, 0], mid[:, 1])) + 1e-5
-        body = body[on_body]
-        return np.bincount(body, weights=span[keep][on_body], minlength=len(blocking))[:n]
+        on_body = dist <= 1e-6 * np.maximum(1.0, np.hypot(*(mid - o).T)) + 10 * self.wall_half_width
+        return np.bincount(body[on_body], weights=span[keep][on_body], minlength=len(blocking))[:n]
 
-    # -- step 4 ------------------------------------------------------------------------------------------------
-    def _occluders(
-        self,
-        body_polygons: np.ndarray,
-        blocking: np.ndarray,
-        transparent: np.ndarray,
-        segments: np.ndarray,
-        seg_offsets: np.ndarray,
-        start: np.ndarray,
-        width: np.ndarray,
-        n: int,
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        targets = np.flatnonzero(~np.asarray(transparent, bool))
-        candidates = np.flatnonzero(blocking)
-        empty = np.zeros(n + 1, dtype=np.int64), np.zeros(0, dtype=np.int64)
-        if len(targets) == 0 or len(candidates) == 0:
-            return (*empty, *empty)
-        tree = shapely.STRtree(body_polygons[candidates])
-        hulls = shapely.convex_hull(shapely.union(body_polygons[targets], shapely.Point(0.0, 0.0)))
-        t_pos, c_pos = tree.query(hulls, predicate="intersects")
-        target, body = targets[t_pos], candidates[c_pos]
-        keep = target != body
-        target, body = target[keep], body[keep]
-        hit = occludes(np.zeros(2), segments, seg_offsets, body, target, start, width)
-        target, body = target[hit], body[hit]
-        is_obj = body < n
-        occ_offsets, occ = group_pairs(target[is_obj], body[is_obj], n)
-        st_offsets, st = group_pairs(target[~is_obj], body[~is_obj] - n, n)
-        return occ_offsets, occ, st_offsets, st
+    def _environment(
+        self, rings: Rings, obj_blocking: np.ndarray, static_blocking: np.ndarray, o: np.ndarray
+    ) -> vis.Environment:
+        """Holes = groups of overlapping bodies, each merged; raises ``_Unenclosable`` if a group encloses ``o``."""
+        parts, part_bounds, part_holes, enclosing = self._static_parts(static_blocking)
+        for k in enclosing:
+            if shapely.intersects(shapely.Polygon(parts[k].exterior), shapely.Point(o)):
+                raise _Unenclosable
+        objs = np.flatnonzero(obj_blocking)
+        if len(objs):
+            lo_o = np.minimum.reduceat(rings.coords, rings.offsets[:-1])[objs]
+            hi_o = np.maximum.reduceat(rings.coords, rings.offsets[:-1])[objs]
+        else:
+            lo_o = hi_o = np.zeros((0, 2))
+        lo = np.concatenate([lo_o, part_bounds[:, :2]])
+        hi = np.concatenate([hi_o, part_bounds[:, 2:]])
+        n_obj = len(objs)
+        first, second = _box_overlaps(lo, hi)
+        holes: list[vis.Polygon] = []
+        grouped = np.zeros(len(lo), dtype=bool)
+        if len(first):
+            involved = np.unique(np.concatenate([first, second]))
+            shapes = self._shapes(rings, objs, parts, involved, n_obj)
+            touching = np.asarray(shapely.intersects(shapes[first], shapes[second]), dtype=bool)
+            first, second = first[touching], second[touching]
+            if len(first):
+                label = _components(len(lo), first, second)
+                for root in np.unique(label[np.concatenate([first, second])]):
+                    members = np.flatnonzero(label == root)
+                    grouped[members] = True
+                    merged = shapely.union_all(shapes[members])
+                    holes += self._group_holes(merged, o)
+        bounds_lo = lo.min(axis=0) if len(lo) else o
+        bounds_hi = hi.max(axis=0) if len(hi) else o
+        for k in np.flatnonzero(~grouped[:n_obj]):
+            holes.append(_vis_polygon(rings.ring(objs[k])[::-1]))
+        holes += [part_holes[k] for k in np.flatnonzero(~grouped[n_obj:])]
+        return vis.Environment([self._outer(np.minimum(bounds_lo, o), np.maximum(bounds_hi, o)), *holes])
+
+    def _shapes(self, rings: Rings, objs: np.ndarray, parts: np.ndarray, involved: np.ndarray, n_obj: int):
+        shapes = np.empty(n_obj + len(parts), dtype=object)
+        obj_involved = involved[involved < n_obj]
+        if len(obj_involved):
+            sub = rings.take(objs[obj_involved])
+            shapes[obj_involved] = shapely.polygons(shapely.linearrings(sub.coords, indices=ring_ids(sub.offsets)))
+        shapes[n_obj:] = parts
+        return shapes
+
+    def _group_holes(self, merged: shapely.Geometry, o: np.ndarray) -> list[vis.Polygon]:
+        pieces = list(getattr(merged, "geoms", [merged]))
+        if len(pieces) > 1 or any(len(p.interiors) for p in pieces):
+            point = shapely.Point(o)
+            if any(shapely.intersects(shapely.Polygon(p.exterior), point) for p in pieces):
+                raise _Unenclosable
+            if len(pieces) > 1:  # touching at points only: join them by a hair
+                merged = shapely.buffer(merged, self.touch_gap, join_style="mitre")
+                pieces = list(getattr(merged, "geoms", [merged]))
+        return [_vis_polygon(_exterior_cw(p)) for p in pieces]
+
+    @staticmethod
+    def _outer(lo: np.ndarray, hi: np.ndarray) -> vis.Polygon:
+        (x0, y0), (x1, y1) = lo - BOX_MARGIN, hi + BOX_MARGIN
+        return _vis_polygon(np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]]))
+
+    def _enclosed_environment(
+        self, rings: Rings, obj_blocking: np.ndarray, static_blocking: np.ndarray, o: np.ndarray
+    ) -> vis.Environment:
+        """The general construction: free space = box minus all bodies; keep the piece that holds ``o``."""
+        objs = np.flatnonzero(obj_blocking)
+        sub = rings.take(objs)
+        shapes = list(shapely.polygons(shapely.linearrings(sub.coords, indices=ring_ids(sub.offsets))))
+        shapes += list(self._static_shapes[static_blocking])
+        merged = shapely.union_all(shapes)
+        xmin, ymin, xmax, ymax = shapely.total_bounds(merged)
+        lo = np.minimum([xmin, ymin], o) - BOX_MARGIN
+        hi = np.maximum([xmax, ymax], o) + BOX_MARGIN
+        box = shapely.box(lo[0], lo[1], hi[0], hi[1])
+        piece = self._piece_holding(shapely.difference(box, merged), o)
+        coords = shapely.get_coordinates(shapely.get_rings(piece))
+        if len(np.unique(coords, axis=0)) < len(coords) - 1 - len(piece.interiors):
+            merged = shapely.buffer(merged, self.touch_gap, join_style="mitre")
+            piece = self._piece_holding(shapely.difference(box, merged), o)
+        piece = shapely.orient_polygons(piece, exterior_cw=False)
+        polys = [_vis_polygon(shapely.get_coordinates(piece.exterior)[:-1])]
+        polys += [_vis_polygon(shapely.get_coordinates(h)[:-1]) for h in piece.interiors]
+        return vis.Environment(polys)
+
+    @staticmethod
+    def _piece_holding(free: shapely.Geometry, o: np.ndarray) -> shapely.Polygon:
+        point = shapely.Point(o)
+        for piece in getattr(free, "geoms", [free]):
+            if shapely.intersects(piece, point):
+                return piece
+        raise RuntimeError("internal error: the observer is not in free space although no body contains it")

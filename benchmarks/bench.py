@@ -1,0 +1,103 @@
+"""Speed benchmarks, printed next to their targets (run with ``make bench``).
+
+Figures are microseconds per (frame, target) row, end to end through ``get_visibility_df`` (table built), on one
+core, after a warm-up call (numba compilation excluded). Synthetic highway: N boxes on four lanes with realistic
+gaps, the ego (idx 0) in an inner lane, all driving at lane speed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import polars as pl
+
+from omega_prime_visibility import ENGINES, get_visibility_df
+
+REPO = Path(__file__).resolve().parent.parent
+TARGETS_US = {("visilibity", 50): 40.0, ("sweep", 50): 2.0, ("sweep", 200): 3.0}
+
+
+def synthetic_highway(n_objects: int, n_frames: int, seed: int = 0, dt: float = 0.04) -> pl.DataFrame:
+    """Boxes on a 4-lane highway (lane width 3.5 m), moving in +x; idx 0 is the ego in lane 1.
+
+    Cars 4.2-5 m x 1.8-2 m, every 8th object a 12-18 m x 2.5 m truck; gaps of 8-40 m within a lane.
+    Columns: frame, total_nanos, idx, x, y, length, width, yaw (no polygon column).
+    """
+    rng = np.random.default_rng(seed)
+    lanes = np.arange(n_objects) % 4
+    lanes[0] = 1
+    truck = (np.arange(n_objects) % 8) == 7
+    length = np.where(truck, rng.uniform(12, 18, n_objects), rng.uniform(4.2, 5.0, n_objects))
+    width = np.where(truck, 2.5, rng.uniform(1.8, 2.0, n_objects))
+    x0 = np.zeros(n_objects)
+    for lane in range(4):
+        members = np.flatnonzero(lanes == lane)
+        gaps = rng.uniform(8, 40, len(members)) + length[members]
+        pos = np.cumsum(gaps)
+        x0[members] = pos - pos[len(pos) // 2]
+    speed = 22.0 + 2.0 * lanes + rng.uniform(-1, 1, n_objects)
+    y = 3.5 * lanes + rng.uniform(-0.3, 0.3, n_objects)
+    t = np.arange(n_frames) * dt
+    x = x0[None, :] + speed[None, :] * t[:, None]
+    return pl.DataFrame(
+        {
+            "frame": np.repeat(np.arange(n_frames), n_objects),
+            "total_nanos": np.repeat((t * 1e9).astype(np.int64), n_objects),
+            "idx": np.tile(np.arange(n_objects), n_frames),
+            "x": x.ravel(),
+            "y": np.tile(y, n_frames),
+            "length": np.tile(length, n_frames),
+            "width": np.tile(width, n_frames),
+            "yaw": np.zeros(n_frames * n_objects),
+        }
+    )
+
+
+def time_rows(table, engine: str, repeat: int = 3, **kwargs) -> tuple[float, int]:
+    """Best-of-``repeat`` seconds and row count of one ``get_visibility_df`` call."""
+    get_visibility_df(table, 0, engine=engine, progress=False, **kwargs)  # warm-up / compile
+    best = np.inf
+    for _ in range(repeat):
+        t = time.perf_counter()
+        out = get_visibility_df(table, 0, engine=engine, progress=False, **kwargs)
+        best = min(best, time.perf_counter() - t)
+    return best, out.height
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--frames", type=int, default=100, help="frames per synthetic run")
+    parser.add_argument("--engines", default=",".join(sorted(ENGINES)))
+    args = parser.parse_args(argv)
+    engines = args.engines.split(",")
+    os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+    print(f"python {sys.version.split()[0]}, {os.cpu_count()} cores; µs per (frame, target), end to end")
+    print(f"{'scene':<34}" + "".join(f"{e:>14}" for e in engines) + f"{'target':>22}")
+    for n in (10, 50, 200):
+        table = synthetic_highway(n, args.frames)
+        cells = []
+        for e in engines:
+            secs, rows = time_rows(table, e)
+            cells.append(secs / rows * 1e6)
+        target = "  ".join(f"{e} ≤ {TARGETS_US[(e, n)]:g}" for e in engines if (e, n) in TARGETS_US)
+        print(f"{f'synthetic highway N={n}':<34}" + "".join(f"{c:>14.1f}" for c in cells) + f"{target:>22}")
+    mcap = REPO / "highway_merge.mcap"
+    if mcap.exists():
+        import omega_prime
+
+        r = omega_prime.Recording.from_file(str(mcap), compute_polygons=True)
+        cells = []
+        for e in engines:
+            secs, rows = time_rows(r._df, e)
+            cells.append(f"{secs * 1e3:.0f} ms/{rows} rows")
+        line = f"{'highway_merge.mcap (whole file)':<34}" + "".join(f"{c:>14}" for c in cells)
+        print(line + f"{'visilibity < 300 ms':>22}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,81 @@
+"""Every registered engine against the independent brute-force ray caster, on many random scenes."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import polars as pl
+import pytest
+from conftest import scene_table
+from hypothesis import HealthCheck, given, settings
+from reference import random_scene, reference_visibility, scenes
+
+from omega_prime_visibility import ENGINES, get_visibility_df
+
+N_RAYS = 20000
+TINY = 1e-3  # occluders blocking less than this fraction of the extent may be missed by the rays
+
+
+def compare(scene, include_ego: bool, engine: str) -> tuple[np.ndarray, list[str]]:
+    """Absolute visibility errors per target, and a list of occluder disagreements."""
+    observer, objects, statics, _ = scene
+    table = scene_table(observer, objects, include_ego)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        out = get_visibility_df(table, 0, statics, engine=engine)
+    shift = 0 if include_ego else 1
+    ref_objects = list(table["polygon"])
+    ref_transparent = np.zeros(len(ref_objects), dtype=bool)
+    ref_transparent[0] = True
+    ref = reference_visibility(observer, ref_objects, statics, ref_transparent, n_rays=N_RAYS)
+    errors, problems = [], []
+    assert out["idx"].to_list() == list(range(1, len(ref_objects)))
+    for row in out.iter_rows(named=True):
+        i = row["idx"]
+        errors.append(abs(row["visibility"] - ref.visibility[i]))
+        for got, want, kind in (
+            (set(row["occluder_idxs"]), ref.occluders[i], "objects"),
+            (set(row["static_occluder_idxs"]), ref.static_occluders[i], "statics"),
+        ):
+            must = {k for k, f in want.items() if f > TINY}
+            if not must <= got or not got <= set(want):
+                problems.append(f"target {i} {kind}: engine {sorted(got)} reference {want} (shift {shift})")
+    return np.asarray(errors), problems
+
+
+@pytest.mark.parametrize("engine", sorted(ENGINES))
+@pytest.mark.parametrize("overlap", [False, True])
+def test_random_scenes_against_reference(engine: str, overlap: bool) -> None:
+    rng = np.random.default_rng(20261122 + overlap)
+    errors, problems = [], []
+    for k in range(40):
+        include_ego = bool(k % 2)
+        scene = random_scene(
+            rng, int(rng.integers(2, 10)), overlap=overlap, with_statics=k % 3 != 0, include_ego=include_ego
+        )
+        e, p = compare(scene, include_ego, engine)
+        errors.append(e)
+        problems += p
+    errors = np.concatenate(errors)
+    assert errors.mean() < 0.002, errors.mean()
+    assert errors.max() < 0.02, errors.max()
+    assert not problems, "\n".join(problems)
+
+
+@pytest.mark.parametrize("engine", sorted(ENGINES))
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(scene=scenes(min_objects=1, max_objects=7, include_ego=True))
+def test_property_random_scenes(engine: str, scene) -> None:
+    errors, problems = compare(scene, True, engine)
+    assert errors.max(initial=0.0) < 0.02
+    assert not problems, "\n".join(problems)
+
+
+def test_visibility_bounds_and_schema_on_random_scenes() -> None:
+    rng = np.random.default_rng(7)
+    observer, objects, statics, _ = random_scene(rng, 8, include_ego=True)
+    out = get_visibility_df(scene_table(observer, objects, True), 0, statics)
+    assert out["visibility"].is_between(0.0, 1.0).all()
+    no_occ = out.filter((pl.col("occluder_idxs").list.len() == 0) & (pl.col("static_occluder_idxs").list.len() == 0))
+    assert (no_occ["visibility"] == 1.0).all()
