@@ -1,0 +1,121 @@
+"""The Metric inside omega-prime's MetricManager, the bundled recording, and the real esmini recordings."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import warnings
+from importlib.metadata import entry_points
+
+import numpy as np
+import omega_prime
+import polars as pl
+import pytest
+import shapely
+from conftest import REPO
+
+from omega_prime_visibility import get_visibility_df, metrics, visibility
+from omega_prime_visibility.scene import load_objects
+
+WALL = shapely.Polygon([(-220, 10), (-120, 10), (-120, 0), (-220, 0)])
+
+
+@pytest.fixture(scope="module")
+def bundled() -> omega_prime.Recording:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return omega_prime.Recording.from_file(str(REPO / "highway_merge.mcap"), compute_polygons=True)
+
+
+def test_metric_runs_inside_metric_manager(bundled: omega_prime.Recording) -> None:
+    manager = omega_prime.metrics.MetricManager(metrics=[visibility, omega_prime.metrics.vel])
+    df, properties = manager.compute(bundled, ego_id=0)
+    assert "vel" in df.columns
+    expected = get_visibility_df(bundled, 0)
+    assert properties["visibility"].equals(expected)
+    assert metrics == [visibility]
+
+
+def test_metric_passes_static_occluders_and_engine(bundled: omega_prime.Recording) -> None:
+    manager = omega_prime.metrics.MetricManager(metrics=[visibility])
+    _, properties = manager.compute(bundled, ego_id=0, static_occluder_polys=[WALL], engine="visilibity")
+    assert properties["visibility"].equals(get_visibility_df(bundled, 0, [WALL]))
+
+
+def test_entry_point_is_declared() -> None:
+    eps = entry_points(group="omega_prime.plugins.metric")
+    assert any(ep.name == "visibility" and ep.load() is visibility for ep in eps)
+
+
+def test_bundled_recording_has_real_occlusion(bundled: omega_prime.Recording) -> None:
+    out = get_visibility_df(bundled, 0)
+    frames = bundled._df["frame"].n_unique()
+    assert out.height == frames * (bundled._df["idx"].n_unique() - 1)
+    # the truck (idx 1) hides the merging cars for a good part of the recording
+    hidden = out.filter(pl.col("visibility") == 0.0)
+    assert hidden.height > 20
+    assert hidden["occluder_idxs"].list.contains(1).any()
+    partly = out.filter(pl.col("visibility").is_between(0.01, 0.99))
+    assert partly.height > 20
+
+
+def test_polygon_column_and_boxes_agree(bundled: omega_prime.Recording) -> None:
+    df = bundled._df
+    from_boxes = get_visibility_df(df.drop("polygon"), 0)
+    from_polygons = get_visibility_df(df, 0)
+    assert from_boxes.drop("visibility").equals(from_polygons.drop("visibility"))
+    assert np.allclose(from_boxes["visibility"], from_polygons["visibility"], atol=1e-9)
+
+
+def test_cli_prints_table() -> None:
+    out = subprocess.run(
+        [sys.executable, "-m", "omega_prime_visibility.cli", "run", str(REPO / "highway_merge.mcap"), "--no-progress"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert "visibility" in out.stdout and "occluder_idxs" in out.stdout
+
+
+def test_cli_reports_corrupt_file(tmp_path) -> None:
+    bad = tmp_path / "broken.mcap"
+    bad.write_bytes(b"not an mcap at all")
+    out = subprocess.run(
+        [sys.executable, "-m", "omega_prime_visibility.cli", "run", str(bad)], capture_output=True, text=True
+    )
+    assert out.returncode != 0
+    assert "broken.mcap" in out.stderr and "Traceback" not in out.stderr
+
+
+def test_upstream_recording_with_wall(shared_data) -> None:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = omega_prime.Recording.from_file(str(shared_data / "highway_merge.mcap"), compute_polygons=True)
+    out = get_visibility_df(r, 0, [WALL])
+    first = out.filter((pl.col("frame") == 0) & (pl.col("idx") == 1)).row(0, named=True)
+    # the upstream README rounds this to 0.42
+    assert first["visibility"] == pytest.approx(0.42, abs=0.01)
+    assert first["static_occluder_idxs"] == [0]
+
+
+@pytest.mark.parametrize(
+    ("trace", "xodr"),
+    [
+        ("acc-test.osi", "straight_500m.xodr"),
+        ("alks_cut-in.osi", "straight_500m.xodr"),
+        ("pedestrian.osi", "fabriksgatan.xodr"),
+        ("highway_merge.osi", "soderleden.xodr"),
+    ],
+)
+def test_real_osi_traces(shared_data, trace: str, xodr: str) -> None:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = omega_prime.Recording.from_file(
+            str(shared_data / trace), map_path=str(shared_data / xodr), compute_polygons=True
+        )
+    objects = load_objects(r)
+    ego = int(objects.idx[0])
+    out = get_visibility_df(r, "all" if trace == "pedestrian.osi" else ego)
+    assert out.height > 0
+    assert out["visibility"].is_between(0.0, 1.0).all()
+    assert out["visibility"].is_nan().sum() == 0
