@@ -240,12 +240,8 @@ class VisiLibityEngine(EngineBase):
         blocking: np.ndarray,
         n: int,
     ) -> np.ndarray:
-        try:
-            env = self._environment(rings, obj_blocking, static_blocking, o)
-        except _Unenclosable:
-            env = self._enclosed_environment(rings, obj_blocking, static_blocking, o)
-        vp = vis.Visibility_Polygon(vis.Point(float(o[0]), float(o[1])), env, self.epsilon)
-        pts = np.array([(vp[i].x(), vp[i].y()) for i in range(vp.n())], dtype=np.float64).reshape(-1, 2) - o
+        env = self._build_environment(rings, obj_blocking, static_blocking, o)
+        pts = self._polygon_points(env, o) - o
         a, b = pts, np.roll(pts, -1, axis=0)
         span = np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1])
         keep = span > 0.0
@@ -254,6 +250,38 @@ class VisiLibityEngine(EngineBase):
         body, dist = _nearest_body(mid, np.ascontiguousarray(segments[use]), seg_body[use])
         on_body = dist <= 1e-6 * np.maximum(1.0, np.hypot(*(mid - o).T)) + 10 * self.wall_half_width
         return np.bincount(body[on_body], weights=span[keep][on_body], minlength=len(blocking))[:n]
+
+    def _build_environment(
+        self, rings: Rings, obj_blocking: np.ndarray, static_blocking: np.ndarray, o: np.ndarray
+    ) -> vis.Environment:
+        try:
+            return self._environment(rings, obj_blocking, static_blocking, o)
+        except _Unenclosable:
+            return self._enclosed_environment(rings, obj_blocking, static_blocking, o)
+
+    def _polygon_points(self, env: vis.Environment, o: np.ndarray) -> np.ndarray:
+        vp = vis.Visibility_Polygon(vis.Point(float(o[0]), float(o[1])), env, self.epsilon)
+        return np.array([(vp[i].x(), vp[i].y()) for i in range(vp.n())], dtype=np.float64).reshape(-1, 2)
+
+    def environment(
+        self, objects: FrameObjects, observer: np.ndarray, transparent: np.ndarray, static_transparent: np.ndarray
+    ) -> tuple[vis.Environment, np.ndarray]:
+        """The VisiLibity environment used for this observer, and the origin its coordinates are relative to."""
+        observer = np.asarray(observer, dtype=np.float64)
+        if self._origin is None:
+            self._prepare_statics(observer)
+        rings = Rings(objects.rings.coords - self._origin, objects.rings.offsets)
+        env = self._build_environment(
+            rings, ~np.asarray(transparent, bool), ~np.asarray(static_transparent, bool), observer - self._origin
+        )
+        return env, self._origin
+
+    def visibility_polygon(
+        self, objects: FrameObjects, observer: np.ndarray, transparent: np.ndarray, static_transparent: np.ndarray
+    ) -> shapely.Polygon:
+        """The region visible from ``observer`` (world coordinates, metres), bounded by a box around the scene."""
+        env, origin = self.environment(objects, observer, transparent, static_transparent)
+        return shapely.Polygon(self._polygon_points(env, np.asarray(observer) - origin) + origin)
 
     def _environment(
         self, rings: Rings, obj_blocking: np.ndarray, static_blocking: np.ndarray, o: np.ndarray
@@ -305,13 +333,12 @@ class VisiLibityEngine(EngineBase):
 
     def _group_holes(self, merged: shapely.Geometry, o: np.ndarray) -> list[vis.Polygon]:
         pieces = list(getattr(merged, "geoms", [merged]))
-        if len(pieces) > 1 or any(len(p.interiors) for p in pieces):
-            point = shapely.Point(o)
-            if any(shapely.intersects(shapely.Polygon(p.exterior), point) for p in pieces):
-                raise _Unenclosable
-            if len(pieces) > 1:  # touching at points only: join them by a hair
-                merged = shapely.buffer(merged, self.touch_gap, join_style="mitre")
-                pieces = list(getattr(merged, "geoms", [merged]))
+        if len(pieces) > 1:  # bodies touching at points only: join them by a hair
+            merged = shapely.buffer(merged, self.touch_gap, join_style="mitre")
+            pieces = list(getattr(merged, "geoms", [merged]))
+        point = shapely.Point(o)
+        if any(len(p.interiors) and shapely.intersects(shapely.Polygon(p.exterior), point) for p in pieces):
+            raise _Unenclosable
         return [_vis_polygon(_exterior_cw(p)) for p in pieces]
 
     @staticmethod
