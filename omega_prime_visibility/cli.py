@@ -24,17 +24,23 @@ def _parse_ego(ego: str) -> int | list[int] | str:
     return values[0] if len(values) == 1 else values
 
 
+def fail(message: str) -> typer.Exit:
+    """Print ``error: message`` to stderr; return the exit to raise (status 2)."""
+    typer.echo(f"error: {message}", err=True)
+    return typer.Exit(2)
+
+
 def load_recording(path: Path, map_path: Path | None = None):
     """An ``omega_prime.Recording`` from an MCAP or OSI file, with polygons; clear errors for bad files."""
     import omega_prime
 
     if not path.exists():
-        raise typer.BadParameter(f"{path} does not exist")
+        raise fail(f"{path} does not exist")
     try:
         kwargs = {"map_path": str(map_path)} if map_path else {}
         return omega_prime.Recording.from_file(str(path), compute_polygons=True, **kwargs)
     except Exception as e:  # omega-prime raises many kinds; name the file
-        raise typer.BadParameter(f"cannot read {path} as an omega-prime recording: {type(e).__name__}: {e}") from e
+        raise fail(f"cannot read {path} as an omega-prime recording ({type(e).__name__}: {e})") from e
 
 
 @app.command()
@@ -56,12 +62,11 @@ def run(
     elif r.host_vehicle_idx is not None:
         ego_idx = int(r.host_vehicle_idx)
     else:
-        raise typer.BadParameter(f"{recording} names no host vehicle: pass --ego IDX")
+        raise fail(f"{recording} names no host vehicle: pass --ego IDX")
     try:
         table = get_visibility_df(r, ego_idx, engine=engine, progress=progress)
     except ValueError as e:
-        typer.echo(f"error: {e}", err=True)
-        raise typer.Exit(2) from e
+        raise fail(str(e)) from e
     if output is None:
         with pl.Config(tbl_rows=rows, tbl_cols=-1, fmt_table_cell_list_len=8):
             typer.echo(table)

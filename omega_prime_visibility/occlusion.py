@@ -148,15 +148,18 @@ def occludes(
 
 
 @numba.njit(cache=True)
-def _candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, max_dist):
+def _candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_objects):
     """Pairs (body, target) where some edge of a blocking body overlaps the target's extent and comes nearer
-    than the target's farthest point; each pair once."""
+    than the target's farthest point, each pair once; and whether the pair is certainly occluding (an object
+    entirely nearer than the target's nearest point, with overlapping extents)."""
     n_bodies = len(blocking)
-    # per-edge bearing interval and nearest distance
+    two_pi = 2.0 * np.pi
     m = len(seg)
     e_start = np.empty(m)
     e_width = np.empty(m)
     e_near = np.empty(m)
+    near = np.full(n_bodies, np.inf)
+    far = np.zeros(n_bodies)
     for j in range(m):
         ax, ay = seg[j, 0, 0] - ox, seg[j, 0, 1] - oy
         bx, by = seg[j, 1, 0] - ox, seg[j, 1, 1] - oy
@@ -169,15 +172,19 @@ def _candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, max
         t = -(ax * ex + ay * ey) / ee if ee > 0 else 0.0
         t = min(max(t, 0.0), 1.0)
         e_near[j] = np.hypot(ax + t * ex, ay + t * ey)
-    out_body = np.empty(len(targets) * 8, dtype=np.int64)
-    out_target = np.empty(len(targets) * 8, dtype=np.int64)
+        b = seg_body[j]
+        near[b] = min(near[b], e_near[j])
+        far[b] = max(far[b], np.hypot(ax, ay), np.hypot(bx, by))
+    cap = 8 * len(targets) + 16
+    out_body = np.empty(cap, dtype=np.int64)
+    out_target = np.empty(cap, dtype=np.int64)
+    out_certain = np.empty(cap, dtype=np.bool_)
     k = 0
     seen = np.full(n_bodies, -1, dtype=np.int64)
-    two_pi = 2.0 * np.pi
     for t in targets:
         for j in range(m):
             b = seg_body[j]
-            if b == t or not blocking[b] or seen[b] == t or e_near[j] >= max_dist[t]:
+            if b == t or not blocking[b] or seen[b] == t or e_near[j] >= far[t]:
                 continue
             rel = e_start[j] - start[t]
             rel = rel - two_pi * np.floor(rel / two_pi)
@@ -186,38 +193,66 @@ def _candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, max
                 if k == len(out_body):
                     out_body = np.concatenate((out_body, np.empty(k, dtype=np.int64)))
                     out_target = np.concatenate((out_target, np.empty(k, dtype=np.int64)))
+                    out_certain = np.concatenate((out_certain, np.empty(k, dtype=np.bool_)))
                 out_body[k] = b
                 out_target[k] = t
+                certain = False
+                if b < n_objects and far[b] < near[t]:
+                    # the body's whole extent is nearer; it occludes iff the two extents overlap
+                    rel2 = start[b] - start[t]
+                    rel2 = rel2 - two_pi * np.floor(rel2 / two_pi)
+                    certain = rel2 < width[t] - MIN_PIECE or rel2 + width[b] > two_pi + MIN_PIECE
+                out_certain[k] = certain
                 k += 1
-    return out_body[:k], out_target[:k]
+    return out_body[:k], out_target[:k], out_certain[:k]
 
 
-def candidate_pairs(
+def occluding_pairs(
     observer: np.ndarray,
     segments: np.ndarray,
-    segment_body: np.ndarray,
+    segment_offsets: np.ndarray,
     blocking: np.ndarray,
     targets: np.ndarray,
     extent_start: np.ndarray,
     extent_width: np.ndarray,
-    max_distance: np.ndarray,
+    n_objects: int,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Cheap superset of the occluding pairs: a blocking body with an edge inside a target's angular extent
-    that comes nearer to the observer than the target's farthest vertex.
+    """All pairs ``(occluder, target)`` of body numbers where the occluder is hit before the target somewhere.
 
-    Returns ``(occluder, target)`` body numbers, each pair once. ``max_distance`` (metres) and the extents are
-    indexed by body number and read for targets only.
+    Candidates are blocking bodies with an edge inside the target's angular extent that comes nearer than the
+    target's farthest point; objects lying entirely nearer than the target are accepted at once, the rest are
+    decided by :func:`occludes`.
+
+    Parameters
+    ----------
+    observer : ndarray, shape (2,)
+    segments, segment_offsets
+        Edges of all bodies grouped by body, as for :func:`occludes`; bodies ``0 .. n_objects - 1`` are objects.
+    blocking : ndarray of bool, shape (n_bodies,)
+        Bodies that can occlude.
+    targets : ndarray, shape (t,), int64
+        Target body numbers (objects with the observer outside).
+    extent_start, extent_width : ndarray, shape (n_objects,)
+        Angular extents of the objects, radians.
     """
+    empty = np.zeros(0, dtype=np.int64)
     if len(targets) == 0 or len(segments) == 0:
-        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-    return _candidate_pairs(
+        return empty, empty
+    n_bodies = len(segment_offsets) - 1
+    seg_body = np.repeat(np.arange(n_bodies), np.diff(segment_offsets))
+    body, target, certain = _candidate_pairs(
         float(observer[0]),
         float(observer[1]),
         np.ascontiguousarray(segments, dtype=np.float64),
-        np.asarray(segment_body, dtype=np.int64),
+        seg_body,
         np.asarray(blocking, dtype=np.bool_),
         np.asarray(targets, dtype=np.int64),
         np.asarray(extent_start, dtype=np.float64),
         np.asarray(extent_width, dtype=np.float64),
-        np.asarray(max_distance, dtype=np.float64),
+        int(n_objects),
     )
+    check = ~certain
+    certain[check] = occludes(
+        observer, segments, segment_offsets, body[check], target[check], extent_start, extent_width
+    )
+    return body[certain], target[certain]

@@ -25,7 +25,7 @@ import shapely
 import visilibity as vis
 
 from ..geometry import Rings, angular_extent, edges, ring_ids
-from ..occlusion import candidate_pairs, occludes
+from ..occlusion import occluding_pairs
 from ..scene import FrameObjects, StaticOccluders
 from . import EngineBase, Observation, group_pairs
 
@@ -33,30 +33,59 @@ BOX_MARGIN = 10.0  # metres of free space around everything
 
 
 @numba.njit(cache=True)
-def _nearest_body(points, seg, seg_body):
-    """For each point, the body owning the nearest segment and the distance to it (metres)."""
-    body = np.full(len(points), -1, dtype=np.int64)
-    dist = np.full(len(points), np.inf)
-    for i in range(len(points)):
-        px, py = points[i, 0], points[i, 1]
-        best = np.inf
-        arg = -1
-        for j in range(len(seg)):
-            ax, ay = seg[j, 0, 0], seg[j, 0, 1]
-            ex, ey = seg[j, 1, 0] - ax, seg[j, 1, 1] - ay
-            wx, wy = px - ax, py - ay
-            ee = ex * ex + ey * ey
-            t = (wx * ex + wy * ey) / ee if ee > 0 else 0.0
-            t = min(max(t, 0.0), 1.0)
-            dx, dy = wx - t * ex, wy - t * ey
-            d = dx * dx + dy * dy
-            if d < best:
-                best = d
-                arg = j
-        if arg >= 0:
-            body[i] = seg_body[arg]
-            dist[i] = np.sqrt(best)
-    return body, dist
+def _attribute_visible_angles(pts, seg, seg_offsets, targets, extent_start, extent_width, tolerance):
+    """Angle of the visibility polygon's boundary lying on each target, radians.
+
+    ``pts`` are the visibility polygon's vertices relative to the observer, counter-clockwise; the polygon is
+    star-shaped around the observer, so its edges are ordered by bearing and those inside a target's angular
+    extent are found by binary search. An edge counts for the first target (in ``targets`` order) on whose
+    boundary its midpoint lies (within ``tolerance`` metres); edges pointing at the observer subtend no angle.
+    """
+    m = len(pts)
+    n_bodies = len(seg_offsets) - 1
+    visible = np.zeros(n_bodies)
+    if m < 3:
+        return visible
+    two_pi = 2.0 * np.pi
+    bearing = np.empty(m)
+    span = np.empty(m)
+    for i in range(m):
+        ax, ay = pts[i, 0], pts[i, 1]
+        bx, by = pts[(i + 1) % m, 0], pts[(i + 1) % m, 1]
+        bearing[i] = np.arctan2(ay, ax)
+        span[i] = np.arctan2(ax * by - ay * bx, ax * bx + ay * by)
+    order = np.argsort(bearing)
+    sorted_bearing = bearing[order]
+    owned = np.zeros(m, dtype=np.bool_)
+    for t in targets:
+        s0 = extent_start[t]
+        # edges starting within [s0 - pi, s0 + width]: an edge spans < pi, so this holds all that can overlap
+        for lo, hi in (
+            (s0 - np.pi, s0 + extent_width[t]),
+            (s0 - np.pi - two_pi, s0 + extent_width[t] - two_pi),
+            (s0 - np.pi + two_pi, s0 + extent_width[t] + two_pi),
+        ):
+            a = np.searchsorted(sorted_bearing, lo)
+            b = np.searchsorted(sorted_bearing, hi, side="right")
+            for q in range(a, b):
+                i = order[q]
+                if owned[i] or span[i] <= 0.0:
+                    continue
+                j = (i + 1) % m
+                mx, my = 0.5 * (pts[i, 0] + pts[j, 0]), 0.5 * (pts[i, 1] + pts[j, 1])
+                tol = tolerance * max(1.0, np.hypot(mx, my))
+                for e in range(seg_offsets[t], seg_offsets[t + 1]):
+                    ax, ay = seg[e, 0, 0], seg[e, 0, 1]
+                    ex, ey = seg[e, 1, 0] - ax, seg[e, 1, 1] - ay
+                    wx, wy = mx - ax, my - ay
+                    ee = ex * ex + ey * ey
+                    u = (wx * ex + wy * ey) / ee if ee > 0 else 0.0
+                    u = min(max(u, 0.0), 1.0)
+                    if np.hypot(wx - u * ex, wy - u * ey) <= tol:
+                        owned[i] = True
+                        visible[t] += span[i]
+                        break
+    return visible
 
 
 @numba.njit(cache=True)
@@ -214,16 +243,13 @@ class VisiLibityEngine(EngineBase):
 
         start, width, _ = angular_extent(o, rings)
         if blocking.any():
-            visible = self._visible_angles(rings, obj_blocking, static_blocking, o, segments, seg_body, blocking, n)
+            visible = self._visible_angles(rings, obj_blocking, static_blocking, o, segments, seg_offsets, start, width)
         else:
             visible = width.copy()
 
-        targets = np.flatnonzero(obj_blocking)
-        rel = rings.coords - o
-        max_dist = np.maximum.reduceat(np.hypot(rel[:, 0], rel[:, 1]), rings.offsets[:-1]) if n else np.zeros(0)
-        body, target = candidate_pairs(o, segments, seg_body, blocking, targets, start, width, max_dist)
-        hit = occludes(o, segments, seg_offsets, body, target, start, width)
-        body, target = body[hit], target[hit]
+        body, target = occluding_pairs(
+            o, segments, seg_offsets, blocking, np.flatnonzero(obj_blocking), start, width, n
+        )
         is_obj = body < n
         occ_offsets, occ = group_pairs(target[is_obj], body[is_obj], n)
         st_offsets, st = group_pairs(target[~is_obj], body[~is_obj] - n, n)
@@ -236,20 +262,16 @@ class VisiLibityEngine(EngineBase):
         static_blocking: np.ndarray,
         o: np.ndarray,
         segments: np.ndarray,
-        seg_body: np.ndarray,
-        blocking: np.ndarray,
-        n: int,
+        seg_offsets: np.ndarray,
+        start: np.ndarray,
+        width: np.ndarray,
     ) -> np.ndarray:
+        n = len(rings)
         env = self._build_environment(rings, obj_blocking, static_blocking, o)
         pts = self._polygon_points(env, o) - o
-        a, b = pts, np.roll(pts, -1, axis=0)
-        span = np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1])
-        keep = span > 0.0
-        mid = 0.5 * (a[keep] + b[keep]) + o
-        use = blocking[seg_body]
-        body, dist = _nearest_body(mid, np.ascontiguousarray(segments[use]), seg_body[use])
-        on_body = dist <= 1e-6 * np.maximum(1.0, np.hypot(*(mid - o).T)) + 10 * self.wall_half_width
-        return np.bincount(body[on_body], weights=span[keep][on_body], minlength=len(blocking))[:n]
+        seg = np.ascontiguousarray(segments[: seg_offsets[n]] - o)
+        targets = np.flatnonzero(obj_blocking)
+        return _attribute_visible_angles(pts, seg, seg_offsets[: n + 1], targets, start, width, 1e-6)[:n]
 
     def _build_environment(
         self, rings: Rings, obj_blocking: np.ndarray, static_blocking: np.ndarray, o: np.ndarray
