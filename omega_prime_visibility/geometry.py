@@ -201,8 +201,17 @@ def distance_to_rings(point: np.ndarray, rings: Rings) -> np.ndarray:
 
 def covers_point(point: np.ndarray, rings: Rings, tolerance: float = 1e-9) -> np.ndarray:
     """Whether each ring's polygon contains ``point`` or has it on (within ``tolerance`` metres of) its boundary."""
-    _, _, winding = angular_extent(point, rings)
-    return (winding != 0) | (distance_to_rings(point, rings) <= tolerance)
+    out = np.zeros(len(rings), dtype=bool)
+    if len(rings) == 0:
+        return out
+    lo = np.minimum.reduceat(rings.coords, rings.offsets[:-1])
+    hi = np.maximum.reduceat(rings.coords, rings.offsets[:-1])
+    near = np.flatnonzero(((lo - tolerance <= point) & (point <= hi + tolerance)).all(axis=1))
+    if len(near):
+        sub = rings.take(near)
+        _, _, winding = angular_extent(point, sub)
+        out[near] = (winding != 0) | (distance_to_rings(point, sub) <= tolerance)
+    return out
 
 
 def bearing(points: np.ndarray, observer: np.ndarray) -> np.ndarray:

@@ -1,0 +1,45 @@
+"""Geometry helpers: angular extent at the -pi/pi wrap, containment, orientation."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from omega_prime_visibility.geometry import Rings, angular_extent, box_rings, covers_point, orient, signed_area
+
+
+def square(x: float, y: float, side: float = 2.0) -> Rings:
+    return box_rings(np.array([x]), np.array([y]), np.array([side]), np.array([side]), np.array([0.0]))
+
+
+@pytest.mark.parametrize(("x", "y"), [(10, 0), (-10, 0), (0, 10), (0, -10), (-10, 1e-9)])
+def test_extent_of_square_centred_on_axis(x: float, y: float) -> None:
+    start, width, winding = angular_extent(np.zeros(2), square(x, y))
+    # near face at distance 9, half side 1
+    assert width[0] == pytest.approx(2 * np.arctan2(1, 9))
+    centre = np.arctan2(y, x)
+    assert np.angle(np.exp(1j * (start[0] + width[0] / 2 - centre))) == pytest.approx(0, abs=1e-9)
+    assert winding[0] == 0
+    assert -np.pi <= start[0] < np.pi
+
+
+def test_extent_of_non_convex_ring_wider_than_pi() -> None:
+    # a C-shape open towards +x around the observer at the origin
+    c = np.array([[5, -5], [5, -4], [-4, -4], [-4, 4], [5, 4], [5, 5], [-5, 5], [-5, -5]], dtype=float)
+    rings = Rings(c, np.array([0, len(c)]))
+    _, width, winding = angular_extent(np.zeros(2), rings)
+    assert winding[0] == 0
+    assert width[0] == pytest.approx(2 * np.pi - 2 * np.arctan2(4, 5), abs=1e-9)
+
+
+def test_covers_point_inside_on_boundary_outside() -> None:
+    rings = box_rings(np.array([0.0, 3.0, 10.0]), np.zeros(3), np.array([2.0, 2.0, 2.0]), np.ones(3), np.zeros(3))
+    assert covers_point(np.zeros(2), rings).tolist() == [True, False, False]
+    assert covers_point(np.array([2.0, 0.0]), rings).tolist() == [False, True, False]  # on the edge of box 1
+    assert covers_point(np.array([6.0, 0.0]), rings).tolist() == [False, False, False]
+
+
+def test_orient_makes_rings_counter_clockwise() -> None:
+    cw = Rings(np.array([[0, 0], [0, 1], [1, 1], [1, 0]], dtype=float), np.array([0, 4]))
+    assert signed_area(cw)[0] == pytest.approx(-1)
+    assert signed_area(orient(cw))[0] == pytest.approx(1)
