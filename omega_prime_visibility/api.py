@@ -2,13 +2,18 @@
 
 from __future__ import annotations
 
+import multiprocessing
+import os
 import warnings
 from collections import Counter
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from contextlib import contextmanager
 from typing import Any, Literal
 
 import numpy as np
 import polars as pl
+import pyarrow.parquet as pq
 import shapely
 from tqdm.auto import tqdm
 
@@ -23,10 +28,12 @@ from .scene import (
     load_objects,
     load_static_occluders,
 )
-from .table import TableBuilder
+from .table import TableBuilder, empty_table
 
 EgoSpec = int | Sequence[int] | Literal["all"]
 PROGRESS_MIN_FRAMES = 200
+PARALLEL_MIN_WORK = 5_000  # (frame, observer) pairs from which all cores are used by default
+CHUNK_FRAMES = 500
 
 
 def resolve_egos(ego_idx: EgoSpec, objects: ObjectTable) -> tuple[np.ndarray, bool]:
@@ -61,6 +68,11 @@ class _ContainmentLog:
         for i in idx.tolist():
             self.frames[(ego, i)] += 1
             self.first.setdefault((ego, i), frame)
+
+    def merge(self, other: _ContainmentLog) -> None:
+        self.frames.update(other.frames)
+        for key, frame in other.first.items():
+            self.first.setdefault(key, frame)
 
     def warn(self) -> None:
         if not self.frames:
@@ -142,6 +154,31 @@ def _select(
     return out, values[take]
 
 
+def _run_chunk(
+    objects: ObjectTable, statics: StaticOccluders, egos: np.ndarray, engine: str, with_ego: bool
+) -> tuple[pl.DataFrame, _ContainmentLog]:
+    """All frames of ``objects`` with a fresh engine (so results never depend on how frames were chunked)."""
+    eng = get_engine(engine)(statics)
+    builder = TableBuilder(with_ego=with_ego)
+    containment = _ContainmentLog()
+    for k in range(objects.n_frames):
+        observe_frame(eng, statics, objects.frame_objects(k), egos, builder, containment)
+    return builder.build(), containment
+
+
+def _run_chunk_star(args: tuple) -> tuple[pl.DataFrame, _ContainmentLog]:
+    return _run_chunk(*args)
+
+
+def _chunks(n_frames: int, chunk_frames: int) -> list[tuple[int, int]]:
+    return [(k, min(k + chunk_frames, n_frames)) for k in range(0, n_frames, chunk_frames)]
+
+
+def auto_workers(work: int) -> int:
+    """Processes to use for ``work`` (frame, observer) pairs: all cores for long jobs, else one."""
+    return max(1, os.cpu_count() or 1) if work >= PARALLEL_MIN_WORK else 1
+
+
 def get_visibility_df(
     df: Any,
     ego_idx: EgoSpec,
@@ -150,7 +187,10 @@ def get_visibility_df(
     engine: str = "visilibity",
     progress: bool | None = None,
     on_invalid: OnInvalid = "warn",
-) -> pl.DataFrame:
+    workers: int | None = None,
+    output: str | os.PathLike | None = None,
+    chunk_frames: int = CHUNK_FRAMES,
+) -> pl.DataFrame | pl.LazyFrame:
     """Visibility and occluders of every object, seen from the ego, in every frame where the ego exists.
 
     Parameters
@@ -164,15 +204,22 @@ def get_visibility_df(
     static_occluder_polys : sequence of shapely geometries, optional
         Static occluders (Polygon, MultiPolygon, LineString, ...), reported by their position in this sequence.
     engine : str
-        Registered engine name (``"visilibity"``, the default).
+        Registered engine name (``"visilibity"``, the default; see ``omega_prime_visibility.ENGINES``).
     progress : bool, optional
         Show a progress bar; by default only for long recordings.
     on_invalid : {"warn", "raise"}
         Skip unusable rows (NaN pose, zero-size or invalid outline) with a warning, or raise.
+    workers : int, optional
+        Processes over which chunks of frames are spread; by default all cores for long jobs (at least
+        ``PARALLEL_MIN_WORK`` frame-observer pairs), else 1. The result does not depend on it.
+    output : path, optional
+        Write the table to this parquet file chunk by chunk (memory stays bounded) and return a lazy scan of it.
+    chunk_frames : int
+        Frames per chunk of work.
 
     Returns
     -------
-    polars.DataFrame
+    polars.DataFrame (or LazyFrame when ``output`` is given)
         One row per (frame, observer, target): ``frame, total_nanos, [ego_idx], idx, occluder_idxs,
         static_occluder_idxs, visibility`` where ``visibility`` in [0, 1] is the fraction of the target's
         angular extent along which it is the first thing hit, and the occluder lists hold, ascending, the
@@ -190,14 +237,50 @@ def get_visibility_df(
     objects = load_objects(df, on_invalid=on_invalid)
     statics = load_static_occluders(static_occluder_polys)
     egos, with_ego = resolve_egos(ego_idx, objects)
-    eng = get_engine(engine)(statics)
-    builder = TableBuilder(with_ego=with_ego)
-    containment = _ContainmentLog()
+    get_engine(engine)  # unknown names fail here, not in a worker
+    if chunk_frames < 1:
+        raise ValueError(f"chunk_frames must be at least 1, not {chunk_frames}")
+    chunks = _chunks(objects.n_frames, chunk_frames)
+    n_workers = auto_workers(objects.n_frames * len(egos)) if workers is None else max(1, int(workers))
+    n_workers = min(n_workers, len(chunks))
     show = objects.n_frames >= PROGRESS_MIN_FRAMES if progress is None else progress
-    for k in tqdm(range(objects.n_frames), disable=not show, desc="visibility", unit="frame"):
-        observe_frame(eng, statics, objects.frame_objects(k), egos, builder, containment)
+    tasks = ((objects.frame_range(a, b), statics, egos, engine, with_ego) for a, b in chunks)
+    bar = tqdm(total=objects.n_frames, disable=not show, desc="visibility", unit="frame")
+    containment = _ContainmentLog()
+    writer = None
+    tables: list[pl.DataFrame] = []
+    try:
+        with _executor(n_workers) as pool:
+            results = pool.map(_run_chunk_star, tasks) if pool else map(_run_chunk_star, tasks)
+            for (a, b), (table, log) in zip(chunks, results, strict=True):
+                containment.merge(log)
+                if output is not None:
+                    arrow = table.to_arrow()
+                    if writer is None:
+                        writer = pq.ParquetWriter(str(output), arrow.schema)
+                    writer.write_table(arrow)
+                else:
+                    tables.append(table)
+                bar.update(b - a)
+    finally:
+        bar.close()
+        if writer is not None:
+            writer.close()
     containment.warn()
-    return builder.build()
+    if output is not None:
+        if writer is None:
+            empty_table(with_ego).write_parquet(output)
+        return pl.scan_parquet(output)
+    return pl.concat(tables, rechunk=True) if tables else empty_table(with_ego)
+
+
+@contextmanager
+def _executor(n_workers: int) -> Iterator[ProcessPoolExecutor | None]:
+    if n_workers <= 1:
+        yield None
+        return
+    with ProcessPoolExecutor(n_workers, mp_context=multiprocessing.get_context("spawn")) as pool:
+        yield pool
 
 
 def get_visibility_df_for_frame(

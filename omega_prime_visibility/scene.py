@@ -87,6 +87,19 @@ class ObjectTable:
             rings=self.rings.slice(s, e),
         )
 
+    def frame_range(self, start: int, stop: int) -> ObjectTable:
+        """Frames ``start`` to ``stop - 1`` (0-based positions) as a table of their own."""
+        s, e = int(self.frame_starts[start]), int(self.frame_starts[stop])
+        return ObjectTable(
+            self.frame[s:e],
+            self.total_nanos[s:e],
+            self.idx[s:e],
+            self.position[s:e],
+            self.yaw[s:e],
+            self.rings.slice(s, e),
+            self.frame_starts[start : stop + 1] - s,
+        )
+
     def frames(self) -> Iterator[FrameObjects]:
         for k in range(self.n_frames):
             yield self.frame_objects(k)

@@ -178,3 +178,31 @@ def test_several_observers() -> None:
     assert row(seen_from_2, 0)["visibility"] == 0.0 and row(seen_from_2, 0)["occluder_idxs"] == [1]
     single = get_visibility_df(df, [0])
     assert single.columns == list(SCHEMA)
+
+
+def highway(frames: int) -> pl.DataFrame:
+    rng = np.random.default_rng(3)
+    base = [(0, 0, 4.5, 1.9, 0)] + [(rng.uniform(-60, 60), 3.5 * rng.integers(-1, 3), 4.5, 1.9, 0) for _ in range(12)]
+    tables = []
+    for f in range(frames):
+        t = boxes_table([(x + 0.5 * f * (k % 3), y, ln, w, yaw) for k, (x, y, ln, w, yaw) in enumerate(base)], f)
+        tables.append(t)
+    return pl.concat(tables)
+
+
+@pytest.mark.filterwarnings("ignore::omega_prime_visibility.VisibilityInputWarning")
+def test_chunks_workers_and_parquet_output_give_the_same_table(tmp_path) -> None:
+    df = highway(30)
+    serial = get_visibility_df(df, 0, workers=1)
+    chunked = get_visibility_df(df, 0, workers=1, chunk_frames=7)
+    assert chunked.equals(serial)
+    parallel = get_visibility_df(df, [0, 3], workers=2, chunk_frames=7)
+    assert parallel.filter(pl.col("ego_idx") == 0).drop("ego_idx").equals(serial)
+    lazy = get_visibility_df(df, 0, workers=1, chunk_frames=4, output=tmp_path / "vis.parquet")
+    assert isinstance(lazy, pl.LazyFrame)
+    assert lazy.collect().equals(serial)
+
+
+def test_unknown_engine() -> None:
+    with pytest.raises(ValueError, match="unknown engine 'nope'"):
+        get_visibility_df(boxes_table([(0, 0, 4, 2, 0), (9, 0, 4, 2, 0)]), 0, engine="nope")
