@@ -100,7 +100,13 @@ def _visilibity() -> type:
     return VisiLibityEngine
 
 
-ENGINES: dict[str, Callable[[], type]] = {"visilibity": _visilibity}
+def _sweep() -> type:
+    from .sweep import SweepEngine
+
+    return SweepEngine
+
+
+ENGINES: dict[str, Callable[[], type]] = {"visilibity": _visilibity, "sweep": _sweep}
 
 
 def get_engine(name: str) -> type:

@@ -165,6 +165,7 @@ class VisiLibityEngine(EngineBase):
         self.touch_gap = touch_gap
         self.wall_half_width = wall_half_width
         self._origin: np.ndarray | None = None
+        self.box_margin = BOX_MARGIN  # metres of free space around all bodies (the visibility polygon's limit)
 
     # -- static geometry, converted once relative to the origin ------------------------------------------------
     def _prepare_statics(self, origin: np.ndarray) -> None:
@@ -363,9 +364,8 @@ class VisiLibityEngine(EngineBase):
             raise _Unenclosable
         return [_vis_polygon(_exterior_cw(p)) for p in pieces]
 
-    @staticmethod
-    def _outer(lo: np.ndarray, hi: np.ndarray) -> vis.Polygon:
-        (x0, y0), (x1, y1) = lo - BOX_MARGIN, hi + BOX_MARGIN
+    def _outer(self, lo: np.ndarray, hi: np.ndarray) -> vis.Polygon:
+        (x0, y0), (x1, y1) = lo - self.box_margin, hi + self.box_margin
         return _vis_polygon(np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]]))
 
     def _enclosed_environment(
@@ -378,8 +378,8 @@ class VisiLibityEngine(EngineBase):
         shapes += list(self._static_shapes[static_blocking])
         merged = shapely.union_all(shapes)
         xmin, ymin, xmax, ymax = shapely.total_bounds(merged)
-        lo = np.minimum([xmin, ymin], o) - BOX_MARGIN
-        hi = np.maximum([xmax, ymax], o) + BOX_MARGIN
+        lo = np.minimum([xmin, ymin], o) - self.box_margin
+        hi = np.maximum([xmax, ymax], o) + self.box_margin
         box = shapely.box(lo[0], lo[1], hi[0], hi[1])
         piece = self._piece_holding(shapely.difference(box, merged), o)
         coords = shapely.get_coordinates(shapely.get_rings(piece))
