@@ -179,6 +179,7 @@ def _candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_o
     out_body = np.empty(cap, dtype=np.int64)
     out_target = np.empty(cap, dtype=np.int64)
     out_certain = np.empty(cap, dtype=np.bool_)
+    hidden = np.zeros(n_bodies, dtype=np.bool_)
     k = 0
     seen = np.full(n_bodies, -1, dtype=np.int64)
     for t in targets:
@@ -202,9 +203,14 @@ def _candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_o
                     rel2 = start[b] - start[t]
                     rel2 = rel2 - two_pi * np.floor(rel2 / two_pi)
                     certain = rel2 < width[t] - MIN_PIECE or rel2 + width[b] > two_pi + MIN_PIECE
+                    # the target's whole extent inside the body's: the target is hidden behind it
+                    rel3 = start[t] - start[b]
+                    rel3 = rel3 - two_pi * np.floor(rel3 / two_pi)
+                    if rel3 + width[t] <= width[b]:
+                        hidden[t] = True
                 out_certain[k] = certain
                 k += 1
-    return out_body[:k], out_target[:k], out_certain[:k]
+    return out_body[:k], out_target[:k], out_certain[:k], hidden
 
 
 def occluding_pairs(
@@ -216,7 +222,7 @@ def occluding_pairs(
     extent_start: np.ndarray,
     extent_width: np.ndarray,
     n_objects: int,
-) -> tuple[np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """All pairs ``(occluder, target)`` of body numbers where the occluder is hit before the target somewhere.
 
     Candidates are blocking bodies with an edge inside the target's angular extent that comes nearer than the
@@ -234,13 +240,19 @@ def occluding_pairs(
         Target body numbers (objects with the observer outside).
     extent_start, extent_width : ndarray, shape (n_objects,)
         Angular extents of the objects, radians.
+
+    Returns
+    -------
+    occluder, target : ndarray, shape (p,), int64
+    hidden : ndarray of bool, shape (n_bodies,)
+        Targets found entirely hidden behind a single object (a cheap sufficient test, not all hidden ones).
     """
     empty = np.zeros(0, dtype=np.int64)
-    if len(targets) == 0 or len(segments) == 0:
-        return empty, empty
     n_bodies = len(segment_offsets) - 1
+    if len(targets) == 0 or len(segments) == 0:
+        return empty, empty, np.zeros(n_bodies, dtype=bool)
     seg_body = np.repeat(np.arange(n_bodies), np.diff(segment_offsets))
-    body, target, certain = _candidate_pairs(
+    body, target, certain, hidden = _candidate_pairs(
         float(observer[0]),
         float(observer[1]),
         np.ascontiguousarray(segments, dtype=np.float64),
@@ -255,4 +267,4 @@ def occluding_pairs(
     certain[check] = occludes(
         observer, segments, segment_offsets, body[check], target[check], extent_start, extent_width
     )
-    return body[certain], target[certain]
+    return body[certain], target[certain], hidden

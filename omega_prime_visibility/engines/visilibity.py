@@ -243,14 +243,14 @@ class VisiLibityEngine(EngineBase):
         blocking = np.concatenate([obj_blocking, static_blocking])
 
         start, width, _ = angular_extent(o, rings)
+        targets = np.flatnonzero(obj_blocking)
+        body, target, hidden = occluding_pairs(o, segments, seg_offsets, blocking, targets, start, width, n)
         if blocking.any():
-            visible = self._visible_angles(rings, obj_blocking, static_blocking, o, segments, seg_offsets, start, width)
+            # objects hidden behind a single nearer object change nothing in the visibility polygon: leave them out
+            in_env = obj_blocking & ~hidden[:n]
+            visible = self._visible_angles(rings, in_env, static_blocking, o, segments, seg_offsets, start, width)
         else:
             visible = width.copy()
-
-        body, target = occluding_pairs(
-            o, segments, seg_offsets, blocking, np.flatnonzero(obj_blocking), start, width, n
-        )
         is_obj = body < n
         occ_offsets, occ = group_pairs(target[is_obj], body[is_obj], n)
         st_offsets, st = group_pairs(target[~is_obj], body[~is_obj] - n, n)
