@@ -23,7 +23,7 @@ test: lint | $(UV_DEP)
 	$(UV) run pytest $(PYTEST_ARGS)
 
 bench: | $(UV_DEP)
-	$(UV) run python benchmarks/bench.py
+	$(UV) run python benchmarks/bench.py --long 30000
 
 scenario: | $(UV_DEP)
 	$(UV) run python scenarios/highway_merge.py -o highway_merge.mcap

@@ -69,10 +69,50 @@ def time_rows(table, engine: str, repeat: int = 3, **kwargs) -> tuple[float, int
     return best, out.height
 
 
+def peak_rss_gib() -> float:
+    """Peak resident memory of this process and of its finished child processes, GiB (the larger of the two)."""
+    import resource
+
+    own = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    children = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    return max(own, children) / 2**20
+
+
+def long_recording(engine: str, frames: int, workers: int) -> None:
+    """A drone-dataset-sized track file: ``frames`` x 50 objects, no polygon column; one ego, then everyone."""
+    import tempfile
+
+    table = synthetic_highway(50, frames)
+    get_visibility_df(table.filter(pl.col("frame") < 50), 0, engine=engine, progress=False)  # compile
+    t = time.perf_counter()
+    out = get_visibility_df(table, 0, engine=engine, progress=False, workers=workers)
+    secs = time.perf_counter() - t
+    print(
+        f"{frames} frames x 50 objects, one ego, {workers} workers: {secs:.1f} s for {out.height} rows (target < 20 s)"
+    )
+    del out
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "all.parquet"
+        t = time.perf_counter()
+        lazy = get_visibility_df(table, "all", engine=engine, progress=True, workers=workers, output=path)
+        secs = time.perf_counter() - t
+        rows = lazy.select(pl.len()).collect().item()
+        size = path.stat().st_size / 2**20
+    print(
+        f"{frames} frames x 50 objects, every object as observer: {secs:.1f} s for {rows} rows, "
+        f"parquet {size:.0f} MiB, peak memory {peak_rss_gib():.2f} GiB (targets < 300 s, < 4 GiB)"
+    )
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--frames", type=int, default=100, help="frames per synthetic run")
     parser.add_argument("--engines", default=",".join(sorted(ENGINES)))
+    parser.add_argument(
+        "--long", type=int, default=0, help="also run the long-recording benchmark with this many frames"
+    )
+    parser.add_argument("--long-engine", default="sweep" if "sweep" in ENGINES else "visilibity")
+    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
     args = parser.parse_args(argv)
     engines = args.engines.split(",")
     os.environ.setdefault("NUMBA_NUM_THREADS", "1")
@@ -97,6 +137,8 @@ def main(argv: list[str] | None = None) -> None:
             cells.append(f"{secs * 1e3:.0f} ms/{rows} rows")
         line = f"{'highway_merge.mcap (whole file)':<34}" + "".join(f"{c:>14}" for c in cells)
         print(line + f"{'visilibity < 300 ms':>22}")
+    if args.long:
+        long_recording(args.long_engine, args.long, args.workers)
 
 
 if __name__ == "__main__":

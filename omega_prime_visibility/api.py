@@ -28,7 +28,7 @@ from .scene import (
     load_objects,
     load_static_occluders,
 )
-from .table import TableBuilder, empty_table
+from .table import TableBuilder, empty_table, to_polars
 
 EgoSpec = int | Sequence[int] | Literal["all"]
 PROGRESS_MIN_FRAMES = 200
@@ -156,17 +156,19 @@ def _select(
 
 def _run_chunk(
     objects: ObjectTable, statics: StaticOccluders, egos: np.ndarray, engine: str, with_ego: bool
-) -> tuple[pl.DataFrame, _ContainmentLog]:
-    """All frames of ``objects`` with a fresh engine (so results never depend on how frames were chunked)."""
+) -> tuple[tuple[np.ndarray, ...] | None, _ContainmentLog]:
+    """All frames of ``objects`` with a fresh engine (so results never depend on how frames were chunked).
+
+    Returns plain arrays (see :meth:`TableBuilder.arrays`): worker processes never touch polars."""
     eng = get_engine(engine)(statics)
     builder = TableBuilder(with_ego=with_ego)
     containment = _ContainmentLog()
     for k in range(objects.n_frames):
         observe_frame(eng, statics, objects.frame_objects(k), egos, builder, containment)
-    return builder.build(), containment
+    return builder.arrays(), containment
 
 
-def _run_chunk_star(args: tuple) -> tuple[pl.DataFrame, _ContainmentLog]:
+def _run_chunk_star(args: tuple) -> tuple[tuple[np.ndarray, ...] | None, _ContainmentLog]:
     return _run_chunk(*args)
 
 
@@ -252,8 +254,9 @@ def get_visibility_df(
     try:
         with _executor(n_workers) as pool:
             results = pool.map(_run_chunk_star, tasks) if pool else map(_run_chunk_star, tasks)
-            for (a, b), (table, log) in zip(chunks, results, strict=True):
+            for (a, b), (arrays, log) in zip(chunks, results, strict=True):
                 containment.merge(log)
+                table = to_polars(arrays, with_ego)
                 if output is not None:
                     arrow = table.to_arrow()
                     if writer is None:
@@ -279,7 +282,10 @@ def _executor(n_workers: int) -> Iterator[ProcessPoolExecutor | None]:
     if n_workers <= 1:
         yield None
         return
-    with ProcessPoolExecutor(n_workers, mp_context=multiprocessing.get_context("spawn")) as pool:
+    # fork needs no `if __name__ == "__main__"` guard in the user's script; workers use numpy, numba, shapely and
+    # VisiLibity only (never polars, whose thread pool does not survive a fork)
+    method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
+    with ProcessPoolExecutor(n_workers, mp_context=multiprocessing.get_context(method)) as pool:
         yield pool
 
 

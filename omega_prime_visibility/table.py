@@ -76,23 +76,38 @@ class TableBuilder:
         )
         self.rows += k
 
-    def build(self) -> pl.DataFrame:
-        """The table of everything added so far (blocks are cleared)."""
+    def arrays(self) -> tuple[np.ndarray, ...] | None:
+        """Everything added so far as flat column arrays (None when empty); blocks are cleared.
+
+        ``(frame, total_nanos, ego_idx, idx, visibility, occluder_counts, occluders, static_counts, statics)``:
+        plain numpy, cheap to send between processes; :func:`to_polars` turns it into the table.
+        """
         if not self._blocks:
-            return empty_table(self.with_ego)
-        cols = [np.concatenate(c) for c in zip(*self._blocks, strict=True)]
+            return None
+        cols = tuple(np.concatenate(c) for c in zip(*self._blocks, strict=True))
         self._blocks.clear()
         self.rows = 0
-        frame, nanos, ego, idx, visibility, occ_n, occ, st_n, st = cols
-        occ_off = np.concatenate([[0], np.cumsum(occ_n)])
-        st_off = np.concatenate([[0], np.cumsum(st_n)])
-        data = {
-            "frame": pl.Series(frame),
-            "total_nanos": pl.Series(nanos),
-            "ego_idx": pl.Series(ego),
-            "idx": pl.Series(idx),
-            "occluder_idxs": _list_column(occ_off, occ),
-            "static_occluder_idxs": _list_column(st_off, st),
-            "visibility": pl.Series(visibility),
-        }
-        return pl.DataFrame({k: data[k] for k in schema(self.with_ego)}).cast(schema(self.with_ego))
+        return cols
+
+    def build(self) -> pl.DataFrame:
+        """The table of everything added so far (blocks are cleared)."""
+        return to_polars(self.arrays(), self.with_ego)
+
+
+def to_polars(cols: tuple[np.ndarray, ...] | None, with_ego: bool) -> pl.DataFrame:
+    """The visibility table from :meth:`TableBuilder.arrays` output."""
+    if cols is None:
+        return empty_table(with_ego)
+    frame, nanos, ego, idx, visibility, occ_n, occ, st_n, st = cols
+    occ_off = np.concatenate([[0], np.cumsum(occ_n)])
+    st_off = np.concatenate([[0], np.cumsum(st_n)])
+    data = {
+        "frame": pl.Series(frame),
+        "total_nanos": pl.Series(nanos),
+        "ego_idx": pl.Series(ego),
+        "idx": pl.Series(idx),
+        "occluder_idxs": _list_column(occ_off, occ),
+        "static_occluder_idxs": _list_column(st_off, st),
+        "visibility": pl.Series(visibility),
+    }
+    return pl.DataFrame({k: data[k] for k in schema(with_ego)}).cast(schema(with_ego))

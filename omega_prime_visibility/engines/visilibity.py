@@ -2,8 +2,8 @@
 
 Per frame and observer:
 
-1. Coordinates are taken relative to a fixed origin (the first observer seen), for precision with large map
-   coordinates, and so that static geometry is converted to VisiLibity once.
+1. Coordinates are taken relative to the nearest point of a 1024 m grid, for precision with large map
+   coordinates, and so that static geometry is converted to VisiLibity once per grid cell.
 2. A *valid* VisiLibity environment is built (outer boundary counter-clockwise, holes clockwise, disjoint and
    inside): blocking bodies (objects, static polygons, LineString walls thickened to ``2 * wall_half_width``) whose
    bounding boxes overlap are tested exactly and overlapping groups are merged with shapely; every group becomes
@@ -30,6 +30,7 @@ from ..scene import FrameObjects, StaticOccluders
 from . import EngineBase, Observation, group_pairs
 
 BOX_MARGIN = 10.0  # metres of free space around everything
+ORIGIN_GRID = 1024.0  # metres; coordinates are taken relative to the nearest multiple (precision, caching)
 
 
 @numba.njit(cache=True)
@@ -165,9 +166,24 @@ class VisiLibityEngine(EngineBase):
         self.touch_gap = touch_gap
         self.wall_half_width = wall_half_width
         self._origin: np.ndarray | None = None
+        self._prepared: dict[tuple[float, float], dict] = {}
         self.box_margin = BOX_MARGIN  # metres of free space around all bodies (the visibility polygon's limit)
 
     # -- static geometry, converted once relative to the origin ------------------------------------------------
+    def _use_origin(self, observer: np.ndarray) -> np.ndarray:
+        """Switch to the origin of the grid cell holding ``observer`` (results then depend on the observer's
+        position only, never on which frames were processed before); return it."""
+        origin = np.round(observer / ORIGIN_GRID) * ORIGIN_GRID
+        if self._origin is None or not np.array_equal(origin, self._origin):
+            key = (float(origin[0]), float(origin[1]))
+            if key not in self._prepared:
+                self._prepare_statics(origin)
+                self._prepared[key] = {k: getattr(self, k) for k in self._STATE}
+            self.__dict__.update(self._prepared[key])
+        return self._origin
+
+    _STATE = ("_origin", "_static_shapes", "_static_segments", "_static_segment_source", "_static_cache")
+
     def _prepare_statics(self, origin: np.ndarray) -> None:
         st = self.statics
         self._origin = origin.copy()
@@ -225,9 +241,7 @@ class VisiLibityEngine(EngineBase):
         static_transparent: np.ndarray,
     ) -> Observation:
         observer = np.asarray(observer, dtype=np.float64)
-        if self._origin is None:
-            self._prepare_statics(observer)
-        origin = self._origin
+        origin = self._use_origin(observer)
         n = len(objects)
         n_src = self.statics.n_sources
         o = observer - origin
@@ -291,8 +305,7 @@ class VisiLibityEngine(EngineBase):
     ) -> tuple[vis.Environment, np.ndarray]:
         """The VisiLibity environment used for this observer, and the origin its coordinates are relative to."""
         observer = np.asarray(observer, dtype=np.float64)
-        if self._origin is None:
-            self._prepare_statics(observer)
+        self._use_origin(observer)
         rings = Rings(objects.rings.coords - self._origin, objects.rings.offsets)
         env = self._build_environment(
             rings, ~np.asarray(transparent, bool), ~np.asarray(static_transparent, bool), observer - self._origin
