@@ -24,10 +24,13 @@ Per observer, with everything shifted so that the observer sits at the origin:
 4. *Occluders*: a body ``J`` can only occlude target ``T`` when their bearing intervals overlap and ``J``
    comes nearer than ``T``'s farthest point. Candidates are enumerated by sweeping the targets' extents (sorted
    by start) over the bodies' intervals (objects: their angular extent; statics: their kept edges), sorted by
-   start. A candidate whose interval overlaps ``T``'s extent by more than ``ACCEPT_ANGLE`` and lies entirely
-   nearer than ``T``'s nearest point is accepted at once; all others are decided by the exact pairwise test
-   of :mod:`..occlusion` on the same shifted segments the other engines use, so both engines give the same
-   occluder sets.
+   start, and grouped by (target, body) with a counting sort. An object lying entirely nearer than ``T``'s
+   nearest point with an extent overlapping ``T``'s by more than ``MIN_PIECE`` is accepted at once (the rule of
+   the VisiLibity engine), so is a static edge with a safety margin; all other candidates are decided by the
+   exact pairwise test of :mod:`..occlusion` (``_occludes_one``) on the same shifted segments. For a static body
+   only its kept edges that meet ``T``'s extent nearer than ``T``'s farthest point are handed to that test: a
+   ray from outside enters a body through a front-facing edge, so the others cannot decide anything, and a long
+   guard rail would otherwise cost the test O(pieces x all its edges).
 
 Angular extents are computed exactly as :func:`..geometry.angular_extent` does (same operations; the arctangents
 go through numpy, whose SIMD ``arctan2`` differs from libm's in the last bit).
@@ -41,14 +44,14 @@ import numba
 import numpy as np
 
 from ..geometry import edges, ring_ids
-from ..occlusion import _occludes_one
+from ..occlusion import MIN_PIECE, _occludes_one
 from ..scene import FrameObjects, StaticOccluders
 from . import EngineBase, Observation
 
 PI = math.pi
 TWO_PI = 2.0 * math.pi
-ACCEPT_ANGLE = 1e-9  # radians of overlap needed to accept an occluder without the exact test
-ACCEPT_RELATIVE = 1e-7  # an accepted occluder lies nearer than (1 - this) times the target's nearest distance
+STATIC_ACCEPT_ANGLE = 1e-9  # radians of overlap needed to accept a static edge without the exact test
+STATIC_ACCEPT_RELATIVE = 1e-7  # ... and it must lie nearer than (1 - this) times the target's nearest distance
 CANDIDATE_EPS = 1e-9  # radians; intervals this close count as overlapping (the exact test decides)
 GRID_CELLS = 256  # cells along the longer side of the static edges' grid
 
@@ -56,12 +59,12 @@ GRID_CELLS = 256  # cells along the longer side of the static edges' grid
 # -- small geometric kernels ---------------------------------------------------------------------------------
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _orient(ax, ay, bx, by, cx, cy):
     return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _cross_properly(ax, ay, bx, by, cx, cy, dx, dy):
     """Whether segments ab and cd cross at a single point interior to both."""
     d1 = _orient(ax, ay, bx, by, cx, cy)
@@ -73,7 +76,7 @@ def _cross_properly(ax, ay, bx, by, cx, cy, dx, dy):
     return (d3 > 0.0 and d4 < 0.0) or (d3 < 0.0 and d4 > 0.0)
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _segment_distance2(ax, ay, bx, by):
     """Squared distance from the origin to segment ab."""
     ex, ey = bx - ax, by - ay
@@ -141,7 +144,7 @@ def _build_grid(a, b):
     return np.array([x0, y0, cell]), np.array([nx, ny], dtype=np.int64), counts, items
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _cell_range(xmin, ymin, xmax, ymax, x0, y0, cell, nx, ny):
     cx0 = min(max(int((xmin - x0) / cell), 0), nx - 1)
     cx1 = min(max(int((xmax - x0) / cell), 0), nx - 1)
@@ -191,9 +194,12 @@ def _frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off,
     m = len(coords)
     bb = np.empty((n, 4))  # xmin, ymin, xmax, ymax
     for i in range(n):
-        s, e = offsets[i], offsets[i + 1]
-        bb[i, 0], bb[i, 1] = coords[s:e, 0].min(), coords[s:e, 1].min()
-        bb[i, 2], bb[i, 3] = coords[s:e, 0].max(), coords[s:e, 1].max()
+        x0, y0 = np.inf, np.inf
+        x1, y1 = -np.inf, -np.inf
+        for v in range(offsets[i], offsets[i + 1]):
+            x0, x1 = min(x0, coords[v, 0]), max(x1, coords[v, 0])
+            y0, y1 = min(y0, coords[v, 1]), max(y1, coords[v, 1])
+        bb[i, 0], bb[i, 1], bb[i, 2], bb[i, 3] = x0, y0, x1, y1
     out_i = np.empty(16, dtype=np.int64)
     out_j = np.empty(16, dtype=np.int64)
     k = 0
@@ -203,7 +209,7 @@ def _frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off,
         spread_y = bb[:, 3].max() - bb[:, 1].min()
         ax = 0 if spread_x >= spread_y else 1
         other = 1 - ax
-        order = np.argsort(bb[:, ax])
+        order = np.argsort(bb[:, ax].copy())
         for ii in range(n):
             i = order[ii]
             for jj in range(ii + 1, n):
@@ -304,7 +310,7 @@ def _prepare(observers, coords, offsets, st_a, st_b, grid_f, grid_i, cell_off, i
 _LO, _HI, _ULX, _ULY, _UHX, _UHY, _EX, _EY, _NUM = range(9)
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _less(P, a, b):
     """Whether piece a is nearer than piece b along the bisector of the directions both cover."""
     if P[a, _LO] >= P[b, _LO]:
@@ -365,8 +371,8 @@ def _sweep(P, body, n_bodies):
     visible = np.zeros(n_bodies)
     if k == 0:
         return visible
-    by_lo = np.argsort(P[:, _LO])
-    by_hi = np.argsort(P[:, _HI])
+    by_lo = np.argsort(P[:, _LO].copy())
+    by_hi = np.argsort(P[:, _HI].copy())
     heap = np.empty(k, dtype=np.int64)
     pos = np.full(k, -1, dtype=np.int64)
     size = 0
@@ -435,17 +441,15 @@ def _extents(seg, offsets, ang, m):
 
 
 @numba.njit(cache=True)
-def _observe_one(
-    ox, oy, coords, offsets, nxt, ang, obj_tr, st_a, st_b, st_src, st_two, st_tr, ci, cj, occ_seg, occ_off
-):
+def _observe_one(ox, oy, coords, offsets, nxt, ang, obj_tr, st_a, st_b, st_src, st_two, st_tr, ci, cj):
     n = len(offsets) - 1
     m = len(coords)
     n_st = len(st_a)
     n_src = len(st_tr)
     nb = n + n_src
 
-    # shifted object edges, then room for static segments (filled on demand for the exact occlusion test)
-    seg = np.empty((m + len(occ_seg), 2, 2))
+    # shifted object edges
+    seg = np.empty((m, 2, 2))
     for j in range(m):
         seg[j, 0, 0] = coords[j, 0] - ox
         seg[j, 0, 1] = coords[j, 1] - oy
@@ -475,6 +479,7 @@ def _observe_one(
     kp = np.empty((g_total, 2))
     kq = np.empty((g_total, 2))
     kbody = np.empty(g_total, dtype=np.int64)
+    kg = np.empty(g_total, dtype=np.int64)  # the kept edge's number among all edges
     kd = np.empty((g_total, 2))  # nearest and farthest distance of the edge
     rec_edge = np.empty(2 * g_total, dtype=np.int64)
     rec = np.empty((2 * g_total, 6))  # lo, hi, ulx, uly, uhx, uhy
@@ -521,6 +526,7 @@ def _observe_one(
         if qy == 0.0 and qx < 0.0:
             hi = PI
         kid[g] = n_kept
+        kg[n_kept] = g
         kp[n_kept, 0], kp[n_kept, 1] = px, py
         kq[n_kept, 0], kq[n_kept, 1] = qx, qy
         kbody[n_kept] = bdy
@@ -628,18 +634,80 @@ def _observe_one(
 
     # 4. occluders
     occ_offsets, occ, st_offsets, st = _occluders(
-        n, n_src, offsets, obj_tr, start, width, dmin, dmax, n_rec, rec, rec_edge, kbody, kd, seg, m, occ_seg,
-        occ_off, ox, oy,
+        n, n_src, offsets, obj_tr, start, width, dmin, dmax, rec[:n_rec], rec_edge[:n_rec], kbody, kd, kg, seg, st_a,
+        st_b, ox, oy,
     )  # fmt: skip
     return visible, width, occ_offsets, occ, st_offsets, st
 
 
 @numba.njit(cache=True)
+def _records_by_static_body(rec_edge, kbody, n, n_src):
+    """Records of the kept static edges grouped by static source: offsets (n_src + 1,) and record numbers."""
+    first = np.zeros(n_src + 1, dtype=np.int64)
+    for r in range(len(rec_edge)):
+        b = kbody[rec_edge[r]]
+        if b >= n:
+            first[b - n + 1] += 1
+    for k in range(n_src):
+        first[k + 1] += first[k]
+    fill = first[:-1].copy()
+    recs = np.empty(first[n_src], dtype=np.int64)
+    for r in range(len(rec_edge)):
+        b = kbody[rec_edge[r]]
+        if b >= n:
+            recs[fill[b - n]] = r
+            fill[b - n] += 1
+    return first, recs
+
+
+@numba.njit(cache=True)
+def _occludes_static(seg, t0, t1, t_start, t_width, t_far, rec, rec_edge, kd, kg, recs, st_a, st_b, ox, oy, m, sub):
+    """The exact occlusion test of a static body against a target, on the body's edges that can matter.
+
+    A ray from outside enters a body through a front-facing edge, so only the body's kept edges whose bearing
+    interval meets the target's extent and that come nearer than the target's farthest point can be hit before
+    it; the others are left out (long guard rails would otherwise cost the exact test O(pieces * all edges)).
+    """
+    k = 0
+    for e in range(t0, t1):
+        sub[k] = seg[e]
+        k += 1
+    mt = k
+    previous = -1
+    for r in recs:
+        e = rec_edge[r]
+        if e == previous or kd[e, 0] >= t_far:
+            continue
+        x = (rec[r, 0] - t_start) % TWO_PI
+        if not (x <= t_width + CANDIDATE_EPS or x + (rec[r, 1] - rec[r, 0]) >= TWO_PI - CANDIDATE_EPS):
+            continue
+        previous = e
+        s = kg[e] - m
+        sub[k, 0, 0] = st_a[s, 0] - ox
+        sub[k, 0, 1] = st_a[s, 1] - oy
+        sub[k, 1, 0] = st_b[s, 0] - ox
+        sub[k, 1, 1] = st_b[s, 1] - oy
+        k += 1
+    if k == mt:
+        return False
+    return _occludes_one(0.0, 0.0, sub, mt, k, 0, mt, t_start, t_width)
+
+
+@numba.njit(cache=True)
+def _accept(overlap, far, is_object, near_t, static_near_t):
+    """Whether an interval of a body, overlapping a target's extent by ``overlap`` radians and lying within
+    ``far`` of the observer, certainly occludes the target (the rule the VisiLibity engine uses for objects)."""
+    if is_object:
+        return overlap > MIN_PIECE and far < near_t
+    return overlap > STATIC_ACCEPT_ANGLE and far < static_near_t
+
+
+@numba.njit(cache=True)
 def _occluders(
-    n, n_src, offsets, obj_tr, start, width, dmin, dmax, n_rec, rec, rec_edge, kbody, kd, seg, m, occ_seg, occ_off,
-    ox, oy,
+    n, n_src, offsets, obj_tr, start, width, dmin, dmax, rec, rec_edge, kbody, kd, kg, seg, st_a, st_b, ox, oy,
 ):  # fmt: skip
     nb = n + n_src
+    n_rec = len(rec)
     # items: objects' extents (split at the -pi/pi direction), static kept edges' records
     n_items = 0
     for i in range(n):
@@ -681,92 +749,117 @@ def _occluders(
             it_near[k], it_far[k] = kd[e, 0], kd[e, 1]
             k += 1
     n_items = k
-    item_order = np.argsort(it_lo[:n_items])
+    order = np.argsort(it_lo[:n_items])
+    s_lo, s_hi, s_body = it_lo[order], it_hi[order], it_body[order]
+    s_near, s_far = it_near[order], it_far[order]
     q_order = np.argsort(q_lo[:nq])
 
-    # candidate pairs (target, body, accepted)
-    cap = 64
+    # candidate pairs (target, body, accepted), in bearing order of the targets
+    cap = 4 * n_items + 16
     pt = np.empty(cap, dtype=np.int64)
     pb = np.empty(cap, dtype=np.int64)
-    pf = np.empty(cap, dtype=np.int64)
+    pf = np.empty(cap, dtype=np.bool_)
     n_pairs = 0
-    active = np.empty(n_items, dtype=np.int64)
+    active = np.empty(n_items, dtype=np.int64)  # items that started before the current target
     n_active = 0
     p = 0
     for qq in range(nq):
         q = q_order[qq]
         t = q_t[q]
         lo, hi = q_lo[q], q_hi[q]
-        while p < n_items and it_lo[item_order[p]] < lo:
-            active[n_active] = item_order[p]
+        while p < n_items and s_lo[p] < lo:
+            active[n_active] = p
             n_active += 1
             p += 1
+        if n_pairs + n_items > cap:
+            cap = max(2 * cap, n_pairs + n_items)
+            pt2 = np.empty(cap, dtype=np.int64)
+            pb2 = np.empty(cap, dtype=np.int64)
+            pf2 = np.empty(cap, dtype=np.bool_)
+            pt2[:n_pairs] = pt[:n_pairs]
+            pb2[:n_pairs] = pb[:n_pairs]
+            pf2[:n_pairs] = pf[:n_pairs]
+            pt, pb, pf = pt2, pb2, pf2
+        far_t = dmax[t]
+        near_t = dmin[t]
+        static_near_t = near_t * (1.0 - STATIC_ACCEPT_RELATIVE)
         keep = 0
         for a in range(n_active):
-            if it_hi[active[a]] > lo - CANDIDATE_EPS:
-                active[keep] = active[a]
-                keep += 1
+            it = active[a]
+            if s_hi[it] <= lo - CANDIDATE_EPS:
+                continue  # ended before this target (and before all later ones)
+            active[keep] = it
+            keep += 1
+            j = s_body[it]
+            if j != t and s_near[it] < far_t:
+                pt[n_pairs] = t
+                pb[n_pairs] = j
+                pf[n_pairs] = _accept(min(hi, s_hi[it]) - lo, s_far[it], j < n, near_t, static_near_t)
+                n_pairs += 1
         n_active = keep
-        far_t = dmax[t]
-        accept_dist = dmin[t] * (1.0 - ACCEPT_RELATIVE)
-        r = p
-        a = 0
-        while True:
-            if a < n_active:
-                it = active[a]
-                a += 1
-            elif r < n_items and it_lo[item_order[r]] < hi + CANDIDATE_EPS:
-                it = item_order[r]
-                r += 1
-            else:
-                break
-            j = it_body[it]
-            if j == t or it_near[it] >= far_t:
-                continue
-            if n_pairs == cap:
-                pt = _grow_int(pt, n_pairs)
-                pb = _grow_int(pb, n_pairs)
-                pf = _grow_int(pf, n_pairs)
-                cap = len(pt)
-            overlap = min(hi, it_hi[it]) - max(lo, it_lo[it])
-            pt[n_pairs] = t
-            pb[n_pairs] = j
-            pf[n_pairs] = 1 if (overlap > ACCEPT_ANGLE and it_far[it] < accept_dist) else 0
-            n_pairs += 1
+        it = p
+        while it < n_items and s_lo[it] < hi + CANDIDATE_EPS:
+            j = s_body[it]
+            if j != t and s_near[it] < far_t:
+                pt[n_pairs] = t
+                pb[n_pairs] = j
+                pf[n_pairs] = _accept(min(hi, s_hi[it]) - s_lo[it], s_far[it], j < n, near_t, static_near_t)
+                n_pairs += 1
+            it += 1
+
+    # sort the pairs by (target, body): counting sort by body, then (stably) by target
+    count = np.zeros(nb + 1, dtype=np.int64)
+    for r in range(n_pairs):
+        count[pb[r] + 1] += 1
+    for j in range(nb):
+        count[j + 1] += count[j]
+    by_body = np.empty(n_pairs, dtype=np.int64)
+    for r in range(n_pairs):
+        by_body[count[pb[r]]] = r
+        count[pb[r]] += 1
+    count[: n + 1] = 0
+    for r in range(n_pairs):
+        count[pt[r] + 1] += 1
+    for i in range(n):
+        count[i + 1] += count[i]
+    order = np.empty(n_pairs, dtype=np.int64)
+    for u in range(n_pairs):
+        r = by_body[u]
+        order[count[pt[r]]] = r
+        count[pt[r]] += 1
 
     # unique pairs, decided
-    keys = pt[:n_pairs] * nb + pb[:n_pairs]
-    order = np.argsort(keys)
-    filled = np.zeros(n_src, dtype=np.bool_)
+    m = len(seg)
+    static_first = np.zeros(0, dtype=np.int64)  # records of each static body, built when first needed
+    static_recs = np.zeros(0, dtype=np.int64)
+    sub = np.empty((0, 2, 2))
     occ_count = np.zeros(n + 1, dtype=np.int64)
     st_count = np.zeros(n + 1, dtype=np.int64)
-    res_t = np.empty(n_pairs, dtype=np.int64)
     res_b = np.empty(n_pairs, dtype=np.int64)
     n_res = 0
     u = 0
     while u < n_pairs:
-        key = keys[order[u]]
-        flag = 0
-        while u < n_pairs and keys[order[u]] == key:
+        t = pt[order[u]]
+        j = pb[order[u]]
+        flag = False
+        while u < n_pairs and pt[order[u]] == t and pb[order[u]] == j:
             flag |= pf[order[u]]
             u += 1
-        t = key // nb
-        j = key % nb
-        if flag == 0:
+        if not flag:
             if j < n:
-                j0, j1 = offsets[j], offsets[j + 1]
+                hit = _occludes_one(
+                    0.0, 0.0, seg, offsets[j], offsets[j + 1], offsets[t], offsets[t + 1], start[t], width[t]
+                )
             else:
-                src = j - n
-                j0, j1 = m + occ_off[src], m + occ_off[src + 1]
-                if not filled[src]:
-                    for w in range(occ_off[src], occ_off[src + 1]):
-                        for v in range(2):
-                            seg[m + w, v, 0] = occ_seg[w, v, 0] - ox
-                            seg[m + w, v, 1] = occ_seg[w, v, 1] - oy
-                    filled[src] = True
-            if not _occludes_one(0.0, 0.0, seg, j0, j1, offsets[t], offsets[t + 1], start[t], width[t]):
+                if len(static_first) == 0:
+                    static_first, static_recs = _records_by_static_body(rec_edge, kbody, n, n_src)
+                    sub = np.empty((m + len(rec), 2, 2))
+                hit = _occludes_static(
+                    seg, offsets[t], offsets[t + 1], start[t], width[t], dmax[t], rec, rec_edge, kd, kg,
+                    static_recs[static_first[j - n] : static_first[j - n + 1]], st_a, st_b, ox, oy, m, sub,
+                )  # fmt: skip
+            if not hit:
                 continue
-        res_t[n_res] = t
         res_b[n_res] = j
         n_res += 1
         if j < n:
@@ -791,9 +884,7 @@ def _occluders(
 
 
 @numba.njit(cache=True)
-def _observe_frame(
-    observers, coords, offsets, nxt, ang, transparent, st_tr, st_a, st_b, st_src, st_two, ci, cj, occ_seg, occ_off
-):
+def _observe_frame(observers, coords, offsets, nxt, ang, transparent, st_tr, st_a, st_b, st_src, st_two, ci, cj):
     k = len(observers)
     n = len(offsets) - 1
     visible = np.empty((k, n))
@@ -807,7 +898,7 @@ def _observe_frame(
     for o in range(k):
         vis, wid, oo, occ, so, st = _observe_one(
             observers[o, 0], observers[o, 1], coords, offsets, nxt, ang[o], transparent[o], st_a, st_b, st_src,
-            st_two, st_tr[o], ci, cj, occ_seg, occ_off,
+            st_two, st_tr[o], ci, cj,
         )  # fmt: skip
         visible[o] = vis
         width[o] = wid
@@ -852,12 +943,6 @@ class SweepEngine(EngineBase):
         else:
             self._grid = (np.zeros(3), np.ones(2, dtype=np.int64), np.zeros(2, dtype=np.int64), np.zeros(0, np.int64))
             self._ss = (np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64))
-        # static segments grouped by source, exactly as the other engines hand them to the occlusion test
-        seg = np.concatenate([np.stack([ra, rb], axis=1).reshape(-1, 2, 2), walls])
-        order = np.argsort(self._st_src, kind="stable")
-        self._occ_seg = np.ascontiguousarray(seg[order], dtype=np.float64)
-        self._occ_off = np.zeros(n_src + 1, dtype=np.int64)
-        np.cumsum(np.bincount(self._st_src, minlength=n_src), out=self._occ_off[1:])
 
     def observe(
         self,
@@ -902,8 +987,6 @@ class SweepEngine(EngineBase):
             self._st_two,
             ci,
             cj,
-            self._occ_seg,
-            self._occ_off,
         )
         visible, width, occ_off, occ, occ_cut, st_off, st, st_cut = out
         return [
