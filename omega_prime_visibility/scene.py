@@ -320,7 +320,9 @@ def load_static_occluders(geometries: Sequence[Any] | Any | None) -> StaticOcclu
                     ring_source.append(k)
                     ccw.append(j == 0)
         elif isinstance(g, shapely.LineString | shapely.MultiLineString | shapely.LinearRing):
-            for line in getattr(g, "geoms", [g]):
+            # split the lines where they cross themselves: no two edges of one body may cross (occlusion.py)
+            noded = shapely.node(g)
+            for line in getattr(noded, "geoms", [noded]):
                 c = np.asarray(line.coords)[:, :2]
                 seg = np.stack([c[:-1], c[1:]], axis=1)
                 seg = seg[np.hypot(*(seg[:, 1] - seg[:, 0]).T) > 0]
