@@ -28,7 +28,7 @@ from .scene import (
     load_objects,
     load_static_occluders,
 )
-from .table import TableBuilder, empty_table, to_polars
+from .table import TableBuilder, empty_table, observation_rows, to_polars
 
 EgoSpec = int | Sequence[int] | Literal["all"]
 PROGRESS_MIN_FRAMES = 200
@@ -106,52 +106,37 @@ def observe_frame(
 ) -> None:
     """Run the engine for every observer present in this frame and add the rows to ``builder``."""
     n = len(objects)
-    present = egos[np.isin(egos, objects.idx)]
-    if len(present) == 0:
+    pos = np.minimum(np.searchsorted(objects.idx, egos), max(n - 1, 0))
+    pos = pos[objects.idx[pos] == egos] if n else pos[:0]
+    if len(pos) == 0:
         return
-    pos = np.searchsorted(objects.idx, present)
     observers = objects.position[pos]
-    transparent = np.zeros((len(pos), n), dtype=bool)
+    transparent = np.empty((len(pos), n), dtype=bool)
     static_transparent = np.zeros((len(pos), statics.n_sources), dtype=bool)
     for k, p in enumerate(pos):
         transparent[k] = covers_point(observers[k], objects.rings)
         transparent[k, p] = True
-        static_transparent[k] = _static_transparent(statics, observers[k])
+        if statics.n_sources:
+            static_transparent[k] = _static_transparent(statics, observers[k])
     results: list[Observation] = engine.observe_many(objects, observers, transparent, static_transparent)
     for k, (p, obs) in enumerate(zip(pos, results, strict=True)):
-        rows = np.flatnonzero(np.arange(n) != p)
-        inside = transparent[k, rows]
+        inside = transparent[k].copy()
+        inside[p] = False
         if inside.any():
-            containment.add(int(objects.idx[p]), objects.idx[rows[inside]], objects.frame)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            vis = np.clip(obs.visible_angle[rows] / obs.angular_extent[rows], 0.0, 1.0)
-        occ_off, occ = _select(obs.occluder_offsets, obs.occluders, rows, inside)
-        st_off, st = _select(obs.static_offsets, obs.static_occluders, rows, inside)
-        # nothing hit before the target in any direction means, by definition, fully visible
-        unblocked = (np.diff(occ_off) == 0) & (np.diff(st_off) == 0)
-        vis = np.where(inside | unblocked, 1.0, vis)
-        builder.add(
-            objects.frame,
-            objects.total_nanos,
-            int(objects.idx[p]),
-            objects.idx[rows],
-            vis,
-            occ_off,
-            objects.idx[occ],
-            st_off,
-            st,
+            containment.add(int(objects.idx[p]), objects.idx[inside], objects.frame)
+        vis, occ_off, occ, st_off, st = observation_rows(
+            p,
+            obs.visible_angle,
+            obs.angular_extent,
+            obs.occluder_offsets,
+            obs.occluders,
+            obs.static_offsets,
+            obs.static_occluders,
+            transparent[k],
+            objects.idx,
         )
-
-
-def _select(
-    offsets: np.ndarray, values: np.ndarray, rows: np.ndarray, empty: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """Ragged lists of ``rows`` (in order), with the lists of rows flagged ``empty`` emptied."""
-    sizes = np.where(empty, 0, offsets[rows + 1] - offsets[rows])
-    out = np.zeros(len(rows) + 1, dtype=np.int64)
-    np.cumsum(sizes, out=out[1:])
-    take = np.repeat(offsets[rows] - out[:-1], sizes) + np.arange(out[-1])
-    return out, values[take]
+        rows = np.concatenate((objects.idx[:p], objects.idx[p + 1 :]))
+        builder.add(objects.frame, objects.total_nanos, int(objects.idx[p]), rows, vis, occ_off, occ, st_off, st)
 
 
 def _run_chunk(

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 TWO_PI = 2.0 * np.pi
@@ -199,19 +200,44 @@ def distance_to_rings(point: np.ndarray, rings: Rings) -> np.ndarray:
     return np.minimum.reduceat(dist, rings.offsets[:-1])
 
 
-def covers_point(point: np.ndarray, rings: Rings, tolerance: float = 1e-9) -> np.ndarray:
-    """Whether each ring's polygon contains ``point`` or has it on (within ``tolerance`` metres of) its boundary."""
-    out = np.zeros(len(rings), dtype=bool)
-    if len(rings) == 0:
-        return out
-    lo = np.minimum.reduceat(rings.coords, rings.offsets[:-1])
-    hi = np.maximum.reduceat(rings.coords, rings.offsets[:-1])
-    near = np.flatnonzero(((lo - tolerance <= point) & (point <= hi + tolerance)).all(axis=1))
-    if len(near):
-        sub = rings.take(near)
-        _, _, winding = angular_extent(point, sub)
-        out[near] = (winding != 0) | (distance_to_rings(point, sub) <= tolerance)
+@numba.njit(cache=True)
+def _covers_point(px, py, coords, offsets, tolerance):
+    n = len(offsets) - 1
+    out = np.zeros(n, dtype=np.bool_)
+    for i in range(n):
+        s, e = offsets[i], offsets[i + 1]
+        x0, x1 = coords[s:e, 0].min(), coords[s:e, 0].max()
+        y0, y1 = coords[s:e, 1].min(), coords[s:e, 1].max()
+        if px < x0 - tolerance or px > x1 + tolerance or py < y0 - tolerance or py > y1 + tolerance:
+            continue
+        inside = False
+        best = np.inf
+        for j in range(s, e):
+            k = j + 1 if j + 1 < e else s
+            ax, ay = coords[j, 0] - px, coords[j, 1] - py
+            bx, by = coords[k, 0] - px, coords[k, 1] - py
+            if (ay > 0) != (by > 0) and ax + (bx - ax) * (0 - ay) / (by - ay) > 0:
+                inside = not inside
+            ex, ey = bx - ax, by - ay
+            ee = ex * ex + ey * ey
+            t = min(max(-(ax * ex + ay * ey) / ee, 0.0), 1.0) if ee > 0 else 0.0
+            best = min(best, (ax + t * ex) ** 2 + (ay + t * ey) ** 2)
+        out[i] = inside or best <= tolerance * tolerance
     return out
+
+
+def covers_point(point: np.ndarray, rings: Rings, tolerance: float = 1e-9) -> np.ndarray:
+    """Whether each ring's polygon contains ``point`` or has it within ``tolerance`` metres of its boundary.
+
+    Returns
+    -------
+    ndarray of bool, shape (n,)
+    """
+    if len(rings) == 0:
+        return np.zeros(0, dtype=bool)
+    coords = np.ascontiguousarray(rings.coords, dtype=np.float64)
+    offsets = np.asarray(rings.offsets, dtype=np.int64)
+    return _covers_point(float(point[0]), float(point[1]), coords, offsets, float(tolerance))
 
 
 def bearing(points: np.ndarray, observer: np.ndarray) -> np.ndarray:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numba
 import numpy as np
 import polars as pl
 import pyarrow as pa
@@ -28,6 +29,46 @@ def schema(with_ego: bool) -> dict[str, pl.DataType]:
 def empty_table(with_ego: bool = False) -> pl.DataFrame:
     """A visibility table with no rows."""
     return pl.DataFrame(schema=schema(with_ego))
+
+
+@numba.njit(cache=True)
+def observation_rows(p, visible, extent, occ_off, occ, st_off, st, transparent, idx):
+    """Rows for every object but the observer's own (position ``p``) from one observation.
+
+    Visibility is ``visible / extent`` clipped to [0, 1], exactly 1.0 for transparent objects (they contain the
+    observer) and for objects with nothing hit before them; occluder positions become idx values, and the lists
+    of transparent objects are emptied. Returns ``visibility, occluder_offsets, occluder_idxs, static_offsets,
+    static_idxs`` for the ``n - 1`` rows.
+    """
+    n = len(visible)
+    rows = n - 1
+    vis = np.empty(rows)
+    oo = np.zeros(rows + 1, dtype=np.int64)
+    so = np.zeros(rows + 1, dtype=np.int64)
+    r = 0
+    for i in range(n):
+        if i == p:
+            continue
+        inside = transparent[i]
+        no = 0 if inside else occ_off[i + 1] - occ_off[i]
+        ns = 0 if inside else st_off[i + 1] - st_off[i]
+        oo[r + 1] = oo[r] + no
+        so[r + 1] = so[r] + ns
+        v = visible[i] / extent[i] if extent[i] > 0 else 0.0
+        vis[r] = 1.0 if (inside or (no == 0 and ns == 0)) else min(max(v, 0.0), 1.0)
+        r += 1
+    oi = np.empty(oo[rows], dtype=np.int64)
+    si = np.empty(so[rows], dtype=np.int64)
+    r = 0
+    for i in range(n):
+        if i == p:
+            continue
+        for q in range(oo[r + 1] - oo[r]):
+            oi[oo[r] + q] = idx[occ[occ_off[i] + q]]
+        for q in range(so[r + 1] - so[r]):
+            si[so[r] + q] = st[st_off[i] + q]
+        r += 1
+    return vis, oo, oi, so, si
 
 
 def _list_column(offsets: np.ndarray, values: np.ndarray) -> pl.Series:
@@ -63,15 +104,16 @@ class TableBuilder:
             return
         self._blocks.append(
             (
-                np.full(k, frame, dtype=np.int64),
-                np.full(k, total_nanos, dtype=np.int64),
-                np.full(k, ego_idx, dtype=np.int64),
-                np.asarray(idx, dtype=np.int64),
-                np.asarray(visibility, dtype=np.float64),
-                np.diff(occluder_offsets),
-                np.asarray(occluder_idxs, dtype=np.int64),
-                np.diff(static_offsets),
-                np.asarray(static_idxs, dtype=np.int64),
+                frame,
+                total_nanos,
+                ego_idx,
+                k,
+                idx,
+                visibility,
+                occluder_offsets,
+                occluder_idxs,
+                static_offsets,
+                static_idxs,
             )
         )
         self.rows += k
@@ -84,9 +126,21 @@ class TableBuilder:
         """
         if not self._blocks:
             return None
-        cols = tuple(np.concatenate(c) for c in zip(*self._blocks, strict=True))
+        frame, nanos, ego, k, idx, vis, occ_off, occ, st_off, st = zip(*self._blocks, strict=True)
         self._blocks.clear()
         self.rows = 0
+        k = np.asarray(k)
+        cols = (
+            np.repeat(np.asarray(frame, dtype=np.int64), k),
+            np.repeat(np.asarray(nanos, dtype=np.int64), k),
+            np.repeat(np.asarray(ego, dtype=np.int64), k),
+            np.concatenate(idx).astype(np.int64, copy=False),
+            np.concatenate(vis).astype(np.float64, copy=False),
+            np.concatenate([np.diff(o) for o in occ_off]),
+            np.concatenate(occ).astype(np.int64, copy=False),
+            np.concatenate([np.diff(o) for o in st_off]),
+            np.concatenate(st).astype(np.int64, copy=False),
+        )
         return cols
 
     def build(self) -> pl.DataFrame:
