@@ -50,12 +50,17 @@ def run(
     engine: Annotated[str, typer.Option(help=f"one of {sorted(ENGINES)}")] = "visilibity",
     output: Annotated[Path | None, typer.Option("-o", "--output", help="write .parquet or .csv here")] = None,
     map_path: Annotated[Path | None, typer.Option("--map", help="OpenDRIVE map for OSI traces")] = None,
+    workers: Annotated[int | None, typer.Option(help="processes (default: all cores for long jobs)")] = None,
     progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
     rows: Annotated[int, typer.Option(help="rows to print when no output is given")] = 20,
 ) -> None:
-    """Compute the visibility table of one recording."""
+    """Compute the visibility table of one recording; print it with a per-target summary, or write it."""
     from .api import get_visibility_df
 
+    if engine not in ENGINES:
+        raise fail(f"unknown engine {engine!r}; available: {sorted(ENGINES)}")
+    if output is not None and output.suffix not in (".parquet", ".csv"):
+        raise fail(f"--output must end in .parquet or .csv, not {output.suffix!r}")
     r = load_recording(recording, map_path)
     if ego:
         ego_idx = _parse_ego(ego)
@@ -63,28 +68,29 @@ def run(
         ego_idx = int(r.host_vehicle_idx)
     else:
         raise fail(f"{recording} names no host vehicle: pass --ego IDX")
+    stream = output if output is not None and output.suffix == ".parquet" else None
     try:
-        table = get_visibility_df(r, ego_idx, engine=engine, progress=progress)
+        table = get_visibility_df(r, ego_idx, engine=engine, progress=progress, workers=workers, output=stream)
     except ValueError as e:
         raise fail(str(e)) from e
-    if output is None:
-        with pl.Config(tbl_rows=rows, tbl_cols=-1, fmt_table_cell_list_len=8):
-            typer.echo(table)
-        summary = table.group_by("idx").agg(
-            pl.col("visibility").mean().alias("mean_visibility"),
-            (pl.col("visibility") < 1e-9).mean().alias("hidden_share"),
-            pl.col("occluder_idxs").flatten().unique().drop_nulls().sort().alias("occluders"),
-        )
-        with pl.Config(tbl_rows=-1, fmt_table_cell_list_len=8):
-            typer.echo(summary.sort("idx"))
-    elif output.suffix == ".parquet":
-        table.write_parquet(output)
-    elif output.suffix == ".csv":
+    if stream is not None:
+        typer.echo(f"wrote {table.select(pl.len()).collect().item()} rows to {output}")
+    elif output is not None:
         table.with_columns(
             pl.col("occluder_idxs", "static_occluder_idxs").list.eval(pl.element().cast(pl.String)).list.join(" ")
         ).write_csv(output)
+        typer.echo(f"wrote {table.height} rows to {output}")
     else:
-        raise typer.BadParameter(f"output must end in .parquet or .csv, not {output.suffix!r}")
+        with pl.Config(tbl_rows=rows, tbl_cols=-1, fmt_table_cell_list_len=8):
+            typer.echo(table)
+        by = ["ego_idx", "idx"] if "ego_idx" in table.columns else ["idx"]
+        summary = table.group_by(by).agg(
+            pl.col("visibility").mean().alias("mean_visibility"),
+            (pl.col("visibility") == 0.0).mean().alias("hidden_share"),
+            pl.col("occluder_idxs").flatten().unique().drop_nulls().sort().alias("occluders"),
+        )
+        with pl.Config(tbl_rows=-1, fmt_table_cell_list_len=8):
+            typer.echo(summary.sort(by))
 
 
 @app.command()

@@ -119,3 +119,19 @@ def test_real_osi_traces(shared_data, trace: str, xodr: str) -> None:
     assert out.height > 0
     assert out["visibility"].is_between(0.0, 1.0).all()
     assert out["visibility"].is_nan().sum() == 0
+
+
+def test_cli_writes_parquet_with_engine_and_several_egos(tmp_path) -> None:
+    out_path = tmp_path / "vis.parquet"
+    cmd = [sys.executable, "-m", "omega_prime_visibility.cli", "run", str(REPO / "highway_merge.mcap")]
+    cmd += ["--ego", "0,1", "--engine", "sweep", "--no-progress", "-o", str(out_path)]
+    subprocess.run(cmd, capture_output=True, text=True, check=True)
+    table = pl.read_parquet(out_path)
+    assert table.columns[:3] == ["frame", "total_nanos", "ego_idx"]
+    assert set(table["ego_idx"].unique()) == {0, 1}
+
+
+def test_cli_rejects_unknown_engine() -> None:
+    cmd = [sys.executable, "-m", "omega_prime_visibility.cli", "run", str(REPO / "highway_merge.mcap")]
+    out = subprocess.run([*cmd, "--engine", "nope"], capture_output=True, text=True)
+    assert out.returncode == 2 and "unknown engine 'nope'" in out.stderr
