@@ -51,7 +51,7 @@ def _nearest_edge(ox, oy, dx, dy, seg, start, stop):
 
 
 @numba.njit(cache=True)
-def _occludes_one(ox, oy, seg, j_start, j_stop, t_start, t_stop, extent_start, extent_width):
+def occludes_one(ox, oy, seg, j_start, j_stop, t_start, t_stop, extent_start, extent_width):
     n = 2 * (j_stop - j_start + t_stop - t_start) + 2
     cuts = np.empty(n)
     k = 0
@@ -92,7 +92,7 @@ def _occludes_pairs(ox, oy, seg, seg_offsets, occluder, target, extent_start, ex
     out = np.zeros(len(occluder), dtype=np.bool_)
     for p in range(len(occluder)):
         j, t = occluder[p], target[p]
-        out[p] = _occludes_one(
+        out[p] = occludes_one(
             ox,
             oy,
             seg,

@@ -25,7 +25,8 @@ from shapely import affinity
 
 from omega_prime_visibility import get_visibility_df
 from omega_prime_visibility.engines import get_engine
-from omega_prime_visibility.engines.sweep import SweepEngine, _prepare
+from omega_prime_visibility.engines.crossings import prepare_frame
+from omega_prime_visibility.engines.sweep import SweepEngine
 from omega_prime_visibility.geometry import angular_extent, box_rings, covers_point
 from omega_prime_visibility.scene import FrameObjects, load_objects, load_static_occluders
 
@@ -221,7 +222,7 @@ def test_crossing_bodies_against_reference_and_visilibity() -> None:
         compare_engines(scene, False)
         frame = load_objects(scene_table(scene.observer, scene.objects, False)).frame_objects(0)
         eng = SweepEngine(load_static_occluders(scene.statics))
-        _, pairs, _, _, _ = _prepare(
+        _, pairs, _, _, _ = prepare_frame(
             scene.observer[None], frame.rings.coords, frame.rings.offsets, eng._st_a, eng._st_b, *eng._grid, *eng._ss
         )
         crossings += len(pairs)

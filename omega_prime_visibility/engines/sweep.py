@@ -27,7 +27,7 @@ Per observer, with everything shifted so that the observer sits at the origin:
    start, and grouped by (target, body) with a counting sort. An object lying entirely nearer than ``T``'s
    nearest point with an extent overlapping ``T``'s by more than ``MIN_PIECE`` is accepted at once (the rule of
    the VisiLibity engine), so is a static edge with a safety margin; all other candidates are decided by the
-   exact pairwise test of :mod:`..occlusion` (``_occludes_one``) on the same shifted segments. For a static body
+   exact pairwise test of :mod:`..occlusion` (``occludes_one``) on the same shifted segments. For a static body
    only its kept edges that meet ``T``'s extent nearer than ``T``'s farthest point are handed to that test: a
    ray from outside enters a body through a front-facing edge, so the others cannot decide anything, and a long
    guard rail would otherwise cost the test O(pieces x all its edges).
@@ -44,267 +44,17 @@ import numba
 import numpy as np
 
 from ..geometry import edges, ring_ids
-from ..occlusion import MIN_PIECE, _occludes_one
+from ..occlusion import MIN_PIECE, occludes_one
 from ..scene import FrameObjects, StaticOccluders
 from . import EngineBase, Observation
+from .crossings import build_static_grid, prepare_frame, segment_distance2, static_crossings
 
 PI = math.pi
 TWO_PI = 2.0 * math.pi
 STATIC_ACCEPT_ANGLE = 1e-9  # radians of overlap needed to accept a static edge without the exact test
 STATIC_ACCEPT_RELATIVE = 1e-7  # ... and it must lie nearer than (1 - this) times the target's nearest distance
 CANDIDATE_EPS = 1e-9  # radians; intervals this close count as overlapping (the exact test decides)
-GRID_CELLS = 256  # cells along the longer side of the static edges' grid
 
-
-# -- small geometric kernels ---------------------------------------------------------------------------------
-
-
-@numba.njit(cache=True)
-def _orient(ax, ay, bx, by, cx, cy):
-    return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
-
-
-@numba.njit(cache=True)
-def _cross_properly(ax, ay, bx, by, cx, cy, dx, dy):
-    """Whether segments ab and cd cross at a single point interior to both."""
-    d1 = _orient(ax, ay, bx, by, cx, cy)
-    d2 = _orient(ax, ay, bx, by, dx, dy)
-    if not ((d1 > 0.0 and d2 < 0.0) or (d1 < 0.0 and d2 > 0.0)):
-        return False
-    d3 = _orient(cx, cy, dx, dy, ax, ay)
-    d4 = _orient(cx, cy, dx, dy, bx, by)
-    return (d3 > 0.0 and d4 < 0.0) or (d3 < 0.0 and d4 > 0.0)
-
-
-@numba.njit(cache=True)
-def _segment_distance2(ax, ay, bx, by):
-    """Squared distance from the origin to segment ab."""
-    ex, ey = bx - ax, by - ay
-    ee = ex * ex + ey * ey
-    t = -(ax * ex + ay * ey) / ee if ee > 0.0 else 0.0
-    t = min(max(t, 0.0), 1.0)
-    dx, dy = ax + t * ex, ay + t * ey
-    return dx * dx + dy * dy
-
-
-@numba.njit(cache=True)
-def _grow_int(a, size):
-    b = np.empty(max(2 * len(a), 16), dtype=np.int64)
-    b[:size] = a[:size]
-    return b
-
-
-@numba.njit(cache=True)
-def _next_vertex(offsets):
-    m = offsets[-1]
-    nxt = np.empty(m, dtype=np.int64)
-    for i in range(len(offsets) - 1):
-        s, e = offsets[i], offsets[i + 1]
-        for j in range(s, e - 1):
-            nxt[j] = j + 1
-        if e > s:
-            nxt[e - 1] = s
-    return nxt
-
-
-# -- crossings ---------------------------------------------------------------------------------------------
-
-
-@numba.njit(cache=True)
-def _build_grid(a, b):
-    """Uniform grid over segments ab: (x0, y0, cell) floats, (nx, ny) ints, CSR cell offsets and items."""
-    s = len(a)
-    x0 = min(a[:, 0].min(), b[:, 0].min())
-    y0 = min(a[:, 1].min(), b[:, 1].min())
-    x1 = max(a[:, 0].max(), b[:, 0].max())
-    y1 = max(a[:, 1].max(), b[:, 1].max())
-    cell = max(max(x1 - x0, y1 - y0) / GRID_CELLS, 1e-6)
-    nx = int((x1 - x0) / cell) + 1
-    ny = int((y1 - y0) / cell) + 1
-    counts = np.zeros(nx * ny + 1, dtype=np.int64)
-    for rep in range(2):
-        if rep == 1:
-            for c in range(nx * ny):
-                counts[c + 1] += counts[c]
-            fill = counts[:-1].copy()
-            items = np.empty(counts[-1], dtype=np.int64)
-        for k in range(s):
-            cx0, cx1, cy0, cy1 = _cell_range(
-                min(a[k, 0], b[k, 0]), min(a[k, 1], b[k, 1]), max(a[k, 0], b[k, 0]), max(a[k, 1], b[k, 1]),
-                x0, y0, cell, nx, ny,
-            )  # fmt: skip
-            for cy in range(cy0, cy1 + 1):
-                for cx in range(cx0, cx1 + 1):
-                    c = cy * nx + cx
-                    if rep == 0:
-                        counts[c + 1] += 1
-                    else:
-                        items[fill[c]] = k
-                        fill[c] += 1
-    return np.array([x0, y0, cell]), np.array([nx, ny], dtype=np.int64), counts, items
-
-
-@numba.njit(cache=True)
-def _cell_range(xmin, ymin, xmax, ymax, x0, y0, cell, nx, ny):
-    cx0 = min(max(int((xmin - x0) / cell), 0), nx - 1)
-    cx1 = min(max(int((xmax - x0) / cell), 0), nx - 1)
-    cy0 = min(max(int((ymin - y0) / cell), 0), ny - 1)
-    cy1 = min(max(int((ymax - y0) / cell), 0), ny - 1)
-    return cx0, cx1, cy0, cy1
-
-
-@numba.njit(cache=True)
-def _static_crossings(a, b, group, grid_f, grid_i, cell_off, items):
-    """Pairs (i < j) of static edges of different groups that cross properly."""
-    x0, y0, cell = grid_f[0], grid_f[1], grid_f[2]
-    nx, ny = grid_i[0], grid_i[1]
-    stamp = np.full(len(a), -1, dtype=np.int64)
-    pi_ = np.empty(16, dtype=np.int64)
-    pj_ = np.empty(16, dtype=np.int64)
-    k = 0
-    for i in range(len(a)):
-        xmin, xmax = min(a[i, 0], b[i, 0]), max(a[i, 0], b[i, 0])
-        ymin, ymax = min(a[i, 1], b[i, 1]), max(a[i, 1], b[i, 1])
-        cx0, cx1, cy0, cy1 = _cell_range(xmin, ymin, xmax, ymax, x0, y0, cell, nx, ny)
-        for cy in range(cy0, cy1 + 1):
-            for cx in range(cx0, cx1 + 1):
-                c = cy * nx + cx
-                for q in range(cell_off[c], cell_off[c + 1]):
-                    j = items[q]
-                    if j <= i or stamp[j] == i or group[j] == group[i]:
-                        continue
-                    stamp[j] = i
-                    if _cross_properly(a[i, 0], a[i, 1], b[i, 0], b[i, 1], a[j, 0], a[j, 1], b[j, 0], b[j, 1]):
-                        if k == len(pi_):
-                            pi_ = _grow_int(pi_, k)
-                            pj_ = _grow_int(pj_, k)
-                        pi_[k] = i
-                        pj_[k] = j
-                        k += 1
-    return pi_[:k].copy(), pj_[:k].copy()
-
-
-@numba.njit(cache=True)
-def _frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off, items, ss_i, ss_j):
-    """Properly crossing edge pairs of different bodies in one frame.
-
-    Edges are numbered object edges first (``0..m-1``), then static edges (``m + k``).
-    """
-    n = len(offsets) - 1
-    m = len(coords)
-    bb = np.empty((n, 4))  # xmin, ymin, xmax, ymax
-    for i in range(n):
-        x0, y0 = np.inf, np.inf
-        x1, y1 = -np.inf, -np.inf
-        for v in range(offsets[i], offsets[i + 1]):
-            x0, x1 = min(x0, coords[v, 0]), max(x1, coords[v, 0])
-            y0, y1 = min(y0, coords[v, 1]), max(y1, coords[v, 1])
-        bb[i, 0], bb[i, 1], bb[i, 2], bb[i, 3] = x0, y0, x1, y1
-    out_i = np.empty(16, dtype=np.int64)
-    out_j = np.empty(16, dtype=np.int64)
-    k = 0
-    if n > 1:
-        # sort-and-sweep along the axis where the bodies are spread most
-        spread_x = bb[:, 2].max() - bb[:, 0].min()
-        spread_y = bb[:, 3].max() - bb[:, 1].min()
-        ax = 0 if spread_x >= spread_y else 1
-        other = 1 - ax
-        order = np.argsort(bb[:, ax].copy())
-        for ii in range(n):
-            i = order[ii]
-            for jj in range(ii + 1, n):
-                j = order[jj]
-                if bb[j, ax] > bb[i, ax + 2]:
-                    break
-                if bb[j, other] > bb[i, other + 2] or bb[j, other + 2] < bb[i, other]:
-                    continue
-                for p in range(offsets[i], offsets[i + 1]):
-                    pa, pb = p, nxt[p]
-                    for q in range(offsets[j], offsets[j + 1]):
-                        qa, qb = q, nxt[q]
-                        if _cross_properly(
-                            coords[pa, 0], coords[pa, 1], coords[pb, 0], coords[pb, 1],
-                            coords[qa, 0], coords[qa, 1], coords[qb, 0], coords[qb, 1],
-                        ):  # fmt: skip
-                            if k == len(out_i):
-                                out_i = _grow_int(out_i, k)
-                                out_j = _grow_int(out_j, k)
-                            out_i[k] = p
-                            out_j[k] = q
-                            k += 1
-    if len(st_a):
-        x0, y0, cell = grid_f[0], grid_f[1], grid_f[2]
-        nx, ny = grid_i[0], grid_i[1]
-        gx1, gy1 = x0 + nx * cell, y0 + ny * cell
-        stamp = np.full(len(st_a), -1, dtype=np.int64)
-        for i in range(n):
-            if bb[i, 2] < x0 or bb[i, 0] > gx1 or bb[i, 3] < y0 or bb[i, 1] > gy1:
-                continue
-            cx0, cx1, cy0, cy1 = _cell_range(bb[i, 0], bb[i, 1], bb[i, 2], bb[i, 3], x0, y0, cell, nx, ny)
-            for cy in range(cy0, cy1 + 1):
-                for cx in range(cx0, cx1 + 1):
-                    c = cy * nx + cx
-                    for w in range(cell_off[c], cell_off[c + 1]):
-                        t = items[w]
-                        if stamp[t] == i:
-                            continue
-                        stamp[t] = i
-                        if (
-                            max(st_a[t, 0], st_b[t, 0]) < bb[i, 0]
-                            or min(st_a[t, 0], st_b[t, 0]) > bb[i, 2]
-                            or max(st_a[t, 1], st_b[t, 1]) < bb[i, 1]
-                            or min(st_a[t, 1], st_b[t, 1]) > bb[i, 3]
-                        ):
-                            continue
-                        for p in range(offsets[i], offsets[i + 1]):
-                            pb = nxt[p]
-                            if _cross_properly(
-                                coords[p, 0], coords[p, 1], coords[pb, 0], coords[pb, 1],
-                                st_a[t, 0], st_a[t, 1], st_b[t, 0], st_b[t, 1],
-                            ):  # fmt: skip
-                                if k == len(out_i):
-                                    out_i = _grow_int(out_i, k)
-                                    out_j = _grow_int(out_j, k)
-                                out_i[k] = p
-                                out_j[k] = m + t
-                                k += 1
-    total = k + len(ss_i)
-    ci = np.empty(total, dtype=np.int64)
-    cj = np.empty(total, dtype=np.int64)
-    ci[:k] = out_i[:k]
-    cj[:k] = out_j[:k]
-    for r in range(len(ss_i)):
-        ci[k + r] = m + ss_i[r]
-        cj[k + r] = m + ss_j[r]
-    return ci, cj
-
-
-@numba.njit(cache=True)
-def _prepare(observers, coords, offsets, st_a, st_b, grid_f, grid_i, cell_off, items, ss_i, ss_j):
-    """Frame-level work and the arctangent arguments of every observer (evaluated by numpy's ``arctan2``).
-
-    Row ``k`` of ``y`` and ``x``: the cross and dot products of consecutive vertices (``angular_extent``'s
-    steps) for the ``m`` object edges, then the shifted vertex coordinates (vertex bearings).
-    """
-    m = len(coords)
-    nxt = _next_vertex(offsets)
-    ci, cj = _frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off, items, ss_i, ss_j)
-    k = len(observers)
-    y = np.empty((k, 2 * m))
-    x = np.empty((k, 2 * m))
-    for o in range(k):
-        ox, oy = observers[o, 0], observers[o, 1]
-        for j in range(m):
-            ax, ay = coords[j, 0] - ox, coords[j, 1] - oy
-            bx, by = coords[nxt[j], 0] - ox, coords[nxt[j], 1] - oy
-            y[o, j] = ax * by - ay * bx
-            x[o, j] = ax * bx + ay * by
-            y[o, m + j] = ay
-            x[o, m + j] = ax
-    return nxt, ci, cj, y, x
-
-
-# -- the sweep ---------------------------------------------------------------------------------------------
 
 # columns of the piece table
 _LO, _HI, _ULX, _ULY, _UHX, _UHY, _EX, _EY, _NUM = range(9)
@@ -465,7 +215,7 @@ def _observe_one(ox, oy, coords, offsets, nxt, ang, obj_tr, st_a, st_b, st_src, 
         hi2 = 0.0
         for j in range(offsets[i], offsets[i + 1]):
             ax, ay = seg[j, 0, 0], seg[j, 0, 1]
-            lo2 = min(lo2, _segment_distance2(ax, ay, seg[j, 1, 0], seg[j, 1, 1]))
+            lo2 = min(lo2, segment_distance2(ax, ay, seg[j, 1, 0], seg[j, 1, 1]))
             hi2 = max(hi2, ax * ax + ay * ay)
         dmin[i] = math.sqrt(lo2)
         dmax[i] = math.sqrt(hi2)
@@ -502,7 +252,7 @@ def _observe_one(ox, oy, coords, offsets, nxt, ang, obj_tr, st_a, st_b, st_src, 
                 continue
             ax, ay = st_a[s, 0] - ox, st_a[s, 1] - oy
             bx, by = st_b[s, 0] - ox, st_b[s, 1] - oy
-            if _segment_distance2(ax, ay, bx, by) > reach2:
+            if segment_distance2(ax, ay, bx, by) > reach2:
                 continue
             two = st_two[s]
             bdy = n + src
@@ -530,7 +280,7 @@ def _observe_one(ox, oy, coords, offsets, nxt, ang, obj_tr, st_a, st_b, st_src, 
         kp[n_kept, 0], kp[n_kept, 1] = px, py
         kq[n_kept, 0], kq[n_kept, 1] = qx, qy
         kbody[n_kept] = bdy
-        kd[n_kept, 0] = math.sqrt(_segment_distance2(ax, ay, bx, by))
+        kd[n_kept, 0] = math.sqrt(segment_distance2(ax, ay, bx, by))
         kd[n_kept, 1] = math.sqrt(max(ax * ax + ay * ay, bx * bx + by * by))
         rp = math.sqrt(px * px + py * py)
         rq = math.sqrt(qx * qx + qy * qy)
@@ -690,7 +440,7 @@ def _occludes_static(seg, t0, t1, t_start, t_width, t_far, rec, rec_edge, kd, kg
         k += 1
     if k == mt:
         return False
-    return _occludes_one(0.0, 0.0, sub, mt, k, 0, mt, t_start, t_width)
+    return occludes_one(0.0, 0.0, sub, mt, k, 0, mt, t_start, t_width)
 
 
 @numba.njit(cache=True)
@@ -847,7 +597,7 @@ def _occluders(
             u += 1
         if not flag:
             if j < n:
-                hit = _occludes_one(
+                hit = occludes_one(
                     0.0, 0.0, seg, offsets[j], offsets[j + 1], offsets[t], offsets[t + 1], start[t], width[t]
                 )
             else:
@@ -938,8 +688,8 @@ class SweepEngine(EngineBase):
         # crossing groups: a static polygon's edges never cross each other, a wall's segments may
         group = np.concatenate([ring_src, n_src + np.arange(len(walls), dtype=np.int64)])
         if len(self._st_a):
-            self._grid = _build_grid(self._st_a, self._st_b)
-            self._ss = _static_crossings(self._st_a, self._st_b, group, *self._grid)
+            self._grid = build_static_grid(self._st_a, self._st_b)
+            self._ss = static_crossings(self._st_a, self._st_b, group, *self._grid)
         else:
             self._grid = (np.zeros(3), np.ones(2, dtype=np.int64), np.zeros(2, dtype=np.int64), np.zeros(0, np.int64))
             self._ss = (np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64))
@@ -969,7 +719,7 @@ class SweepEngine(EngineBase):
         coords = np.ascontiguousarray(objects.rings.coords, dtype=np.float64)
         offsets = np.ascontiguousarray(objects.rings.offsets, dtype=np.int64)
         grid_f, grid_i, cell_off, items = self._grid
-        nxt, ci, cj, y, x = _prepare(
+        nxt, ci, cj, y, x = prepare_frame(
             observers, coords, offsets, self._st_a, self._st_b, grid_f, grid_i, cell_off, items, *self._ss
         )
         ang = np.arctan2(y, x)
