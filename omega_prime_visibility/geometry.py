@@ -188,18 +188,6 @@ def angular_extent(observer: np.ndarray, rings: Rings) -> tuple[np.ndarray, np.n
     return start, hi - lo, winding
 
 
-def distance_to_rings(point: np.ndarray, rings: Rings) -> np.ndarray:
-    """Euclidean distance from ``point`` to the boundary of each ring, metres, shape (n,)."""
-    if len(rings) == 0:
-        return np.zeros(0)
-    a, b = edges(rings)
-    d = b - a
-    p = point - a
-    t = np.clip(np.einsum("ij,ij->i", p, d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-300), 0.0, 1.0)
-    dist = np.hypot(p[:, 0] - t * d[:, 0], p[:, 1] - t * d[:, 1])
-    return np.minimum.reduceat(dist, rings.offsets[:-1])
-
-
 @numba.njit(cache=True)
 def _covers_point(px, py, coords, offsets, tolerance):
     n = len(offsets) - 1
@@ -238,16 +226,3 @@ def covers_point(point: np.ndarray, rings: Rings, tolerance: float = 1e-9) -> np
     coords = np.ascontiguousarray(rings.coords, dtype=np.float64)
     offsets = np.asarray(rings.offsets, dtype=np.int64)
     return _covers_point(float(point[0]), float(point[1]), coords, offsets, float(tolerance))
-
-
-def bearing(points: np.ndarray, observer: np.ndarray) -> np.ndarray:
-    """Bearing of each point seen from ``observer``, radians in (-pi, pi], shape (k,)."""
-    d = np.asarray(points) - observer
-    return np.arctan2(d[..., 1], d[..., 0])
-
-
-def subtended_angle(a: np.ndarray, b: np.ndarray, observer: np.ndarray) -> np.ndarray:
-    """Signed angle from ``a`` to ``b`` seen from ``observer`` (positive counter-clockwise), radians, shape (k,)."""
-    a = a - observer
-    b = b - observer
-    return np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1])

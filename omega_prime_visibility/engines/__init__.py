@@ -117,14 +117,6 @@ def get_engine(name: str) -> type:
         raise ValueError(f"unknown engine {name!r}; available: {sorted(ENGINES)}") from None
 
 
-def ragged(lists: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """Flat values and offsets from a list of 1-D integer arrays."""
-    offsets = np.zeros(len(lists) + 1, dtype=np.int64)
-    np.cumsum([len(x) for x in lists], out=offsets[1:])
-    flat = np.concatenate(lists).astype(np.int64) if lists else np.zeros(0, dtype=np.int64)
-    return offsets, flat
-
-
 def group_pairs(key: np.ndarray, value: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
     """Offsets and values, grouped by ``key`` in ``range(n)`` and sorted ascending within each group."""
     order = np.lexsort((value, key))
