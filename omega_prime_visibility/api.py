@@ -120,11 +120,7 @@ def observe_frame(
             static_transparent[k] = _static_transparent(statics, observers[k])
     results: list[Observation] = engine.observe_many(objects, observers, transparent, static_transparent)
     for k, (p, obs) in enumerate(zip(pos, results, strict=True)):
-        inside = transparent[k].copy()
-        inside[p] = False
-        if inside.any():
-            containment.add(int(objects.idx[p]), objects.idx[inside], objects.frame)
-        vis, occ_off, occ, st_off, st = observation_rows(
+        rows, vis, occ_off, occ, st_off, st, any_inside = observation_rows(
             p,
             obs.visible_angle,
             obs.angular_extent,
@@ -135,7 +131,10 @@ def observe_frame(
             transparent[k],
             objects.idx,
         )
-        rows = np.concatenate((objects.idx[:p], objects.idx[p + 1 :]))
+        if any_inside:
+            inside = transparent[k].copy()
+            inside[p] = False
+            containment.add(int(objects.idx[p]), objects.idx[inside], objects.frame)
         builder.add(objects.frame, objects.total_nanos, int(objects.idx[p]), rows, vis, occ_off, occ, st_off, st)
 
 

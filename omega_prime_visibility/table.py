@@ -37,11 +37,13 @@ def observation_rows(p, visible, extent, occ_off, occ, st_off, st, transparent, 
 
     Visibility is ``visible / extent`` clipped to [0, 1], exactly 1.0 for transparent objects (they contain the
     observer) and for objects with nothing hit before them; occluder positions become idx values, and the lists
-    of transparent objects are emptied. Returns ``visibility, occluder_offsets, occluder_idxs, static_offsets,
-    static_idxs`` for the ``n - 1`` rows.
+    of transparent objects are emptied. Returns ``idx, visibility, occluder_offsets, occluder_idxs,
+    static_offsets, static_idxs`` for the ``n - 1`` rows, and whether any other object contains the observer.
     """
     n = len(visible)
     rows = n - 1
+    row_idx = np.empty(rows, dtype=np.int64)
+    any_inside = False
     vis = np.empty(rows)
     oo = np.zeros(rows + 1, dtype=np.int64)
     so = np.zeros(rows + 1, dtype=np.int64)
@@ -50,6 +52,8 @@ def observation_rows(p, visible, extent, occ_off, occ, st_off, st, transparent, 
         if i == p:
             continue
         inside = transparent[i]
+        any_inside |= inside
+        row_idx[r] = idx[i]
         no = 0 if inside else occ_off[i + 1] - occ_off[i]
         ns = 0 if inside else st_off[i + 1] - st_off[i]
         oo[r + 1] = oo[r] + no
@@ -68,7 +72,7 @@ def observation_rows(p, visible, extent, occ_off, occ, st_off, st, transparent, 
         for q in range(so[r + 1] - so[r]):
             si[so[r] + q] = st[st_off[i] + q]
         r += 1
-    return vis, oo, oi, so, si
+    return row_idx, vis, oo, oi, so, si, any_inside
 
 
 def _list_column(offsets: np.ndarray, values: np.ndarray) -> pl.Series:

@@ -221,3 +221,14 @@ def test_self_crossing_wall_blocks_its_share(engine: str) -> None:
     out = get_visibility_df(boxes_table([(0, 0, 0.2, 0.2, 0), (10.25, 0, 0.5, 2, 0)]), 0, [wall], engine=engine)
     assert row(out, 1)["static_occluder_idxs"] == [0]
     assert row(out, 1)["visibility"] == pytest.approx(0.99753, abs=1e-4)
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_multipolygon_static_occluder_reported_once(engine: str) -> None:
+    # two parts of one MultiPolygon: the first hides the lower half of the target (as in the wall test), the
+    # second lies far behind the target; the occluder is reported once, by its position in the list
+    parts = shapely.MultiPolygon([shapely.box(5, -5, 5.1, 0), shapely.box(30, -3, 31, 3)])
+    statics = [shapely.box(0, 20, 1, 21), parts]
+    df = get_visibility_df(boxes_table([(0, 0, 1, 1, 0), (10, 0, 2, 2, 0)]), 0, statics, engine=engine)
+    assert row(df, 1)["visibility"] == pytest.approx(0.5, abs=1e-9)
+    assert row(df, 1)["static_occluder_idxs"] == [1]
