@@ -135,8 +135,8 @@ def main(argv: list[str] | None = None) -> None:
         cells = []
         for e in engines:
             secs, rows = time_rows(r._df, e)
-            cells.append(f"{secs * 1e3:.0f} ms/{rows} rows")
-        line = f"{'highway_merge.mcap (whole file)':<34}" + "".join(f"{c:>14}" for c in cells)
+            cells.append(f"{secs * 1e3:.0f} ms/{rows}")
+        line = f"{'highway_merge.mcap (whole file)':<34}" + "".join(f"{c:>14}" for c in cells) + " rows"
         print(line + "   visilibity < 300 ms")
     if args.long:
         long_recording(args.long_engine, args.long, args.workers)
