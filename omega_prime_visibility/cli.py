@@ -31,16 +31,13 @@ def fail(message: str) -> typer.Exit:
 
 
 def load_recording(path: Path, map_path: Path | None = None):
-    """An ``omega_prime.Recording`` from an MCAP or OSI file, with polygons; clear errors for bad files."""
-    import omega_prime
+    """``io.read_recording``, turning a read error into a one-line message and exit status 2."""
+    from .io import RecordingReadError, read_recording
 
-    if not path.exists():
-        raise fail(f"{path} does not exist")
     try:
-        kwargs = {"map_path": str(map_path)} if map_path else {}
-        return omega_prime.Recording.from_file(str(path), compute_polygons=True, **kwargs)
-    except Exception as e:  # omega-prime raises many kinds; name the file
-        raise fail(f"cannot read {path} as an omega-prime recording ({type(e).__name__}: {e})") from e
+        return read_recording(path, map_path)
+    except RecordingReadError as e:
+        raise fail(str(e)) from e
 
 
 @app.command()

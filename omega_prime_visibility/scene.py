@@ -8,6 +8,7 @@ geometry, which is shared by all frames.
 
 from __future__ import annotations
 
+import os
 import warnings
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
@@ -145,7 +146,12 @@ def _report(problem: str, on_invalid: OnInvalid) -> None:
 
 
 def as_polars(data: Any) -> pl.DataFrame:
-    """Accept an ``omega_prime.Recording``, a polars ``DataFrame`` or ``LazyFrame``; return a DataFrame."""
+    """Accept an ``omega_prime.Recording``, a polars ``DataFrame`` or ``LazyFrame``, or the path of an MCAP file;
+    return a DataFrame."""
+    if isinstance(data, str | os.PathLike):
+        from .io import read_recording
+
+        data = read_recording(data)
     if isinstance(data, pl.LazyFrame):
         return data.collect()
     if isinstance(data, pl.DataFrame):
@@ -154,7 +160,8 @@ def as_polars(data: Any) -> pl.DataFrame:
     if isinstance(inner, pl.DataFrame | pl.LazyFrame):
         return as_polars(inner)
     raise TypeError(
-        f"expected an omega_prime.Recording or a polars DataFrame/LazyFrame of moving objects, got {type(data)!r}"
+        "expected an omega_prime.Recording, a polars DataFrame/LazyFrame of moving objects or an MCAP path, "
+        f"got {type(data)!r}"
     )
 
 

@@ -135,3 +135,16 @@ def test_cli_rejects_unknown_engine() -> None:
     cmd = [sys.executable, "-m", "omega_prime_visibility.cli", "run", str(REPO / "highway_merge.mcap")]
     out = subprocess.run([*cmd, "--engine", "nope"], capture_output=True, text=True)
     assert out.returncode == 2 and "unknown engine 'nope'" in out.stderr
+
+
+def test_path_input_and_corrupt_file(tmp_path) -> None:
+    from omega_prime_visibility.io import RecordingReadError
+
+    table = get_visibility_df(str(REPO / "highway_merge.mcap"), 0, progress=False)
+    assert table.height == 1206
+    bad = tmp_path / "truncated.mcap"
+    bad.write_bytes((REPO / "highway_merge.mcap").read_bytes()[:5000])
+    with pytest.raises(RecordingReadError, match=r"truncated\.mcap"):
+        get_visibility_df(bad, 0)
+    with pytest.raises(RecordingReadError, match="does not exist"):
+        get_visibility_df(tmp_path / "missing.mcap", 0)
