@@ -90,10 +90,24 @@ class _ContainmentLog:
         )
 
 
-def _static_transparent(statics: StaticOccluders, observer: np.ndarray) -> np.ndarray:
-    if statics.n_sources == 0:
-        return np.zeros(0, dtype=bool)
-    return np.asarray(shapely.intersects(statics.geometries, shapely.Point(observer)), dtype=bool)
+def transparency_masks(
+    objects: FrameObjects, positions: np.ndarray, statics: StaticOccluders
+) -> tuple[np.ndarray, np.ndarray]:
+    """Bodies that neither block nor occlude, for observers at the centres of the objects at ``positions``.
+
+    Returns ``transparent`` of shape (k, n): each observer's own object and every object containing or touching
+    its observer point; and ``static_transparent`` of shape (k, n_sources): static occluders containing it.
+    """
+    positions = np.asarray(positions, dtype=np.int64)
+    transparent = np.empty((len(positions), len(objects)), dtype=bool)
+    static_transparent = np.zeros((len(positions), statics.n_sources), dtype=bool)
+    for k, p in enumerate(positions):
+        observer = objects.position[p]
+        transparent[k] = covers_point(observer, objects.rings)
+        transparent[k, p] = True
+        if statics.n_sources:
+            static_transparent[k] = shapely.intersects(statics.geometries, shapely.Point(observer))
+    return transparent, static_transparent
 
 
 def observe_frame(
@@ -111,13 +125,7 @@ def observe_frame(
     if len(pos) == 0:
         return
     observers = objects.position[pos]
-    transparent = np.empty((len(pos), n), dtype=bool)
-    static_transparent = np.zeros((len(pos), statics.n_sources), dtype=bool)
-    for k, p in enumerate(pos):
-        transparent[k] = covers_point(observers[k], objects.rings)
-        transparent[k, p] = True
-        if statics.n_sources:
-            static_transparent[k] = _static_transparent(statics, observers[k])
+    transparent, static_transparent = transparency_masks(objects, pos, statics)
     results: list[Observation] = engine.observe_many(objects, observers, transparent, static_transparent)
     for k, (p, obs) in enumerate(zip(pos, results, strict=True)):
         rows, vis, occ_off, occ, st_off, st, any_inside = observation_rows(

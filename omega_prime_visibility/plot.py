@@ -9,9 +9,8 @@ import numpy as np
 import polars as pl
 import shapely
 
-from .api import get_visibility_df
+from .api import get_visibility_df, transparency_masks
 from .engines.visilibity import VisiLibityEngine
-from .geometry import covers_point
 from .scene import load_objects, load_static_occluders
 
 
@@ -66,9 +65,7 @@ def plot_frame(
     vis_of = dict(zip(table["idx"].to_list(), table["visibility"].to_list(), strict=True))
     ego_pos = int(np.searchsorted(fo.idx, ego_idx))
     observer = fo.position[ego_pos]
-    transparent = covers_point(observer, fo.rings)
-    transparent[ego_pos] = True
-    static_transparent = np.asarray(shapely.intersects(statics.geometries, shapely.Point(observer)), dtype=bool)
+    transparent, static_transparent = (m[0] for m in transparency_masks(fo, np.array([ego_pos]), statics))
     engine = VisiLibityEngine(statics)
     engine.box_margin = 2 * (view_range or 100.0)
     region = engine.visibility_polygon(fo, observer, transparent, static_transparent)

@@ -8,8 +8,8 @@ import shapely
 from conftest import boxes_table, scene_table
 from reference import random_scene
 
+from omega_prime_visibility.api import transparency_masks
 from omega_prime_visibility.engines.visilibity import VisiLibityEngine
-from omega_prime_visibility.geometry import covers_point
 from omega_prime_visibility.scene import load_objects, load_static_occluders
 
 
@@ -18,9 +18,7 @@ def engine_and_frame(table, statics):
     frame = objects.frame_objects(0)
     static = load_static_occluders(statics)
     observer = frame.position[0]
-    transparent = covers_point(observer, frame.rings)
-    transparent[0] = True
-    static_transparent = np.asarray(shapely.intersects(static.geometries, shapely.Point(observer)), dtype=bool)
+    transparent, static_transparent = (m[0] for m in transparency_masks(frame, np.array([0]), static))
     return VisiLibityEngine(static), frame, observer, transparent, static_transparent
 
 
