@@ -51,6 +51,17 @@ def _grow_int(a, size):
     return b
 
 
+@numba.njit(cache=True, inline="always")
+def _push_pair(first, second, k, i, j):
+    """Append the pair ``(i, j)`` at position ``k`` (growing the arrays when full); return arrays and ``k + 1``."""
+    if k == len(first):
+        first = _grow_int(first, k)
+        second = _grow_int(second, k)
+    first[k] = i
+    second[k] = j
+    return first, second, k + 1
+
+
 @numba.njit(cache=True)
 def _next_vertex(offsets):
     m = offsets[-1]
@@ -132,12 +143,7 @@ def static_crossings(a, b, group, grid_f, grid_i, cell_off, items):
                         continue
                     stamp[j] = i
                     if _cross_properly(a[i, 0], a[i, 1], b[i, 0], b[i, 1], a[j, 0], a[j, 1], b[j, 0], b[j, 1]):
-                        if k == len(pi_):
-                            pi_ = _grow_int(pi_, k)
-                            pj_ = _grow_int(pj_, k)
-                        pi_[k] = i
-                        pj_[k] = j
-                        k += 1
+                        pi_, pj_, k = _push_pair(pi_, pj_, k, i, j)
     return pi_[:k].copy(), pj_[:k].copy()
 
 
@@ -183,12 +189,7 @@ def _frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off,
                             coords[pa, 0], coords[pa, 1], coords[pb, 0], coords[pb, 1],
                             coords[qa, 0], coords[qa, 1], coords[qb, 0], coords[qb, 1],
                         ):  # fmt: skip
-                            if k == len(out_i):
-                                out_i = _grow_int(out_i, k)
-                                out_j = _grow_int(out_j, k)
-                            out_i[k] = p
-                            out_j[k] = q
-                            k += 1
+                            out_i, out_j, k = _push_pair(out_i, out_j, k, p, q)
     if len(st_a):
         x0, y0, cell = grid_f[0], grid_f[1], grid_f[2]
         nx, ny = grid_i[0], grid_i[1]
@@ -219,12 +220,7 @@ def _frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off,
                                 coords[p, 0], coords[p, 1], coords[pb, 0], coords[pb, 1],
                                 st_a[t, 0], st_a[t, 1], st_b[t, 0], st_b[t, 1],
                             ):  # fmt: skip
-                                if k == len(out_i):
-                                    out_i = _grow_int(out_i, k)
-                                    out_j = _grow_int(out_j, k)
-                                out_i[k] = p
-                                out_j[k] = m + t
-                                k += 1
+                                out_i, out_j, k = _push_pair(out_i, out_j, k, p, m + t)
     total = k + len(ss_i)
     ci = np.empty(total, dtype=np.int64)
     cj = np.empty(total, dtype=np.int64)
