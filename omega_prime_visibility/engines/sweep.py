@@ -453,6 +453,21 @@ def _accept(overlap, far, is_object, near_t, static_near_t):
 
 
 @numba.njit(cache=True)
+def _counting_sort(keys, n_keys, items):
+    """``items`` (indices into ``keys``) stably reordered by ``keys[item]`` in ``range(n_keys)``."""
+    count = np.zeros(n_keys + 1, dtype=np.int64)
+    for r in items:
+        count[keys[r] + 1] += 1
+    for j in range(n_keys):
+        count[j + 1] += count[j]
+    out = np.empty(len(items), dtype=np.int64)
+    for r in items:
+        out[count[keys[r]]] = r
+        count[keys[r]] += 1
+    return out
+
+
+@numba.njit(cache=True)
 def _occluders(
     n, n_src, offsets, obj_tr, start, width, dmin, dmax, rec, rec_edge, kbody, kd, kg, seg, st_a, st_b, ox, oy,
 ):  # fmt: skip
@@ -558,25 +573,8 @@ def _occluders(
             it += 1
 
     # sort the pairs by (target, body): counting sort by body, then (stably) by target
-    count = np.zeros(nb + 1, dtype=np.int64)
-    for r in range(n_pairs):
-        count[pb[r] + 1] += 1
-    for j in range(nb):
-        count[j + 1] += count[j]
-    by_body = np.empty(n_pairs, dtype=np.int64)
-    for r in range(n_pairs):
-        by_body[count[pb[r]]] = r
-        count[pb[r]] += 1
-    count[: n + 1] = 0
-    for r in range(n_pairs):
-        count[pt[r] + 1] += 1
-    for i in range(n):
-        count[i + 1] += count[i]
-    order = np.empty(n_pairs, dtype=np.int64)
-    for u in range(n_pairs):
-        r = by_body[u]
-        order[count[pt[r]]] = r
-        count[pt[r]] += 1
+    by_body = _counting_sort(pb[:n_pairs], nb, np.arange(n_pairs))
+    order = _counting_sort(pt[:n_pairs], n, by_body)
 
     # unique pairs, decided
     m = len(seg)
