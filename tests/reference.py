@@ -29,7 +29,7 @@ for property tests, and hypothesis strategies (:func:`scenes`) when hypothesis i
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any, NamedTuple
 
@@ -43,10 +43,13 @@ __all__ = [
     "angular_extent_reference",
     "geometry_segments",
     "nearest_hit_distances",
+    "occluder_disagreements",
+    "occlusion_confirmed",
     "random_box",
     "random_scene",
     "random_static",
     "reference_visibility",
+    "scene_series",
 ]
 
 TWO_PI = 2.0 * np.pi
@@ -636,6 +639,54 @@ try:  # pragma: no cover - depends on the environment
     from hypothesis import strategies as st
 except ImportError:  # pragma: no cover
     st = None
+
+
+def occlusion_confirmed(observer: Any, target: Any, occluder: Any, n_rays: int = 100_000) -> bool:
+    """Whether ``occluder`` is hit strictly before ``target`` along some ray, by dense rays aimed at the part of
+    the target's extent that the occluder's vertices can reach (for slivers thinner than a scene-wide ray cast).
+    """
+    o = np.asarray(observer, dtype=float).reshape(2)
+    start, width = angular_extent_reference(o, target)
+    segs = geometry_segments(occluder)
+    verts = np.concatenate([segs[:, :2], segs[:, 2:]])
+    rel = np.mod(np.arctan2(verts[:, 1] - o[1], verts[:, 0] - o[0]) - start, TWO_PI)
+    inside = rel[rel <= width]
+    lo = min(inside.min(initial=width), 0.0 if (rel > width).any() else width)
+    hi = max(inside.max(initial=0.0), width if (rel > width).any() else 0.0)
+    if hi <= lo:
+        return False
+    angles = start + lo + (np.arange(n_rays) + 0.5) * (hi - lo) / n_rays
+    d = nearest_hit_distances(o, [target, occluder], angles)
+    d_t, d_j = d[:, 0], d[:, 1]
+    return bool((np.isfinite(d_t) & (d_j < d_t - _TIE_RTOL * (1.0 + d_t))).any())
+
+
+def occluder_disagreements(
+    observer: Any,
+    target: Any,
+    got: set[int],
+    want: dict[int, float],
+    bodies: Sequence[Any],
+    must_fraction: float,
+) -> set[int]:
+    """Occluders on which an engine (``got``) and the reference (``want``: blocked fractions) really disagree.
+
+    The engine must list every occluder blocking at least ``must_fraction`` of the target's extent; one it lists
+    that the reference's rays did not see counts only if :func:`occlusion_confirmed` finds no ray either.
+    """
+    missing = {k for k, f in want.items() if f >= must_fraction} - got
+    extra = {k for k in got - set(want) if not occlusion_confirmed(observer, target, bodies[k])}
+    return missing | extra
+
+
+def scene_series(rng: np.random.Generator, count: int, overlap: bool, max_objects: int) -> Iterator[tuple[bool, Scene]]:
+    """``count`` random scenes for engine checks: ``(include_ego, scene)``, the ego in every other scene, statics
+    in two of three, 2 to ``max_objects - 1`` road users."""
+    for k in range(count):
+        include_ego = bool(k % 2)
+        n = int(rng.integers(2, max_objects))
+        yield include_ego, random_scene(rng, n, overlap=overlap, with_statics=k % 3 != 0, include_ego=include_ego)
+
 
 if st is not None:
     __all__ += ["scenes"]

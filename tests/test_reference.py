@@ -327,3 +327,16 @@ def test_hypothesis_strategy_if_available():
         assert np.all(np.isnan(res.visibility) == transp)
 
     check()
+
+
+def test_occlusion_confirmed_sees_slivers_and_rejects_bodies_behind() -> None:
+    from reference import occlusion_confirmed
+
+    target = box(10, -1, 12, 1)  # extent: tan(bearing) in [-0.1, 0.1]
+    # a post whose top corner (5, -0.5 + 1e-5) reaches 2e-6 (in tan) into the extent, in front of the target:
+    # about 1e-5 of the extent, thinner than the spacing of 20,000 rays across it, seen by the focused rays
+    post = box(4.9, -3, 5, -0.5 + 1e-5)
+    assert reference_visibility((0, 0), [target, post], n_rays=20000).occluders[0] == {}
+    assert occlusion_confirmed((0, 0), target, post)
+    assert not occlusion_confirmed((0, 0), target, box(20, -3, 22, 3))  # behind
+    assert not occlusion_confirmed((0, 0), target, box(12, -1, 13, 1))  # touching the far face
