@@ -45,6 +45,7 @@ __all__ = [
     "nearest_hit_distances",
     "occluder_disagreements",
     "occlusion_confirmed",
+    "long_static_scene",
     "random_box",
     "random_scene",
     "random_static",
@@ -628,6 +629,39 @@ def random_scene(
     transparent = np.zeros(len(objects), dtype=bool)
     if include_ego:
         transparent[0] = True
+    return Scene(o, objects, statics, transparent)
+
+
+def long_static_scene(rng: np.random.Generator, n_objects: int = 25, n_statics: int = 3, radius: float = 90.0) -> Scene:
+    """Long thin static occluders (noise barriers, guard rails, kerbs) among scattered, sometimes overlapping cars.
+
+    The family that made VisiLibity's sweep skip a nearer car: its queue of edges ordered by range goes stale
+    when long edges stay in it over a wide bearing range (see ``engines/polygon_check.py``). The ego (object 0,
+    transparent) contains the observer; statics are 0.2-0.8 m wide polygons or LineStrings 40-160 m long, in
+    any direction, clear of the observer; cars are placed anywhere within ``radius``.
+    """
+    o = rng.uniform(-50.0, 50.0, 2)
+    pt = Point(o)
+    ego = random_box(rng, o, rng.uniform(-np.pi, np.pi), 4.6, 1.9)
+    statics: list[BaseGeometry] = []
+    while len(statics) < n_statics:
+        centre = _polar(o, rng.uniform(5.0, radius), rng.uniform(-np.pi, np.pi))
+        length, yaw = rng.uniform(40.0, 160.0), rng.uniform(-np.pi, np.pi)
+        if rng.random() < 0.5:
+            g: BaseGeometry = Polygon(_place(_rect(length, rng.uniform(0.2, 0.8)), centre, yaw))
+        else:
+            bend = rng.uniform(-0.3, 0.3)
+            local = np.array([[-length / 2, 0.0], [0.0, bend * length / 4], [length / 2, 0.0]])
+            g = LineString(_place(local, centre, yaw))
+        if not g.intersects(pt) and g.distance(pt) >= 0.5 and not g.intersects(ego):
+            statics.append(g)
+    objects: list[Polygon] = [ego]
+    while len(objects) < n_objects + 1:
+        box = random_box(rng, _polar(o, rng.uniform(4.0, radius), rng.uniform(-np.pi, np.pi)))
+        if not box.intersects(pt) and box.distance(pt) >= 0.3:
+            objects.append(box)
+    transparent = np.zeros(len(objects), dtype=bool)
+    transparent[0] = True
     return Scene(o, objects, statics, transparent)
 
 

@@ -1,11 +1,8 @@
 """The angular-sweep engine: against the VisiLibity engine, the brute-force reference, properties, hand-made cases.
 
-Known, documented difference to the VisiLibity engine: VisiLibity needs areas, so it thickens LineString walls to
-``2 * wall_half_width`` (1e-6 m each side, mitred joins up to 10 times that). Near a wall's ends and joints this
-shifts visible angles by about ``wall_half_width / distance`` radians, i.e. up to a few 1e-6 of a target's
-visibility (largest seen in 1400 random scenes: 4.9e-6). Earlier versions of that engine also saw through such a
-2 µm thin hole altogether (``test_thin_wall_case_matches_reference``). Where the two engines differ by more than
-1e-6, the scene must therefore hold LineString walls and the sweep must agree with the ray-cast reference.
+The two engines must agree on every row: visibility within 1e-6 and identical occluder lists. (VisiLibity needs
+areas, so it thickens LineString walls to ``2 * wall_half_width`` = 20 nm, mitred joins up to 10 times that; near a
+wall's ends this shifts visible angles by about ``wall_half_width / distance`` radians, far below 1e-6.)
 """
 
 from __future__ import annotations
@@ -20,7 +17,7 @@ import shapely
 from conftest import boxes_table, scene_table
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from reference import occluder_disagreements, random_box, random_scene, reference_visibility, scene_series, scenes
+from reference import long_static_scene, occluder_disagreements, random_box, random_scene, reference_visibility, scene_series, scenes
 from shapely import affinity
 
 from omega_prime_visibility import get_visibility_df
@@ -72,23 +69,17 @@ def occluder_problems(row: dict, ref, scene, include_ego: bool) -> list[str]:
 # -- (1) the VisiLibity engine ---------------------------------------------------------------------------------
 
 
-def compare_engines(scene, include_ego: bool) -> tuple[float, int]:
-    """Assert equal occluders and visibilities within AGREE (or explained); return max difference, explained."""
+def compare_engines(scene, include_ego: bool) -> float:
+    """Assert identical occluder lists and visibilities within AGREE on every row; return the largest difference."""
     a = run(scene, include_ego, "visilibity")
     b = run(scene, include_ego, "sweep")
     assert a["idx"].to_list() == b["idx"].to_list()
     assert a["occluder_idxs"].to_list() == b["occluder_idxs"].to_list()
     assert a["static_occluder_idxs"].to_list() == b["static_occluder_idxs"].to_list()
     diff = np.abs(a["visibility"].to_numpy() - b["visibility"].to_numpy())
-    explained = 0
-    if diff.max(initial=0.0) > AGREE:
-        assert has_walls(scene.statics), f"engines differ by {diff.max()} without LineString walls"
-        ref = reference(scene, include_ego)
-        for k in np.flatnonzero(diff > AGREE).tolist():
-            i = int(b["idx"][k])
-            assert abs(b["visibility"][k] - ref.visibility[i]) < 2e-3, (i, a.row(k), b.row(k), ref.visibility[i])
-            explained += 1
-    return float(diff.max(initial=0.0)), explained
+    worst = int(np.argmax(diff)) if len(diff) else 0
+    assert diff.max(initial=0.0) <= AGREE, (a.row(worst), b.row(worst))
+    return float(diff.max(initial=0.0))
 
 
 @pytest.mark.parametrize(
@@ -97,7 +88,6 @@ def compare_engines(scene, include_ego: bool) -> tuple[float, int]:
 )
 def test_agrees_with_visilibity_on_random_scenes(overlap: bool, with_statics: bool, p_wrap: float) -> None:
     rng = np.random.default_rng(1000 + 2 * overlap + with_statics)
-    explained = n_targets = 0
     for k in range(75):
         include_ego = k % 3 == 0
         scene = random_scene(
@@ -108,10 +98,16 @@ def test_agrees_with_visilibity_on_random_scenes(overlap: bool, with_statics: bo
             include_ego=include_ego,
             p_wrap=p_wrap,
         )
-        _, e = compare_engines(scene, include_ego)
-        explained += e
-        n_targets += len(scene.objects)
-    assert explained <= 0.02 * n_targets
+        compare_engines(scene, include_ego)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_agrees_with_visilibity_among_long_thin_statics(seed: int) -> None:
+    # the family where VisiLibity's own sweep skipped nearer cars in about one polygon in ten (polygon_check.py)
+    rng = np.random.default_rng(seed)
+    for _ in range(12):
+        scene = long_static_scene(rng, int(rng.integers(10, 40)), int(rng.integers(1, 5)))
+        compare_engines(scene, include_ego=True)
 
 
 def test_thin_wall_case_matches_reference() -> None:

@@ -3,13 +3,17 @@
 from __future__ import annotations
 
 import numpy as np
+import polars as pl
 import pytest
 import shapely
 from conftest import boxes_table, scene_table
-from reference import random_scene
+from reference import random_scene, reference_visibility
 
+from omega_prime_visibility import ENGINES, get_visibility_df
 from omega_prime_visibility.api import transparency_masks
+from omega_prime_visibility.engines.polygon_check import nearer_edge_exists
 from omega_prime_visibility.engines.visilibity import VisiLibityEngine
+from omega_prime_visibility.geometry import edges
 from omega_prime_visibility.scene import load_objects, load_static_occluders
 
 
@@ -51,3 +55,60 @@ def test_visibility_polygon_is_star_shaped_region_around_observer() -> None:
     assert poly.is_valid and poly.contains(shapely.Point(o))
     assert not poly.intersects(shapely.box(18, -1, 22, 1))  # the hidden car
     assert poly.intersects(shapely.box(8, -2, 12, 2))  # the visible one's near face bounds it
+
+
+# issue 12: with the long thin wall, VisiLibity's own sweep skipped target 32's right edge peeking out past object 30
+SLIVER_SCENE = {
+    0: "POLYGON ((0.257 2.475, 1.929 1.573, -0.257 -2.475, -1.929 -1.573, 0.257 2.475))",
+    22: "POLYGON ((-35.268 -56.044, -33.773 -55.38, -31.662 -60.14, -33.158 -60.803, -35.268 -56.044))",
+    30: "POLYGON ((4.785 -10.018, 6.435 -9.904, 6.709 -13.845, 5.059 -13.96, 4.785 -10.018))",
+    31: "POLYGON ((22.682 -70.87, 24.397 -71.621, 22.84 -75.172, 21.126 -74.421, 22.682 -70.87))",
+    32: "POLYGON ((19.284 -35.139, 17.308 -35.011, 17.645 -29.781, 19.622 -29.908, 19.284 -35.139))",
+}
+SLIVER_WALL = "POLYGON ((40.84 18.476, 41.373 18.268, 7.219 -69.486, 6.686 -69.279, 40.84 18.476))"
+
+
+def sliver_table() -> pl.DataFrame:
+    polys = [shapely.from_wkt(w) for w in SLIVER_SCENE.values()]
+    return pl.DataFrame(
+        {
+            "frame": [0] * len(polys),
+            "total_nanos": [0] * len(polys),
+            "idx": list(SLIVER_SCENE),
+            "x": [0.0] + [p.centroid.x for p in polys[1:]],
+            "y": [0.0] + [p.centroid.y for p in polys[1:]],
+            "polygon": pl.Series(polys, dtype=pl.Object),
+        }
+    )
+
+
+@pytest.mark.parametrize("engine", sorted(ENGINES))
+def test_sliver_past_a_car_beside_a_long_thin_wall(engine: str) -> None:
+    out = get_visibility_df(sliver_table(), 0, [shapely.from_wkt(SLIVER_WALL)], engine=engine)
+    row = out.filter(pl.col("idx") == 32).row(0, named=True)
+    # dense rays over the sliver between bearings -56.99° (object 30's corner) and -56.72° (target 32's corner)
+    observer = np.zeros(2)
+    polys = list(sliver_table()["polygon"])
+    ref = reference_visibility(observer, polys, [shapely.from_wkt(SLIVER_WALL)], np.arange(5) == 0, n_rays=200_000)
+    assert row["visibility"] == pytest.approx(ref.visibility[4], abs=2e-4)
+    assert row["visibility"] == pytest.approx(0.03659, abs=1e-5)
+    assert row["occluder_idxs"] == [30]
+    assert out.filter(pl.col("idx") == 31)["static_occluder_idxs"].to_list() == [[0]]
+
+
+def test_visilibity_polygon_that_skips_a_body_is_caught() -> None:
+    # VisiLibity's raw polygon for the scene above runs along the wall past target 32; the exact check sees it
+    engine, frame, o, transparent, static_transparent = engine_and_frame(
+        sliver_table(), [shapely.from_wkt(SLIVER_WALL)]
+    )
+    env, origin = engine.environment(frame, o, transparent, static_transparent)
+    raw = engine._polygon_points(env, o - origin) - (o - origin)
+    a, b = edges(frame.rings)
+    seg = np.stack([a, b], axis=1) - o
+    blocking = ~np.repeat(transparent, 4)
+    assert nearer_edge_exists(np.ascontiguousarray(raw), seg, blocking, 1e-7, 1e-9)
+    fixed = np.asarray(engine.visibility_polygon(frame, o, transparent, static_transparent).exterior.coords)[:-1] - o
+    assert not nearer_edge_exists(np.ascontiguousarray(fixed), seg, blocking, 1e-7, 1e-9)
+    # the corrected polygon holds target 32's corner at bearing -56.72° on its boundary
+    corner = shapely.Point(19.622, -29.908)
+    assert engine.visibility_polygon(frame, o, transparent, static_transparent).boundary.distance(corner) < 1e-6

@@ -28,9 +28,12 @@ from ..geometry import Rings, angular_extent, edges, ring_ids
 from ..occlusion import occluding_pairs
 from ..scene import FrameObjects, StaticOccluders
 from . import EngineBase, Observation, group_pairs
+from .polygon_check import nearer_edge_exists
 
 BOX_MARGIN = 10.0  # metres of free space around everything
 ORIGIN_GRID = 1024.0  # metres; coordinates are taken relative to the nearest multiple (precision, caching)
+CHECK_ABSOLUTE = 1e-7  # metres: a body must come this much nearer than the polygon's boundary to count as missed
+CHECK_RELATIVE = 1e-9  # ... plus this fraction of the boundary's distance
 
 
 @numba.njit(cache=True)
@@ -128,6 +131,10 @@ def _vis_polygon(coords: np.ndarray) -> vis.Polygon:
     return vis.Polygon([vis.Point(x, y) for x, y in coords.tolist()])
 
 
+def _polygon_coords(polygon: vis.Polygon) -> np.ndarray:
+    return np.array([(polygon[i].x(), polygon[i].y()) for i in range(polygon.n())], dtype=np.float64)
+
+
 def _exterior_cw(polygon: shapely.Polygon) -> np.ndarray:
     """Exterior vertices of a polygon, clockwise, closing vertex dropped."""
     c = shapely.get_coordinates(polygon.exterior)[:-1]
@@ -158,7 +165,7 @@ class VisiLibityEngine(EngineBase):
         self,
         statics: StaticOccluders,
         epsilon: float = 1e-9,
-        wall_half_width: float = 1e-6,
+        wall_half_width: float = 1e-8,
         touch_gap: float = 1e-7,
     ) -> None:
         self.statics = statics
@@ -233,6 +240,17 @@ class VisiLibityEngine(EngineBase):
         return len(np.unique(coords, axis=0)) < len(coords) - closing
 
     # -- one observer ------------------------------------------------------------------------------------------
+    def _frame_geometry(self, objects: FrameObjects) -> tuple[Rings, np.ndarray, np.ndarray]:
+        """Object rings relative to the origin, and the edges of all bodies (objects, then static sources)."""
+        n = len(objects)
+        rings = Rings(objects.rings.coords - self._origin, objects.rings.offsets)
+        a, b = edges(rings)
+        segments = np.concatenate([np.stack([a, b], axis=1), self._static_segments])
+        seg_body = np.concatenate([ring_ids(rings.offsets), n + self._static_segment_source])
+        seg_offsets = np.zeros(n + self.statics.n_sources + 1, dtype=np.int64)
+        np.cumsum(np.bincount(seg_body, minlength=n + self.statics.n_sources), out=seg_offsets[1:])
+        return rings, segments, seg_offsets
+
     def observe(
         self,
         objects: FrameObjects,
@@ -243,15 +261,8 @@ class VisiLibityEngine(EngineBase):
         observer = np.asarray(observer, dtype=np.float64)
         origin = self._use_origin(observer)
         n = len(objects)
-        n_src = self.statics.n_sources
         o = observer - origin
-        rings = Rings(objects.rings.coords - origin, objects.rings.offsets)
-        obj_ids = ring_ids(rings.offsets)
-        a, b = edges(rings)
-        segments = np.concatenate([np.stack([a, b], axis=1), self._static_segments])
-        seg_body = np.concatenate([obj_ids, n + self._static_segment_source])
-        seg_offsets = np.zeros(n + n_src + 1, dtype=np.int64)
-        np.cumsum(np.bincount(seg_body, minlength=n + n_src), out=seg_offsets[1:])
+        rings, segments, seg_offsets = self._frame_geometry(objects)
         obj_blocking = ~np.asarray(transparent, dtype=bool)
         static_blocking = ~np.asarray(static_transparent, dtype=bool)
         blocking = np.concatenate([obj_blocking, static_blocking])
@@ -262,7 +273,9 @@ class VisiLibityEngine(EngineBase):
         if blocking.any():
             # objects hidden behind a single nearer object change nothing in the visibility polygon: leave them out
             in_env = obj_blocking & ~hidden[:n]
-            visible = self._visible_angles(rings, in_env, static_blocking, o, segments, seg_offsets, start, width)
+            pts = self._checked_points(rings, in_env, static_blocking, o, segments, seg_offsets)
+            seg = np.ascontiguousarray(segments[: seg_offsets[n]] - o)
+            visible = _attribute_visible_angles(pts, seg, seg_offsets[: n + 1], targets, start, width, 1e-6)[:n]
         else:
             visible = width.copy()
         is_obj = body < n
@@ -270,7 +283,7 @@ class VisiLibityEngine(EngineBase):
         st_offsets, st = group_pairs(target[~is_obj], body[~is_obj] - n, n)
         return Observation(visible, width, occ_offsets, occ, st_offsets, st)
 
-    def _visible_angles(
+    def _checked_points(
         self,
         rings: Rings,
         obj_blocking: np.ndarray,
@@ -278,19 +291,59 @@ class VisiLibityEngine(EngineBase):
         o: np.ndarray,
         segments: np.ndarray,
         seg_offsets: np.ndarray,
-        start: np.ndarray,
-        width: np.ndarray,
     ) -> np.ndarray:
-        n = len(rings)
-        env = self._build_environment(rings, obj_blocking, static_blocking, o)
-        pts = self._polygon_points(env, o) - o
-        seg = np.ascontiguousarray(segments[: seg_offsets[n]] - o)
-        targets = np.flatnonzero(obj_blocking)
-        return _attribute_visible_angles(pts, seg, seg_offsets[: n + 1], targets, start, width, 1e-6)[:n]
+        """Vertices of the visibility polygon relative to ``o``, checked to lie on the nearest body everywhere.
+
+        VisiLibity's sweep can skip a nearer body (see :mod:`.polygon_check`); such a polygon is computed again
+        from smaller groups of holes (:meth:`_region_by_parts`).
+        """
+        polys = self._build_environment(rings, obj_blocking, static_blocking, o)
+        in_env = np.repeat(np.concatenate([obj_blocking, static_blocking]), np.diff(seg_offsets))
+        seg = np.ascontiguousarray(segments - o)
+        pts = self._polygon_points(vis.Environment(polys), o) - o
+        if nearer_edge_exists(pts, seg, in_env, CHECK_ABSOLUTE, CHECK_RELATIVE):
+            holes = [_polygon_coords(h) - o for h in polys[1:]]
+            region = shapely.orient_polygons(self._region_by_parts(polys[0], polys[1:], holes, o), exterior_cw=False)
+            pts = np.ascontiguousarray(shapely.get_coordinates(region.exterior)[:-1])
+            if nearer_edge_exists(pts, seg, in_env, CHECK_ABSOLUTE, CHECK_RELATIVE):
+                raise RuntimeError(
+                    "VisiLibity's visibility polygon skips a nearer body even when computed body by body; "
+                    "use engine='sweep' for this recording and please report the scene"
+                )
+        return pts
+
+    def _region_by_parts(
+        self, outer: vis.Polygon, holes: list[vis.Polygon], hole_coords: list[np.ndarray], o: np.ndarray
+    ) -> shapely.Polygon:
+        """The visibility polygon (relative to ``o``) as the intersection of those of two halves of the holes.
+
+        A point is visible among holes A and B iff it is visible among A and among B, so the region seen among
+        all holes is the intersection of the two regions. Each half's polygon is checked against its own holes
+        and split again while it fails; the halves are split by bearing, which separates the edges that share
+        VisiLibity's queue.
+        """
+        pts = self._polygon_points(vis.Environment([outer, *holes]), o) - o
+        edges_of = [np.stack([c, np.roll(c, -1, axis=0)], axis=1) for c in hole_coords]
+        seg = np.ascontiguousarray(np.concatenate(edges_of)) if edges_of else np.zeros((0, 2, 2))
+        if not nearer_edge_exists(pts, seg, np.ones(len(seg), dtype=bool), CHECK_ABSOLUTE, CHECK_RELATIVE):
+            return shapely.Polygon(pts)
+        if len(holes) < 2:
+            raise RuntimeError("VisiLibity's visibility polygon skips the only hole of its environment")
+        centres = np.array([c.mean(axis=0) for c in hole_coords])
+        order = np.argsort(np.arctan2(centres[:, 1], centres[:, 0]))
+        parts = [order[: len(order) // 2], order[len(order) // 2 :]]
+        first, second = (
+            self._region_by_parts(outer, [holes[k] for k in part], [hole_coords[k] for k in part], o)
+            for part in parts
+        )
+        region = shapely.intersection(first, second)
+        # rounding can leave specks beside the star-shaped region around the observer: keep the piece holding it
+        return next(g for g in getattr(region, "geoms", [region]) if shapely.intersects(g, shapely.Point(0.0, 0.0)))
 
     def _build_environment(
         self, rings: Rings, obj_blocking: np.ndarray, static_blocking: np.ndarray, o: np.ndarray
-    ) -> vis.Environment:
+    ) -> list[vis.Polygon]:
+        """The environment's polygons: the outer boundary first, then the holes."""
         try:
             return self._environment(rings, obj_blocking, static_blocking, o)
         except _Unenclosable:
@@ -307,21 +360,27 @@ class VisiLibityEngine(EngineBase):
         observer = np.asarray(observer, dtype=np.float64)
         self._use_origin(observer)
         rings = Rings(objects.rings.coords - self._origin, objects.rings.offsets)
-        env = self._build_environment(
+        polys = self._build_environment(
             rings, ~np.asarray(transparent, bool), ~np.asarray(static_transparent, bool), observer - self._origin
         )
-        return env, self._origin
+        return vis.Environment(polys), self._origin
 
     def visibility_polygon(
         self, objects: FrameObjects, observer: np.ndarray, transparent: np.ndarray, static_transparent: np.ndarray
     ) -> shapely.Polygon:
         """The region visible from ``observer`` (world coordinates, metres), bounded by a box around the scene."""
-        env, origin = self.environment(objects, observer, transparent, static_transparent)
-        return shapely.Polygon(self._polygon_points(env, np.asarray(observer) - origin) + origin)
+        observer = np.asarray(observer, dtype=np.float64)
+        origin = self._use_origin(observer)
+        rings, segments, seg_offsets = self._frame_geometry(objects)
+        o = observer - origin
+        obj_blocking = ~np.asarray(transparent, bool)
+        static_blocking = ~np.asarray(static_transparent, bool)
+        pts = self._checked_points(rings, obj_blocking, static_blocking, o, segments, seg_offsets)
+        return shapely.Polygon(pts + observer)
 
     def _environment(
         self, rings: Rings, obj_blocking: np.ndarray, static_blocking: np.ndarray, o: np.ndarray
-    ) -> vis.Environment:
+    ) -> list[vis.Polygon]:
         """Holes = groups of overlapping bodies, each merged; raises ``_Unenclosable`` if a group encloses ``o``."""
         parts, part_bounds, part_holes, enclosing = self._static_parts(static_blocking)
         for k in enclosing:
@@ -356,7 +415,7 @@ class VisiLibityEngine(EngineBase):
         for k in np.flatnonzero(~grouped[:n_obj]):
             holes.append(_vis_polygon(rings.ring(objs[k])[::-1]))
         holes += [part_holes[k] for k in np.flatnonzero(~grouped[n_obj:])]
-        return vis.Environment([self._outer(np.minimum(bounds_lo, o), np.maximum(bounds_hi, o)), *holes])
+        return [self._outer(np.minimum(bounds_lo, o), np.maximum(bounds_hi, o)), *holes]
 
     def _shapes(self, rings: Rings, objs: np.ndarray, parts: np.ndarray, involved: np.ndarray, n_obj: int):
         shapes = np.empty(n_obj + len(parts), dtype=object)
@@ -383,7 +442,7 @@ class VisiLibityEngine(EngineBase):
 
     def _enclosed_environment(
         self, rings: Rings, obj_blocking: np.ndarray, static_blocking: np.ndarray, o: np.ndarray
-    ) -> vis.Environment:
+    ) -> list[vis.Polygon]:
         """The general construction: free space = box minus all bodies; keep the piece that holds ``o``."""
         objs = np.flatnonzero(obj_blocking)
         sub = rings.take(objs)
@@ -402,7 +461,7 @@ class VisiLibityEngine(EngineBase):
         piece = shapely.orient_polygons(piece, exterior_cw=False)
         polys = [_vis_polygon(shapely.get_coordinates(piece.exterior)[:-1])]
         polys += [_vis_polygon(shapely.get_coordinates(h)[:-1]) for h in piece.interiors]
-        return vis.Environment(polys)
+        return polys
 
     @staticmethod
     def _piece_holding(free: shapely.Geometry, o: np.ndarray) -> shapely.Polygon:
