@@ -17,7 +17,15 @@ import shapely
 from conftest import boxes_table, scene_table
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from reference import long_static_scene, occluder_disagreements, random_box, random_scene, reference_visibility, scene_series, scenes
+from reference import (
+    long_static_scene,
+    occluder_disagreements,
+    random_box,
+    random_scene,
+    reference_visibility,
+    scene_series,
+    scenes,
+)
 from shapely import affinity
 
 from omega_prime_visibility import get_visibility_df

@@ -333,8 +333,7 @@ class VisiLibityEngine(EngineBase):
         order = np.argsort(np.arctan2(centres[:, 1], centres[:, 0]))
         parts = [order[: len(order) // 2], order[len(order) // 2 :]]
         first, second = (
-            self._region_by_parts(outer, [holes[k] for k in part], [hole_coords[k] for k in part], o)
-            for part in parts
+            self._region_by_parts(outer, [holes[k] for k in part], [hole_coords[k] for k in part], o) for part in parts
         )
         region = shapely.intersection(first, second)
         # rounding can leave specks beside the star-shaped region around the observer: keep the piece holding it
