@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import math
 import multiprocessing
+import numbers
 import os
 import warnings
 from collections import Counter
@@ -168,6 +170,23 @@ def _chunks(n_frames: int, chunk_frames: int) -> list[tuple[int, int]]:
     return [(k, min(k + chunk_frames, n_frames)) for k in range(0, n_frames, chunk_frames)]
 
 
+def check_epsilon(epsilon: object) -> None:
+    """0.1.0's ``epsilon``: ``None`` or a non-negative finite number (it has no effect here)."""
+    if epsilon is None:
+        return
+    if isinstance(epsilon, bool) or not isinstance(epsilon, numbers.Real) or not math.isfinite(epsilon) or epsilon < 0:
+        raise ValueError(f"epsilon must be a non-negative finite number or None, not {epsilon!r}")
+
+
+def resolve_progress(progress: bool | None, hide_progress: bool | None) -> bool | None:
+    """``progress`` with 0.1.0's ``hide_progress`` folded in (``hide_progress=True`` means ``progress=False``)."""
+    if hide_progress is None:
+        return progress
+    if progress is not None and bool(progress) == bool(hide_progress):
+        raise ValueError(f"progress={progress!r} contradicts hide_progress={hide_progress!r}; give only progress")
+    return not hide_progress
+
+
 def auto_workers(work: int) -> int:
     """Processes to use for ``work`` (frame, observer) pairs: all cores for long jobs, else one."""
     return max(1, os.cpu_count() or 1) if work >= PARALLEL_MIN_WORK else 1
@@ -177,6 +196,7 @@ def get_visibility_df(
     df: Any,
     ego_idx: EgoSpec,
     static_occluder_polys: Sequence[shapely.Geometry] | None = None,
+    epsilon: float | None = None,
     *,
     engine: str = "visilibity",
     progress: bool | None = None,
@@ -184,6 +204,7 @@ def get_visibility_df(
     workers: int | None = None,
     output: str | os.PathLike | None = None,
     chunk_frames: int = CHUNK_FRAMES,
+    hide_progress: bool | None = None,
 ) -> pl.DataFrame | pl.LazyFrame:
     """Visibility and occluders of every object, seen from the ego, in every frame where the ego exists.
 
@@ -197,6 +218,9 @@ def get_visibility_df(
         one, the table gains an ``ego_idx`` column.
     static_occluder_polys : sequence of shapely geometries, optional
         Static occluders (Polygon, MultiPolygon, LineString, ...), reported by their position in this sequence.
+    epsilon : float, optional
+        Metres; accepted for compatibility with 0.1.0, where it was VisiLibity's snapping distance; the result here
+        is exact and does not depend on it. Must be a non-negative finite number or None.
     engine : str
         Registered engine name (``"visilibity"``, the default; see ``omega_prime_visibility.ENGINES``).
     progress : bool, optional
@@ -210,6 +234,8 @@ def get_visibility_df(
         Write the table to this parquet file chunk by chunk (memory stays bounded) and return a lazy scan of it.
     chunk_frames : int
         Frames per chunk of work.
+    hide_progress : bool, optional
+        0.1.0's name for ``progress=not hide_progress`` (a ValueError if both are given and contradict).
 
     Returns
     -------
@@ -228,6 +254,8 @@ def get_visibility_df(
     >>> get_visibility_df(objects, ego_idx=0).select("idx", "occluder_idxs", "visibility").rows()
     [(1, [], 1.0), (2, [1], 0.0)]
     """
+    check_epsilon(epsilon)
+    progress = resolve_progress(progress, hide_progress)
     objects = load_objects(df, on_invalid=on_invalid)
     statics = load_static_occluders(static_occluder_polys)
     egos, with_ego = resolve_egos(ego_idx, objects)
@@ -286,17 +314,20 @@ def get_visibility_df_for_frame(
     ego_idx: EgoSpec,
     frame: int,
     static_occluder_polys: Sequence[shapely.Geometry] | None = None,
+    epsilon: float | None = None,
     *,
     engine: str = "visilibity",
     on_invalid: OnInvalid = "warn",
 ) -> pl.DataFrame:
-    """:func:`get_visibility_df` for a single frame number (same parameters and columns).
+    """:func:`get_visibility_df` for a single frame number (same parameters and columns; ``epsilon`` likewise has
+    no effect).
 
     Raises
     ------
     ValueError
         If the frame does not occur in the table.
     """
+    check_epsilon(epsilon)
     table = df._df if hasattr(df, "_df") and not isinstance(df, pl.DataFrame | pl.LazyFrame) else df
     lazy = table.lazy() if isinstance(table, pl.DataFrame) else table
     if not isinstance(lazy, pl.LazyFrame):

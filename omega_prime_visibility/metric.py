@@ -24,22 +24,36 @@ from .scene import OnInvalid
 def visibility(
     df: pl.LazyFrame,
     /,
-    ego_id: EgoSpec,
+    ego_id: EgoSpec | None = None,
     static_occluder_polys: Sequence[shapely.Geometry] | None = None,
     engine: str = "visilibity",
     progress: bool | Literal[False] = False,
     on_invalid: OnInvalid = "warn",
+    ego_idx: EgoSpec | None = None,
+    epsilon: float | None = None,
 ) -> tuple[pl.LazyFrame, dict[str, pl.LazyFrame]]:
     """Visibility of every object from ``ego_id`` (one idx, a list, or ``"all"``) in every frame.
 
     The property ``"visibility"`` is the table of :func:`omega_prime_visibility.get_visibility_df`; the
     object table passes through unchanged. The perspective parameter is named ``ego_id`` as in omega-prime's
     own metrics, so one ``MetricManager.compute(r, ego_id=...)`` call serves them all.
+
+    For 0.1.0 callers, ``ego_idx`` is accepted instead of ``ego_id`` (give exactly one of them), and ``epsilon``
+    (metres) is accepted for compatibility with 0.1.0, where it was VisiLibity's snapping distance; the result here
+    is exact and does not depend on it.
     """
+    # ValueError, not TypeError: omega-prime relabels a metric's TypeError as "Missing parameter"
+    if (ego_id is None) == (ego_idx is None):
+        given = "both" if ego_id is not None else "neither"
+        raise ValueError(
+            f"the visibility Metric needs exactly one of ego_id (omega-prime's name) and ego_idx (0.1.0's name); "
+            f"{given} given"
+        )
     table = get_visibility_df(
         df,
-        ego_id,
+        ego_idx if ego_id is None else ego_id,
         static_occluder_polys,
+        epsilon,
         engine=engine,
         progress=progress,
         on_invalid=on_invalid,
