@@ -186,26 +186,65 @@ def _float(df: pl.DataFrame, name: str) -> np.ndarray:
     return df[name].cast(pl.Float64).fill_null(np.nan).to_numpy()
 
 
-def _polygon_rings(polygons: np.ndarray, candidate: np.ndarray) -> tuple[Rings, np.ndarray, list[str]]:
-    """Exterior rings of the usable shapely polygons among the ``candidate`` rows.
+def _repaired_outline(geometry: Any) -> shapely.Polygon | None:
+    """One simple polygon for an invalid or multi-part outline, or None when it has no area.
 
-    Returns the rings of the usable rows (in row order), the mask of usable rows and the reasons for the others.
+    ``shapely.make_valid`` keeps what the outline covers; of that only the polygonal part counts. One part is
+    used as it is (its exterior), several parts (a bow-tie becomes two triangles) by their convex hull: a body
+    is one outline here, and a self-crossing outline is nearly always a box with two corners swapped.
     """
-    is_polygon = candidate & np.array([isinstance(p, shapely.Polygon) for p in polygons], dtype=bool)
-    reasons = []
-    if (candidate & ~is_polygon).any():
-        reasons.append(f"{int((candidate & ~is_polygon).sum())} outline(s) not a shapely Polygon")
-    geoms = np.where(is_polygon, polygons, None)
-    valid = is_polygon & np.asarray(shapely.is_valid(geoms), dtype=bool)
-    if (is_polygon & ~valid).any():
-        reasons.append(f"{int((is_polygon & ~valid).sum())} invalid (e.g. self-intersecting) polygon(s)")
-    area = np.where(valid, shapely.area(np.where(valid, geoms, None)), 0.0)
-    small = valid & (~np.isfinite(area) | (area < MIN_AREA))
-    if small.any():
-        reasons.append(f"{int(small.sum())} zero-size or non-finite polygon(s)")
-    good = valid & ~small
-    rings = orient(_rings_from(shapely.get_exterior_ring(geoms[good])), True)
-    return rings, good, reasons
+    polygons = [g for g in shapely.get_parts(shapely.make_valid(geometry)) if isinstance(g, shapely.Polygon)]
+    polygons = [g for g in polygons if not g.is_empty and g.area >= MIN_AREA]
+    if not polygons:
+        return None
+    return shapely.Polygon(polygons[0].exterior) if len(polygons) == 1 else shapely.MultiPolygon(polygons).convex_hull
+
+
+def _polygon_rings(
+    polygons: np.ndarray, candidate: np.ndarray, boxes: Rings | None, on_invalid: OnInvalid
+) -> tuple[Rings, np.ndarray, list[str], list[str], np.ndarray]:
+    """Exterior rings of the usable outlines among the ``candidate`` rows.
+
+    Invalid or multi-part outlines are replaced by the row's ``length, width, yaw`` box where ``boxes`` (one
+    ring per row, NaN where unusable) has one, else repaired (:func:`_repaired_outline`); with
+    ``on_invalid="raise"`` they raise instead. Returns the rings of the usable rows (in row order), the mask of
+    usable rows, the reasons for skipped rows, notes on replaced outlines and the rows whose outline was replaced.
+    """
+    polygonal = candidate & np.array([isinstance(p, shapely.Polygon | shapely.MultiPolygon) for p in polygons])
+    reasons, notes = [], []
+    if (candidate & ~polygonal).any():
+        reasons.append(f"{int((candidate & ~polygonal).sum())} outline(s) not a shapely Polygon")
+    geoms = np.where(polygonal, polygons, None)
+    simple = polygonal & np.array([isinstance(p, shapely.Polygon) for p in geoms]) & shapely.is_valid(geoms)
+    broken = np.flatnonzero(polygonal & ~simple)
+    if len(broken) and on_invalid == "raise":
+        raise ValueError(
+            f"{len(broken)} invalid (e.g. self-intersecting) or multi-part polygon outline(s), first in row "
+            f"{int(broken[0])}: {shapely.is_valid_reason(geoms[broken[0]])}"
+        )
+    outline = geoms.copy()
+    from_box = [i for i in broken if boxes is not None and np.isfinite(boxes.ring(i)).all()]
+    for i in from_box:
+        outline[i] = shapely.Polygon(boxes.ring(i))
+    repaired = [i for i in broken if i not in set(from_box)]
+    for i in repaired:
+        outline[i] = _repaired_outline(geoms[i])
+    if from_box:
+        notes.append(f"{len(from_box)} invalid or multi-part outline(s) replaced by their length/width/yaw box")
+    fixed = [i for i in repaired if outline[i] is not None]
+    if fixed:
+        notes.append(
+            f"{len(fixed)} invalid or multi-part outline(s) repaired with shapely.make_valid (one part kept as "
+            "it is, several by their convex hull)"
+        )
+    usable = polygonal & np.array([g is not None for g in outline])
+    area = np.where(usable, shapely.area(np.where(usable, outline, None)), 0.0)
+    small = usable & (~np.isfinite(area) | (area < MIN_AREA))
+    if (polygonal & ~small & ~usable).any() or small.any():
+        reasons.append(f"{int((polygonal & ~usable).sum() + small.sum())} zero-size or non-finite polygon(s)")
+    good = usable & ~small
+    rings = orient(_rings_from(shapely.get_exterior_ring(outline[good])), True)
+    return rings, good, reasons, notes, broken[good[broken]]
 
 
 def load_objects(data: Any, *, on_invalid: OnInvalid = "warn") -> ObjectTable:
@@ -245,8 +284,14 @@ def load_objects(data: Any, *, on_invalid: OnInvalid = "warn") -> ObjectTable:
     problems = []
     if (~good).any():
         problems.append(f"{int((~good).sum())} NaN or infinite position(s) (x, y)")
+    notes: list[str] = []
+    replaced = np.zeros(0, dtype=np.int64)
     if use_polygon:
-        rings, ok, reasons = _polygon_rings(df["polygon"].to_numpy(), good)
+        boxes = None
+        if all(c in df.columns for c in BOX_COLUMNS):
+            length, width = _float(df, "length"), _float(df, "width")
+            boxes = box_rings(x, y, np.where(length * width >= MIN_AREA, length, np.nan), width, yaw)
+        rings, ok, reasons, notes, replaced = _polygon_rings(df["polygon"].to_numpy(), good, boxes, on_invalid)
         problems += reasons
     else:
         length, width = _float(df, "length"), _float(df, "width")
@@ -258,11 +303,16 @@ def load_objects(data: Any, *, on_invalid: OnInvalid = "warn") -> ObjectTable:
             problems.append(f"{int((good & pose_ok & ~size_ok).sum())} zero-size box(es) (length * width ~ 0)")
         ok = good & size_ok
         rings = box_rings(x[ok], y[ok], length[ok], width[ok], yaw[ok])
+    if len(replaced):
+        notes[-1] += ", e.g. " + ", ".join(f"(frame {frame[i]}, idx {idx[i]})" for i in replaced[:5])
+    if notes and ok.all():
+        warnings.warn("; ".join(notes), VisibilityInputWarning, stacklevel=3)
     if not ok.all():
         bad = np.flatnonzero(~ok)
         examples = ", ".join(f"(frame {frame[i]}, idx {idx[i]})" for i in bad[:5])
         _report(
-            f"skipping {len(bad)} of {len(ok)} object row(s): {'; '.join(problems)}; e.g. {examples}",
+            f"skipping {len(bad)} of {len(ok)} object row(s): {'; '.join(problems)}; e.g. {examples}"
+            + "".join(f"; {note}" for note in notes),
             on_invalid,
         )
     frame, idx = frame[ok], idx[ok]
@@ -285,19 +335,52 @@ def _rings_from(geoms: Sequence[Any]) -> Rings:
     return Rings(np.ascontiguousarray(coords[keep]), offsets)
 
 
+def polygonal_and_lineal_parts(geometry: shapely.Geometry) -> tuple[list[shapely.Polygon], list[shapely.LineString]]:
+    """The polygons and the lines a geometry is made of; points and empty parts are dropped.
+
+    Collections (what ``shapely.make_valid`` returns) and multi-part geometries are taken apart, LinearRings
+    count as closed lines.
+
+    Examples
+    --------
+    >>> import shapely
+    >>> wall = shapely.LineString([(2, 0), (3, 0)])
+    >>> g = shapely.GeometryCollection([shapely.box(0, 0, 1, 1), shapely.Point(5, 5), wall])
+    >>> [len(parts) for parts in polygonal_and_lineal_parts(g)]
+    [1, 1]
+    """
+    polygons, lines = [], []
+    for part in shapely.get_parts(geometry):
+        if isinstance(part, shapely.GeometryCollection | shapely.MultiPolygon | shapely.MultiLineString):
+            more_polygons, more_lines = polygonal_and_lineal_parts(part)
+            polygons += more_polygons
+            lines += more_lines
+        elif part.is_empty:
+            continue
+        elif isinstance(part, shapely.Polygon):
+            polygons.append(part)
+        elif isinstance(part, shapely.LinearRing):
+            lines.append(shapely.LineString(part.coords))
+        elif isinstance(part, shapely.LineString):
+            lines.append(part)
+    return polygons, lines
+
+
 def load_static_occluders(geometries: Sequence[Any] | Any | None) -> StaticOccluders:
     """Validate static occluders and split them into oriented rings and two-sided wall segments.
 
     Parameters
     ----------
     geometries : sequence of shapely geometries, or None
-        Polygons, MultiPolygons (buildings, parked vehicles, vegetation) and LineStrings, MultiLineStrings or
-        LinearRings (walls, guard rails). They are reported by their position in this sequence.
+        Polygons, MultiPolygons (buildings, parked vehicles, vegetation), LineStrings, MultiLineStrings or
+        LinearRings (walls, guard rails, two-sided), and collections of them (points in a collection are
+        dropped). They are reported by their position in this sequence.
 
     Raises
     ------
     ValueError
-        An entry that is not one of these types, empty, invalid, or with non-finite coordinates.
+        An entry that is not a shapely geometry, is empty, has no polygonal or lineal part (a Point), holds an
+        invalid polygon, or has non-finite coordinates.
     """
     if geometries is None:
         geometries = []
@@ -313,35 +396,36 @@ def load_static_occluders(geometries: Sequence[Any] | Any | None) -> StaticOcclu
             raise ValueError(f"static occluder {k} is empty")
         if not np.isfinite(shapely.get_coordinates(g)).all():
             raise ValueError(f"static occluder {k} has NaN or infinite coordinates")
-        if isinstance(g, shapely.Polygon | shapely.MultiPolygon):
-            if not g.is_valid:
+        polygons, lines = polygonal_and_lineal_parts(g)
+        if not polygons and not lines:
+            raise ValueError(
+                f"static occluder {k} is a {g.geom_type} without polygonal or lineal parts: it has no extent that "
+                "could block the view (give walls as LineStrings, buildings as Polygons)"
+            )
+        for poly in polygons:
+            if not poly.is_valid:
                 raise ValueError(
-                    f"static occluder {k} is an invalid polygon ({shapely.is_valid_reason(g)}); "
+                    f"static occluder {k} is or holds an invalid polygon ({shapely.is_valid_reason(poly)}); "
                     "repair it, e.g. with shapely.make_valid"
                 )
-            for poly in getattr(g, "geoms", [g]):
-                if poly.area < MIN_AREA:
-                    raise ValueError(f"static occluder {k} has a zero-size polygon part")
-                for j, ring in enumerate([poly.exterior, *poly.interiors]):
-                    rings.append(ring)
-                    ring_source.append(k)
-                    ccw.append(j == 0)
-        elif isinstance(g, shapely.LineString | shapely.MultiLineString | shapely.LinearRing):
-            # split the lines where they cross themselves: no two edges of one body may cross (occlusion.py)
-            noded = shapely.node(g)
-            for line in getattr(noded, "geoms", [noded]):
-                c = np.asarray(line.coords)[:, :2]
+            if poly.area < MIN_AREA:
+                raise ValueError(f"static occluder {k} has a zero-size polygon part")
+            for j, ring in enumerate([poly.exterior, *poly.interiors]):
+                rings.append(ring)
+                ring_source.append(k)
+                ccw.append(j == 0)
+        if lines:
+            # split the lines where they cross each other or themselves: no two edges of one body may cross
+            # (occlusion.py)
+            noded = shapely.node(shapely.MultiLineString(lines))
+            for piece in getattr(noded, "geoms", [noded]):
+                c = np.asarray(piece.coords)[:, :2]
                 seg = np.stack([c[:-1], c[1:]], axis=1)
                 seg = seg[np.hypot(*(seg[:, 1] - seg[:, 0]).T) > 0]
                 if len(seg) == 0:
                     raise ValueError(f"static occluder {k} is a line of zero length")
                 segments.append(seg)
                 segment_source.extend([k] * len(seg))
-        else:
-            raise ValueError(
-                f"static occluder {k} is a {g.geom_type}; expected Polygon, MultiPolygon, LineString, "
-                "MultiLineString or LinearRing"
-            )
     ring_arrays = orient(_rings_from(rings), np.array(ccw, dtype=bool)) if rings else Rings.empty()
     if len(ring_arrays) and (np.abs(signed_area(ring_arrays)) < MIN_AREA).any():
         raise ValueError("a static occluder has a zero-size ring")

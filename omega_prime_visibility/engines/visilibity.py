@@ -26,7 +26,7 @@ import visilibity as vis
 
 from ..geometry import Rings, angular_extent, edges, ring_ids
 from ..occlusion import occluding_pairs
-from ..scene import FrameObjects, StaticOccluders
+from ..scene import FrameObjects, StaticOccluders, polygonal_and_lineal_parts
 from . import EngineBase, Observation, group_pairs
 from .polygon_check import nearer_edge_exists
 
@@ -189,22 +189,22 @@ class VisiLibityEngine(EngineBase):
             self.__dict__.update(self._prepared[key])
         return self._origin
 
+    def _area_of(self, geometry: shapely.Geometry) -> shapely.Geometry:
+        """A static occluder as an area: its polygons, and its lines thickened to ``2 * wall_half_width``."""
+        polygons, lines = polygonal_and_lineal_parts(geometry)
+        walls = [
+            shapely.buffer(line, self.wall_half_width, cap_style="flat", join_style="mitre", mitre_limit=10.0)
+            for line in lines
+        ]
+        return polygons[0] if len(polygons) == 1 and not walls else shapely.union_all([*polygons, *walls])
+
     _STATE = ("_origin", "_static_shapes", "_static_segments", "_static_segment_source", "_static_cache")
 
     def _prepare_statics(self, origin: np.ndarray) -> None:
         st = self.statics
         self._origin = origin.copy()
         shifted = shapely.transform(st.geometries, lambda c: c - origin) if st.n_sources else st.geometries
-        self._static_shapes = np.array(
-            [
-                g
-                if isinstance(g, shapely.Polygon | shapely.MultiPolygon)
-                else shapely.buffer(g, self.wall_half_width, cap_style="flat", join_style="mitre", mitre_limit=10.0)
-                for g in shifted
-            ]
-            + [None],
-            dtype=object,
-        )[:-1]
+        self._static_shapes = np.array([*map(self._area_of, shifted), None], dtype=object)[:-1]
         a, b = edges(st.rings)
         seg = np.concatenate([np.stack([a, b], axis=1), st.segments]) - origin
         src = np.concatenate([st.ring_source[ring_ids(st.rings.offsets)], st.segment_source]).astype(np.int64)
