@@ -24,8 +24,6 @@ def read_recording(path: str | os.PathLike, map_path: str | os.PathLike | None =
         If the file or the map is missing or cannot be parsed (corrupt or truncated MCAP, wrong format, a map
         that is no map); the message names the file and the underlying error.
     """
-    import omega_prime
-
     path = Path(path)
     if not path.exists():
         raise RecordingReadError(f"{path} does not exist")
@@ -35,6 +33,8 @@ def read_recording(path: str | os.PathLike, map_path: str | os.PathLike | None =
         if not map_path.is_file():
             raise RecordingReadError(f"map {map_path} {'is not a file' if map_path.exists() else 'does not exist'}")
         kwargs["map_path"] = str(map_path)
+    import omega_prime  # takes seconds: only once the paths are known to exist
+
     try:
         # omega-prime only warns when it cannot read the map: record that warning to turn it into an error
         with warnings.catch_warnings(record=True) as caught:
