@@ -110,3 +110,15 @@ def test_path_input_and_corrupt_file(tmp_path) -> None:
         get_visibility_df(bad, 0)
     with pytest.raises(RecordingReadError, match="does not exist"):
         get_visibility_df(tmp_path / "missing.mcap", 0)
+
+
+def test_map_that_is_missing_or_no_map(tmp_path, shared_data) -> None:
+    from omega_prime_visibility.io import RecordingReadError, read_recording
+
+    trace = shared_data / "pedestrian.osi"
+    with pytest.raises(RecordingReadError, match=r"map .*nowhere\.xodr does not exist"):
+        read_recording(trace, tmp_path / "nowhere.xodr")
+    (tmp_path / "notes.txt").write_text("not a map")
+    with pytest.raises(RecordingReadError, match=r"cannot read map .*notes\.txt \(no map reader for '\.txt' files\)"):
+        read_recording(trace, tmp_path / "notes.txt")
+    assert type(read_recording(trace, shared_data / "fabriksgatan.xodr").map).__name__ == "MapOdr"
