@@ -6,11 +6,13 @@ import math
 import multiprocessing
 import numbers
 import os
+import secrets
 import warnings
 from collections import Counter
 from collections.abc import Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor
-from contextlib import contextmanager
+from contextlib import contextmanager, nullcontext
+from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
@@ -38,6 +40,67 @@ PARALLEL_MIN_WORK = 5_000  # (frame, observer) pairs from which all cores are us
 CHUNK_FRAMES = 500
 
 
+def describe_idx(present: np.ndarray) -> str:
+    """The first 20 idx of ``present`` for an error message, with ``...`` when there are more."""
+    present = np.asarray(present)
+    return f"{present[:20].tolist()}{' ...' if len(present) > 20 else ''}"
+
+
+def check_output_path(path: str | os.PathLike, suffixes: Sequence[str] = (".parquet",)) -> Path:
+    """``path`` as a Path, after checking that a file ending in one of ``suffixes`` can be written there.
+
+    Raises
+    ------
+    ValueError
+        If the suffix is not one of ``suffixes``, the folder is missing or not a folder, the path is a directory
+        or a read-only file, or the folder is not writable; the message names the path and the problem.
+    """
+    path = Path(path)
+    if path.suffix not in suffixes:
+        hint = ""
+        if path.suffix == ".csv":
+            hint = "; output= streams parquet: to write CSV, call write_csv on the returned table"
+        raise ValueError(f"cannot write {path}: the name must end in {' or '.join(suffixes)}{hint}")
+    folder = path.parent
+    if not folder.exists():
+        raise ValueError(f"cannot write {path}: the folder {folder} does not exist")
+    if not folder.is_dir():
+        raise ValueError(f"cannot write {path}: {folder} is not a folder")
+    if path.is_dir():
+        raise ValueError(f"cannot write {path}: it is a directory")
+    if path.exists() and not os.access(path, os.W_OK):
+        raise ValueError(f"cannot write {path}: the file exists and is read-only")
+    # permissions alone do not tell (read-only mounts, /proc, ACLs): create and remove a file to be sure
+    probe = _temp_name(path)
+    try:
+        os.close(os.open(probe, os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+        os.remove(probe)
+    except OSError as e:
+        raise ValueError(f"cannot write {path}: cannot create files in {folder} ({e.strerror or e})") from None
+    return path
+
+
+def _temp_name(path: Path) -> Path:
+    """A hidden, unused name next to ``path`` (same folder, so the final rename is atomic)."""
+    return path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
+
+
+@contextmanager
+def atomic_write(path: str | os.PathLike) -> Iterator[Path]:
+    """Yield a temporary path next to ``path``; rename it to ``path`` on success, remove it on any error.
+
+    So an interrupted or failed run never leaves a half-written file under the final name.
+    """
+    path = Path(path)
+    temp = _temp_name(path)
+    try:
+        yield temp
+        os.replace(temp, path)
+    except BaseException:
+        temp.unlink(missing_ok=True)
+        raise
+
+
 def resolve_egos(ego_idx: EgoSpec, objects: ObjectTable) -> tuple[np.ndarray, bool]:
     """The observers' idx as an ascending array, and whether the table needs an ``ego_idx`` column."""
     present = np.unique(objects.idx)
@@ -51,10 +114,9 @@ def resolve_egos(ego_idx: EgoSpec, objects: ObjectTable) -> tuple[np.ndarray, bo
         raise ValueError(f"ego_idx must be an int, a list of ints or 'all', not {ego_idx!r}")
     missing = egos[~np.isin(egos, present)]
     if len(missing):
-        shown = present[:20].tolist()
         raise ValueError(
             f"ego idx {missing.tolist()} never occurs among the usable rows of the table "
-            f"(idx present: {shown}{' ...' if len(present) > 20 else ''})"
+            f"(idx present: {describe_idx(present)})"
         )
     return egos.astype(np.int64), many
 
@@ -231,7 +293,10 @@ def get_visibility_df(
         Processes over which chunks of frames are spread; by default all cores for long jobs (at least
         ``PARALLEL_MIN_WORK`` frame-observer pairs), else 1. The result does not depend on it.
     output : path, optional
-        Write the table to this parquet file chunk by chunk (memory stays bounded) and return a lazy scan of it.
+        Stream the table to this ``.parquet`` file chunk by chunk (memory stays bounded). The path is checked
+        before anything is computed (see :func:`check_output_path`); other suffixes are refused: for CSV, call
+        ``write_csv`` on the returned table. The file is written under a temporary name in the same folder and
+        renamed when complete, so a failed run leaves no partial file.
     chunk_frames : int
         Frames per chunk of work.
     hide_progress : bool, optional
@@ -239,7 +304,7 @@ def get_visibility_df(
 
     Returns
     -------
-    polars.DataFrame (or LazyFrame when ``output`` is given)
+    polars.DataFrame, or polars.LazyFrame scanning the written parquet file when ``output`` is given
         One row per (frame, observer, target): ``frame, total_nanos, [ego_idx], idx, occluder_idxs,
         static_occluder_idxs, visibility`` where ``visibility`` in [0, 1] is the fraction of the target's
         angular extent along which it is the first thing hit, and the occluder lists hold, ascending, the
@@ -256,6 +321,8 @@ def get_visibility_df(
     """
     check_epsilon(epsilon)
     progress = resolve_progress(progress, hide_progress)
+    if output is not None:
+        output = check_output_path(output)
     objects = load_objects(df, on_invalid=on_invalid)
     statics = load_static_occluders(static_occluder_polys)
     egos, with_ego = resolve_egos(ego_idx, objects)
@@ -269,30 +336,30 @@ def get_visibility_df(
     tasks = ((objects.frame_range(a, b), statics, egos, engine, with_ego) for a, b in chunks)
     bar = tqdm(total=objects.n_frames, disable=not show, desc="visibility", unit="frame")
     containment = _ContainmentLog()
-    writer = None
     tables: list[pl.DataFrame] = []
-    try:
-        with _executor(n_workers) as pool:
-            results = pool.map(_run_chunk_star, tasks) if pool else map(_run_chunk_star, tasks)
-            for (a, b), (arrays, log) in zip(chunks, results, strict=True):
-                containment.merge(log)
-                table = to_polars(arrays, with_ego)
-                if output is not None:
-                    arrow = table.to_arrow()
-                    if writer is None:
-                        writer = pq.ParquetWriter(str(output), arrow.schema)
-                    writer.write_table(arrow)
-                else:
-                    tables.append(table)
-                bar.update(b - a)
-    finally:
-        bar.close()
-        if writer is not None:
-            writer.close()
+    writer = None
+    with atomic_write(output) if output is not None else nullcontext() as temp:
+        try:
+            with _executor(n_workers) as pool:
+                results = pool.map(_run_chunk_star, tasks) if pool else map(_run_chunk_star, tasks)
+                for (a, b), (arrays, log) in zip(chunks, results, strict=True):
+                    containment.merge(log)
+                    table = to_polars(arrays, with_ego)
+                    if temp is not None:
+                        arrow = table.to_arrow()
+                        writer = writer or pq.ParquetWriter(str(temp), arrow.schema)
+                        writer.write_table(arrow)
+                    else:
+                        tables.append(table)
+                    bar.update(b - a)
+        finally:
+            bar.close()
+            if writer is not None:
+                writer.close()
+        if temp is not None and writer is None:
+            empty_table(with_ego).write_parquet(temp)
     containment.warn()
     if output is not None:
-        if writer is None:
-            empty_table(with_ego).write_parquet(output)
         return pl.scan_parquet(output)
     return pl.concat(tables, rechunk=True) if tables else empty_table(with_ego)
 

@@ -6,6 +6,7 @@ import sys
 from pathlib import Path
 from typing import Annotated
 
+import numpy as np
 import polars as pl
 import typer
 
@@ -14,13 +15,15 @@ from .engines import ENGINES
 app = typer.Typer(add_completion=False, no_args_is_help=True, help=__doc__)
 
 
-def _parse_ego(ego: str) -> int | list[int] | str:
+def parse_ego(ego: str) -> int | list[int] | str:
+    """``--ego`` as the API's ``ego_idx``; a bad value exits with a one-line error (not typer's boxed one)."""
     if ego == "all":
         return "all"
     try:
         values = [int(v) for v in ego.split(",")]
     except ValueError:
-        raise typer.BadParameter(f"--ego takes an idx, a comma-separated list of idx, or 'all', not {ego!r}") from None
+        hint = " (write 'all' in lower case)" if ego.lower() == "all" else ""
+        raise fail(f"--ego takes an idx, a comma-separated list of idx, or 'all', not {ego!r}{hint}") from None
     return values[0] if len(values) == 1 else values
 
 
@@ -52,30 +55,40 @@ def run(
     rows: Annotated[int, typer.Option(help="rows to print when no output is given")] = 20,
 ) -> None:
     """Compute the visibility table of one recording; print it with a per-target summary, or write it."""
-    from .api import get_visibility_df
+    from .api import atomic_write, check_output_path, describe_idx, get_visibility_df
 
+    # every check that needs no computing comes first, so a typo never costs a long run
     if engine not in ENGINES:
         raise fail(f"unknown engine {engine!r}; available: {sorted(ENGINES)}")
-    if output is not None and output.suffix not in (".parquet", ".csv"):
-        raise fail(f"--output must end in .parquet or .csv, not {output.suffix!r}")
+    if output is not None:
+        try:
+            output = check_output_path(output, (".parquet", ".csv"))
+        except ValueError as e:
+            raise fail(str(e)) from None
+    ego_idx = parse_ego(ego) if ego else None
     r = load_recording(recording, map_path)
-    if ego:
-        ego_idx = _parse_ego(ego)
-    elif r.host_vehicle_idx is not None:
+    if ego_idx is None and r.host_vehicle_idx is None:
+        present = np.unique(r._df["idx"].to_numpy())
+        raise fail(f"{recording} names no host vehicle: pass --ego IDX (idx present: {describe_idx(present)})")
+    if ego_idx is None:
         ego_idx = int(r.host_vehicle_idx)
-    else:
-        raise fail(f"{recording} names no host vehicle: pass --ego IDX")
     stream = output if output is not None and output.suffix == ".parquet" else None
     try:
         table = get_visibility_df(r, ego_idx, engine=engine, progress=progress, workers=workers, output=stream)
+        if output is not None and stream is None:
+            with atomic_write(output) as temp:
+                table.with_columns(
+                    pl.col("occluder_idxs", "static_occluder_idxs")
+                    .list.eval(pl.element().cast(pl.String))
+                    .list.join(" ")
+                ).write_csv(temp)
     except ValueError as e:
-        raise fail(str(e)) from e
+        raise fail(str(e)) from None
+    except OSError as e:  # the disk filled up or the folder vanished while computing
+        raise fail(f"cannot write {output}: {e}") from None
     if stream is not None:
         typer.echo(f"wrote {table.select(pl.len()).collect().item()} rows to {output}")
     elif output is not None:
-        table.with_columns(
-            pl.col("occluder_idxs", "static_occluder_idxs").list.eval(pl.element().cast(pl.String)).list.join(" ")
-        ).write_csv(output)
         typer.echo(f"wrote {table.height} rows to {output}")
     else:
         with pl.Config(tbl_rows=rows, tbl_cols=-1, fmt_table_cell_list_len=8):

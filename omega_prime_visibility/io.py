@@ -4,12 +4,15 @@ from __future__ import annotations
 
 import os
 import warnings
+import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import Any
 
+NO_MAP = "No map could be found"  # start of omega-prime's warning when no reader could parse the map
+
 
 class RecordingReadError(ValueError):
-    """A file could not be read as an omega-prime recording."""
+    """A file could not be read as an omega-prime recording, or its map could not be read."""
 
 
 def read_recording(path: str | os.PathLike, map_path: str | os.PathLike | None = None) -> Any:
@@ -18,18 +21,50 @@ def read_recording(path: str | os.PathLike, map_path: str | os.PathLike | None =
     Raises
     ------
     RecordingReadError
-        If the file is missing or cannot be parsed (corrupt or truncated MCAP, wrong format); the message names
-        the file and the underlying error.
+        If the file or the map is missing or cannot be parsed (corrupt or truncated MCAP, wrong format, a map
+        that is no map); the message names the file and the underlying error.
     """
-    import omega_prime
-
     path = Path(path)
     if not path.exists():
         raise RecordingReadError(f"{path} does not exist")
-    kwargs = {"map_path": str(map_path)} if map_path is not None else {}
+    kwargs = {}
+    if map_path is not None:
+        map_path = Path(map_path)
+        if not map_path.is_file():
+            raise RecordingReadError(f"map {map_path} {'is not a file' if map_path.exists() else 'does not exist'}")
+        kwargs["map_path"] = str(map_path)
+    import omega_prime  # takes seconds: only once the paths are known to exist
+
     try:
-        with warnings.catch_warnings():
+        # omega-prime only warns when it cannot read the map: record that warning to turn it into an error
+        with warnings.catch_warnings(record=True) as caught:
             warnings.filterwarnings("ignore", message="Failed to apply projections")
-            return omega_prime.Recording.from_file(str(path), compute_polygons=True, **kwargs)
+            warnings.filterwarnings("always", message=NO_MAP)
+            recording = omega_prime.Recording.from_file(str(path), compute_polygons=True, **kwargs)
     except Exception as e:  # omega-prime and its readers raise many kinds; report them as one, naming the file
         raise RecordingReadError(f"cannot read {path} as an omega-prime recording ({type(e).__name__}: {e})") from e
+    map_failures = [str(w.message) for w in caught if str(w.message).startswith(NO_MAP)]
+    for w in caught:  # pass every other warning on to the caller
+        if not str(w.message).startswith(NO_MAP):
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno, source=w.source)
+    if map_path is not None:
+        _check_map(map_path, recording.map, map_failures)
+    return recording
+
+
+def _check_map(map_path: Path, parsed: Any, failures: list[str]) -> None:
+    """Raise RecordingReadError unless omega-prime read ``map_path`` as a map."""
+    if parsed is None or failures:
+        detail = failures[0][len(NO_MAP) :].strip(": ") if failures else ""
+        no_reader = detail in ("", "{}")  # omega-prime found no reader for this kind of file
+        reason = f"no map reader for {map_path.suffix!r} files" if no_reader else f"omega-prime: {detail}"
+        raise RecordingReadError(f"cannot read map {map_path} ({reason})")
+    # OpenDRIVE maps are kept as text until used, so a file that is no OpenDRIVE would only fail later
+    odr_xml = getattr(parsed, "odr_xml", None)
+    if isinstance(odr_xml, str):
+        try:
+            root = ET.fromstring(odr_xml)
+        except ET.ParseError as e:
+            raise RecordingReadError(f"cannot read map {map_path} as OpenDRIVE (XML error: {e})") from None
+        if root.tag != "OpenDRIVE":
+            raise RecordingReadError(f"cannot read map {map_path}: its XML root is <{root.tag}>, not <OpenDRIVE>")

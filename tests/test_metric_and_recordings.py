@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import subprocess
-import sys
 import warnings
 from importlib.metadata import entry_points
 
@@ -67,26 +65,6 @@ def test_polygon_column_and_boxes_agree(bundled: omega_prime.Recording) -> None:
     assert np.allclose(from_boxes["visibility"], from_polygons["visibility"], atol=1e-9)
 
 
-def test_cli_prints_table() -> None:
-    out = subprocess.run(
-        [sys.executable, "-m", "omega_prime_visibility.cli", "run", str(REPO / "highway_merge.mcap"), "--no-progress"],
-        capture_output=True,
-        text=True,
-        check=True,
-    )
-    assert "visibility" in out.stdout and "occluder_idxs" in out.stdout
-
-
-def test_cli_reports_corrupt_file(tmp_path) -> None:
-    bad = tmp_path / "broken.mcap"
-    bad.write_bytes(b"not an mcap at all")
-    out = subprocess.run(
-        [sys.executable, "-m", "omega_prime_visibility.cli", "run", str(bad)], capture_output=True, text=True
-    )
-    assert out.returncode != 0
-    assert "broken.mcap" in out.stderr and "Traceback" not in out.stderr
-
-
 def test_upstream_recording_with_wall(shared_data) -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -121,22 +99,6 @@ def test_real_osi_traces(shared_data, trace: str, xodr: str) -> None:
     assert out["visibility"].is_nan().sum() == 0
 
 
-def test_cli_writes_parquet_with_engine_and_several_egos(tmp_path) -> None:
-    out_path = tmp_path / "vis.parquet"
-    cmd = [sys.executable, "-m", "omega_prime_visibility.cli", "run", str(REPO / "highway_merge.mcap")]
-    cmd += ["--ego", "0,1", "--engine", "sweep", "--no-progress", "-o", str(out_path)]
-    subprocess.run(cmd, capture_output=True, text=True, check=True)
-    table = pl.read_parquet(out_path)
-    assert table.columns[:3] == ["frame", "total_nanos", "ego_idx"]
-    assert set(table["ego_idx"].unique()) == {0, 1}
-
-
-def test_cli_rejects_unknown_engine() -> None:
-    cmd = [sys.executable, "-m", "omega_prime_visibility.cli", "run", str(REPO / "highway_merge.mcap")]
-    out = subprocess.run([*cmd, "--engine", "nope"], capture_output=True, text=True)
-    assert out.returncode == 2 and "unknown engine 'nope'" in out.stderr
-
-
 def test_path_input_and_corrupt_file(tmp_path) -> None:
     from omega_prime_visibility.io import RecordingReadError
 
@@ -148,3 +110,15 @@ def test_path_input_and_corrupt_file(tmp_path) -> None:
         get_visibility_df(bad, 0)
     with pytest.raises(RecordingReadError, match="does not exist"):
         get_visibility_df(tmp_path / "missing.mcap", 0)
+
+
+def test_map_that_is_missing_or_no_map(tmp_path, shared_data) -> None:
+    from omega_prime_visibility.io import RecordingReadError, read_recording
+
+    trace = shared_data / "pedestrian.osi"
+    with pytest.raises(RecordingReadError, match=r"map .*nowhere\.xodr does not exist"):
+        read_recording(trace, tmp_path / "nowhere.xodr")
+    (tmp_path / "notes.txt").write_text("not a map")
+    with pytest.raises(RecordingReadError, match=r"cannot read map .*notes\.txt \(no map reader for '\.txt' files\)"):
+        read_recording(trace, tmp_path / "notes.txt")
+    assert type(read_recording(trace, shared_data / "fabriksgatan.xodr").map).__name__ == "MapOdr"

@@ -1,0 +1,164 @@
+"""The command line as a user calls it: in a subprocess, checking exit status, stderr and the files left behind."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import polars as pl
+import pytest
+from conftest import REPO
+
+MCAP = REPO / "highway_merge.mcap"
+
+
+def cli(*args: str | Path, cwd: Path | None = None) -> subprocess.CompletedProcess:
+    cmd = [sys.executable, "-m", "omega_prime_visibility.cli", "run", *map(str, args)]
+    return subprocess.run(cmd, capture_output=True, text=True, cwd=cwd)
+
+
+def assert_error(out: subprocess.CompletedProcess, *fragments: str) -> None:
+    """Exit status 2 and exactly one stderr line, ``error: ...``, containing every fragment."""
+    assert out.returncode == 2, out.stderr
+    lines = out.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: "), out.stderr
+    for fragment in fragments:
+        assert fragment in lines[0]
+
+
+def files_under(folder: Path) -> set[Path]:
+    return {p.relative_to(folder) for p in folder.rglob("*")}
+
+
+def test_cli_prints_table() -> None:
+    out = subprocess.run(
+        [sys.executable, "-m", "omega_prime_visibility.cli", "run", str(MCAP), "--no-progress"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert "visibility" in out.stdout and "occluder_idxs" in out.stdout
+
+
+def test_cli_reports_corrupt_file(tmp_path) -> None:
+    bad = tmp_path / "broken.mcap"
+    bad.write_bytes(b"not an mcap at all")
+    out = cli(bad)
+    assert_error(out, "broken.mcap")
+    assert "Traceback" not in out.stderr
+
+
+def test_cli_writes_parquet_with_engine_and_several_egos(tmp_path) -> None:
+    out_path = tmp_path / "vis.parquet"
+    out = cli(MCAP, "--ego", "0,1", "--engine", "sweep", "--no-progress", "-o", out_path)
+    assert out.returncode == 0, out.stderr
+    table = pl.read_parquet(out_path)
+    assert table.columns[:3] == ["frame", "total_nanos", "ego_idx"]
+    assert set(table["ego_idx"].unique()) == {0, 1}
+    assert files_under(tmp_path) == {Path("vis.parquet")}  # no temporary file left beside it
+
+
+def test_cli_writes_csv_with_joined_lists(tmp_path) -> None:
+    out = cli(MCAP, "--ego", "0", "--no-progress", "-o", "vis.csv", cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    assert "wrote 1206 rows to vis.csv" in out.stdout
+    assert files_under(tmp_path) == {Path("vis.csv")}
+    table = pl.read_csv(tmp_path / "vis.csv")
+    assert table.height == 1206
+    # list columns are joined by spaces; the truck (idx 1) hides the merging cars in some frames
+    assert table["occluder_idxs"].cast(pl.String).str.contains(r"(^| )1( |$)").any()
+
+
+def test_cli_rejects_unknown_engine() -> None:
+    out = cli(MCAP, "--engine", "nope")
+    assert_error(out, "unknown engine 'nope'")
+
+
+@pytest.mark.parametrize(
+    ("output", "problem"),
+    [
+        ("out/x.parquet", "the folder out does not exist"),
+        ("out/x.csv", "the folder out does not exist"),
+        ("notes.txt/x.parquet", "notes.txt is not a folder"),
+        ("taken.parquet", "taken.parquet: it is a directory"),
+        ("x.txt", "must end in .parquet or .csv"),
+    ],
+)
+def test_cli_bad_output_path_fails_before_computing(tmp_path, output: str, problem: str) -> None:
+    (tmp_path / "notes.txt").write_text("a file, not a folder")
+    (tmp_path / "taken.parquet").mkdir()
+    before = files_under(tmp_path)
+    out = cli(MCAP, "--ego", "0", "--no-progress", "-o", output, cwd=tmp_path)
+    assert_error(out, f"cannot write {output}", problem)
+    assert out.stdout == ""
+    assert files_under(tmp_path) == before
+
+
+def test_cli_unwritable_output_place() -> None:
+    out = cli(MCAP, "--ego", "0", "--no-progress", "-o", "/proc/x.parquet")
+    assert_error(out, "cannot write /proc/x.parquet", "cannot create files in /proc")
+    assert not Path("/proc/x.parquet").exists()
+
+
+@pytest.mark.skipif(os.name != "posix" or os.geteuid() == 0, reason="root may write into read-only folders")
+def test_cli_read_only_folder(tmp_path) -> None:
+    folder = tmp_path / "ro"
+    folder.mkdir()
+    folder.chmod(0o555)
+    try:
+        out = cli(MCAP, "--ego", "0", "--no-progress", "-o", folder / "x.csv")
+        assert_error(out, f"cannot write {folder / 'x.csv'}", "cannot create files in")
+        assert list(folder.iterdir()) == []
+    finally:
+        folder.chmod(0o755)
+
+
+@pytest.mark.parametrize("ego", ["x", "ALL", "0,,1"])
+def test_cli_bad_ego_is_one_line(ego: str) -> None:
+    out = cli(MCAP, "--ego", ego, "--no-progress")
+    assert_error(out, f"--ego takes an idx, a comma-separated list of idx, or 'all', not {ego!r}")
+    assert ("lower case" in out.stderr) == (ego == "ALL")
+
+
+def test_cli_unknown_ego_lists_idx() -> None:
+    out = cli(MCAP, "--ego", "99", "--no-progress")
+    assert_error(out, "ego idx [99] never occurs", "idx present: [0, 1, 2, 3, 4, 5, 6]")
+
+
+def test_cli_osi_without_host_vehicle_lists_idx(shared_data) -> None:
+    out = cli(shared_data / "pedestrian.osi", "--map", shared_data / "fabriksgatan.xodr", "--no-progress")
+    assert_error(out, "pedestrian.osi names no host vehicle", "pass --ego IDX", "idx present: [0, 1]")
+
+
+def test_cli_osi_with_map_and_ego_runs(shared_data, tmp_path) -> None:
+    out = cli(shared_data / "pedestrian.osi", "--map", shared_data / "fabriksgatan.xodr", "--ego", "0", "--no-progress")
+    assert out.returncode == 0, out.stderr
+    assert "visibility" in out.stdout
+
+
+def test_cli_missing_map(tmp_path) -> None:
+    out = cli(MCAP, "--map", tmp_path / "nowhere.xodr", "--no-progress")
+    assert_error(out, f"map {tmp_path / 'nowhere.xodr'} does not exist")
+
+
+@pytest.mark.parametrize(
+    ("name", "content", "problem"),
+    [
+        ("notes.txt", "just some text\n", "no map reader for '.txt' files"),
+        ("notes.xodr", "just some text\n", "as OpenDRIVE (XML error"),
+        ("other.xodr", "<html><body/></html>\n", "its XML root is <html>, not <OpenDRIVE>"),
+    ],
+)
+def test_cli_map_that_is_no_map(tmp_path, name: str, content: str, problem: str) -> None:
+    (tmp_path / name).write_text(content)
+    out = cli(MCAP, "--map", tmp_path / name, "--no-progress")
+    assert_error(out, f"cannot read map {tmp_path / name}", problem)
+    assert out.stdout == ""
+
+
+def test_cli_osi_trace_with_text_map(shared_data, tmp_path) -> None:
+    (tmp_path / "map.txt").write_text("not a map")
+    out = cli(shared_data / "pedestrian.osi", "--map", tmp_path / "map.txt", "--ego", "0", "--no-progress")
+    assert_error(out, f"cannot read map {tmp_path / 'map.txt'}")
