@@ -97,8 +97,14 @@ def run(
         summary = table.group_by(by).agg(
             pl.col("visibility").mean().alias("mean_visibility"),
             (pl.col("visibility") == 0.0).mean().alias("hidden_share"),
-            pl.col("occluder_idxs").flatten().unique().drop_nulls().sort().alias("occluders"),
         )
+        occluders = (
+            table.select(*by, pl.col("occluder_idxs").alias("occluders"))
+            .explode("occluders")
+            .group_by(by)
+            .agg(pl.col("occluders").drop_nulls().unique().sort())
+        )
+        summary = summary.join(occluders, on=by)
         with pl.Config(tbl_rows=-1, fmt_table_cell_list_len=8):
             typer.echo(summary.sort(by))
 
