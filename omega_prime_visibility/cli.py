@@ -8,6 +8,8 @@ from typing import Annotated
 
 import numpy as np
 import polars as pl
+import pyarrow as pa
+import pyarrow.compute as pc
 import typer
 
 from .engines import ENGINES
@@ -98,9 +100,14 @@ def run(
             pl.col("visibility").mean().alias("mean_visibility"),
             (pl.col("visibility") == 0.0).mean().alias("hidden_share"),
         )
+        # (row, occluder) pairs through arrow: polars' own explode warns about a default changing in polars 2
+        lists = table["occluder_idxs"].to_arrow()
+        lists = pa.concat_arrays(lists.chunks) if isinstance(lists, pa.ChunkedArray) else lists
+        pairs = pl.DataFrame({"row": pc.list_parent_indices(lists), "occluders": pc.list_flatten(lists)})
         occluders = (
-            table.select(*by, pl.col("occluder_idxs").alias("occluders"))
-            .explode("occluders")
+            table.with_row_index("row")
+            .select("row", *by)
+            .join(pairs.with_columns(pl.col("row").cast(pl.UInt32)), on="row", how="left")
             .group_by(by)
             .agg(pl.col("occluders").drop_nulls().unique().sort())
         )
