@@ -23,6 +23,8 @@ import numba
 import numpy as np
 import shapely
 import visilibity as vis
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 
 from ..geometry import Rings, angular_extent, edges, ring_ids
 from ..occlusion import occluding_pairs
@@ -111,20 +113,9 @@ def _box_overlaps(lo, hi):
 
 
 def _components(n: int, first: np.ndarray, second: np.ndarray) -> np.ndarray:
-    """Connected-component label of each of ``n`` nodes given undirected edges."""
-    parent = np.arange(n)
-
-    def find(i: int) -> int:
-        while parent[i] != i:
-            parent[i] = parent[parent[i]]
-            i = parent[i]
-        return i
-
-    for i, j in zip(first.tolist(), second.tolist(), strict=True):
-        ri, rj = find(i), find(j)
-        if ri != rj:
-            parent[max(ri, rj)] = min(ri, rj)
-    return np.array([find(i) for i in range(n)], dtype=np.int64)
+    """Connected-component label of each of ``n`` nodes given undirected edges ``first[k] - second[k]``."""
+    graph = coo_matrix((np.ones(len(first)), (first, second)), shape=(n, n))
+    return connected_components(graph, directed=False)[1].astype(np.int64)
 
 
 def _vis_polygon(coords: np.ndarray) -> vis.Polygon:
