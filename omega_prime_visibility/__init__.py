@@ -4,7 +4,7 @@
 """
 
 from .api import get_visibility_df, get_visibility_df_for_frame
-from .engines import ENGINES, Observation
+from .engines import ENGINES, Observation, Reason, Viewpoint
 from .scene import VisibilityInputWarning
 from .table import SCHEMA
 
@@ -12,6 +12,8 @@ __all__ = [
     "ENGINES",
     "SCHEMA",
     "Observation",
+    "Reason",
+    "Viewpoint",
     "VisibilityInputWarning",
     "get_visibility_df",
     "get_visibility_df_for_frame",

@@ -57,7 +57,8 @@ def run(
     rows: Annotated[int, typer.Option(help="rows to print when no output is given")] = 20,
 ) -> None:
     """Compute the visibility table of one recording; print it with a per-target summary, or write it."""
-    from .api import atomic_write, check_output_path, describe_idx, get_visibility_df
+    from .api import describe_idx, get_visibility_df
+    from .output import atomic_write, check_output_path
 
     # every check that needs no computing comes first, so a typo never costs a long run
     if engine not in ENGINES:

@@ -9,9 +9,10 @@ import numpy as np
 import polars as pl
 import shapely
 
-from .api import get_visibility_df, transparency_masks
 from .engines.visilibity import VisiLibityEngine
+from .pipeline import observer_rows, run_chunk, viewpoints
 from .scene import load_objects, load_static_occluders
+from .table import to_polars
 
 
 def plot_frame(
@@ -43,32 +44,15 @@ def plot_frame(
     if ego_idx not in fo.idx:
         raise ValueError(f"ego idx {ego_idx} is not present in frame {frame}")
     statics = load_static_occluders(static_occluder_polys)
-    one = objects.frame_range(k, k + 1)
-    table = get_visibility_df(
-        pl.DataFrame(
-            {
-                "frame": one.frame,
-                "total_nanos": one.total_nanos,
-                "idx": one.idx,
-                "x": one.position[:, 0],
-                "y": one.position[:, 1],
-                "polygon": pl.Series(
-                    [shapely.Polygon(one.rings.ring(i)) for i in range(len(one.idx))], dtype=pl.Object
-                ),
-            }
-        ),
-        ego_idx,
-        static_occluder_polys,
-        progress=False,
-        workers=1,
-    )
+    # the same per-frame pipeline as get_visibility_df, on the one frame already loaded
+    columns, _ = run_chunk(objects.frame_range(k, k + 1), statics, np.array([ego_idx]), "visilibity")
+    table = to_polars(columns, with_ego=False)
     vis_of = dict(zip(table["idx"].to_list(), table["visibility"].to_list(), strict=True))
-    ego_pos = int(np.searchsorted(fo.idx, ego_idx))
-    observer = fo.position[ego_pos]
-    transparent, static_transparent = (m[0] for m in transparency_masks(fo, np.array([ego_pos]), statics))
+    (view,) = viewpoints(fo, observer_rows(fo, np.array([ego_idx])), statics)
+    observer = view.position
     engine = VisiLibityEngine(statics)
     engine.box_margin = 2 * (view_range or 100.0)
-    region = engine.visibility_polygon(fo, observer, transparent, static_transparent)
+    region = engine.visible_region(fo, view)
 
     if ax is None:
         _, ax = plt.subplots(figsize=(10, 5))

@@ -145,24 +145,31 @@ def _report(problem: str, on_invalid: OnInvalid) -> None:
     warnings.warn(problem, VisibilityInputWarning, stacklevel=4)
 
 
-def as_polars(data: Any) -> pl.DataFrame:
+def as_lazy(data: Any) -> pl.LazyFrame:
     """Accept an ``omega_prime.Recording``, a polars ``DataFrame`` or ``LazyFrame``, or the path of an MCAP file;
-    return a DataFrame."""
+    return a LazyFrame (nothing is collected, so a caller can read just the frames it needs)."""
     if isinstance(data, str | os.PathLike):
         from .io import read_recording
 
         data = read_recording(data)
     if isinstance(data, pl.LazyFrame):
-        return data.collect()
-    if isinstance(data, pl.DataFrame):
         return data
+    if isinstance(data, pl.DataFrame):
+        return data.lazy()
     inner = getattr(data, "_df", None)
     if isinstance(inner, pl.DataFrame | pl.LazyFrame):
-        return as_polars(inner)
+        return inner.lazy()
     raise TypeError(
         "expected an omega_prime.Recording, a polars DataFrame/LazyFrame of moving objects or an MCAP path, "
         f"got {type(data)!r}"
     )
+
+
+def as_polars(data: Any) -> pl.DataFrame:
+    """:func:`as_lazy`, collected."""
+    if isinstance(data, pl.DataFrame):
+        return data
+    return as_lazy(data).collect()
 
 
 def _check_columns(df: pl.DataFrame) -> bool:

@@ -1,13 +1,19 @@
-"""The output table: one schema for every front end, assembled once from flat per-frame arrays."""
+"""The output table: one schema for every front end, columns carried by name, and the one place that says what
+an engine's :class:`~.engines.Reason` codes mean in the table.
+
+Rows are assembled per (frame, viewpoint) as named flat arrays (:func:`observation_rows`), collected by a
+:class:`TableBuilder` into plain numpy arrays (cheap to send between processes) and turned into polars once
+(:func:`to_polars`).
+"""
 
 from __future__ import annotations
-
-from dataclasses import dataclass, field
 
 import numba
 import numpy as np
 import polars as pl
 import pyarrow as pa
+
+from .engines import Observation, Reason
 
 SCHEMA: dict[str, pl.DataType] = {
     "frame": pl.Int64(),
@@ -19,6 +25,14 @@ SCHEMA: dict[str, pl.DataType] = {
     "visibility": pl.Float64(),
 }
 """Column types of the visibility table. ``ego_idx`` is present only when several observers were asked for."""
+
+LIST_COLUMNS = tuple(name for name, dtype in SCHEMA.items() if isinstance(dtype, pl.List))
+"""List columns travel as ``(lengths, values)`` pairs of flat arrays."""
+
+Columns = dict[str, np.ndarray | tuple[np.ndarray, np.ndarray]]
+
+_CONTAINS_OBSERVER = int(Reason.CONTAINS_OBSERVER)
+_IN_VIEW = int(Reason.IN_VIEW)
 
 
 def schema(with_ego: bool) -> dict[str, pl.DataType]:
@@ -32,140 +46,127 @@ def empty_table(with_ego: bool = False) -> pl.DataFrame:
 
 
 @numba.njit(cache=True)
-def observation_rows(p, visible, extent, occ_off, occ, st_off, st, transparent, idx):
-    """Rows for every object but the observer's own (position ``p``) from one observation.
+def visibility_of(reason, visible_angle, angular_extent):
+    """The policy: ``visibility`` of a target from its reason code and angles (any one measure).
 
-    Visibility is ``visible / extent`` clipped to [0, 1], exactly 1.0 for transparent objects (they contain the
-    observer) and for objects with nothing hit before them; occluder positions become idx values, and the lists
-    of transparent objects are emptied. Returns ``idx, visibility, occluder_offsets, occluder_idxs,
-    static_offsets, static_idxs`` for the ``n - 1`` rows, and whether any other object contains the observer.
+    A target that contains the viewpoint, or has nothing in front of it, is exactly 1.0; otherwise the visible
+    share of its extent, clipped to [0, 1].
     """
-    n = len(visible)
-    rows = n - 1
-    row_idx = np.empty(rows, dtype=np.int64)
-    any_inside = False
-    vis = np.empty(rows)
-    oo = np.zeros(rows + 1, dtype=np.int64)
-    so = np.zeros(rows + 1, dtype=np.int64)
-    r = 0
+    if reason == _CONTAINS_OBSERVER or reason == _IN_VIEW:
+        return 1.0
+    share = visible_angle / angular_extent if angular_extent > 0 else 0.0
+    return min(max(share, 0.0), 1.0)
+
+
+@numba.njit(cache=True)
+def _rows(own, reason, visible_angle, angular_extent, occluder_offsets, occluders, static_offsets, statics, idx):
+    """Rows for every object but the observer's own (row number ``own``), see :func:`observation_rows`."""
+    n = len(reason)
+    n_rows = n - 1 if 0 <= own < n else n
+    row_idx = np.empty(n_rows, dtype=np.int64)
+    visibility = np.empty(n_rows)
+    occluder_counts = np.zeros(n_rows, dtype=np.int64)
+    static_counts = np.zeros(n_rows, dtype=np.int64)
+    row = 0
     for i in range(n):
-        if i == p:
+        if i == own:
             continue
-        inside = transparent[i]
-        any_inside |= inside
-        row_idx[r] = idx[i]
-        no = 0 if inside else occ_off[i + 1] - occ_off[i]
-        ns = 0 if inside else st_off[i + 1] - st_off[i]
-        oo[r + 1] = oo[r] + no
-        so[r + 1] = so[r] + ns
-        v = visible[i] / extent[i] if extent[i] > 0 else 0.0
-        vis[r] = 1.0 if (inside or (no == 0 and ns == 0)) else min(max(v, 0.0), 1.0)
-        r += 1
-    oi = np.empty(oo[rows], dtype=np.int64)
-    si = np.empty(so[rows], dtype=np.int64)
-    r = 0
+        row_idx[row] = idx[i]
+        visibility[row] = visibility_of(reason[i], visible_angle[i], angular_extent[i])
+        if reason[i] != _CONTAINS_OBSERVER:  # a transparent target lists no occluders
+            occluder_counts[row] = occluder_offsets[i + 1] - occluder_offsets[i]
+            static_counts[row] = static_offsets[i + 1] - static_offsets[i]
+        row += 1
+    occluder_idxs = np.empty(occluder_counts.sum(), dtype=np.int64)
+    static_idxs = np.empty(static_counts.sum(), dtype=np.int64)
+    row = 0
+    occluder_at = 0
+    static_at = 0
     for i in range(n):
-        if i == p:
+        if i == own:
             continue
-        for q in range(oo[r + 1] - oo[r]):
-            oi[oo[r] + q] = idx[occ[occ_off[i] + q]]
-        for q in range(so[r + 1] - so[r]):
-            si[so[r] + q] = st[st_off[i] + q]
-        r += 1
-    return row_idx, vis, oo, oi, so, si, any_inside
+        for q in range(occluder_counts[row]):
+            occluder_idxs[occluder_at + q] = idx[occluders[occluder_offsets[i] + q]]
+        for q in range(static_counts[row]):
+            static_idxs[static_at + q] = statics[static_offsets[i] + q]
+        occluder_at += occluder_counts[row]
+        static_at += static_counts[row]
+        row += 1
+    return row_idx, visibility, occluder_counts, occluder_idxs, static_counts, static_idxs
 
 
-def _list_column(offsets: np.ndarray, values: np.ndarray) -> pl.Series:
-    arr = pa.LargeListArray.from_arrays(pa.array(offsets, pa.int64()), pa.array(values, pa.int64()))
-    return pl.Series(arr)
+def observation_rows(observation: Observation, own: int, idx: np.ndarray) -> Columns:
+    """The table's target columns for one observation: ``idx``, ``visibility`` and the occluder lists.
+
+    Parameters
+    ----------
+    observation : Observation
+        What one viewpoint sees of the ``n`` objects of a frame.
+    own : int
+        Row number of the observing object, which gets no row (-1: none).
+    idx : ndarray, shape (n,), int64
+        The objects' idx; occluder row numbers become idx values.
+    """
+    row_idx, visibility, occ_n, occ, st_n, st = _rows(
+        own,
+        observation.reason,
+        observation.visible_angle,
+        observation.angular_extent,
+        observation.occluder_offsets,
+        observation.occluders,
+        observation.static_offsets,
+        observation.static_occluders,
+        idx,
+    )
+    return {"idx": row_idx, "visibility": visibility, "occluder_idxs": (occ_n, occ), "static_occluder_idxs": (st_n, st)}
 
 
-@dataclass
 class TableBuilder:
-    """Collects per-(frame, observer) result blocks and builds the polars table once.
+    """Collects per-(frame, viewpoint) blocks of named columns and concatenates them once.
 
-    Each block holds ``k`` rows as flat arrays; list columns arrive as offsets of shape (k + 1,) and values.
+    A block gives every column of the schema: arrays of one value per row, list columns as ``(lengths, values)``,
+    and scalars (``frame``, ``total_nanos``, ``ego_idx``) that hold for all its rows.
     """
 
-    with_ego: bool = False
-    _blocks: list[tuple[np.ndarray, ...]] = field(default_factory=list)
-    rows: int = 0
+    def __init__(self) -> None:
+        self._blocks: list[dict] = []
+        self.rows = 0
 
-    def add(
-        self,
-        frame: int,
-        total_nanos: int,
-        ego_idx: int,
-        idx: np.ndarray,
-        visibility: np.ndarray,
-        occluder_offsets: np.ndarray,
-        occluder_idxs: np.ndarray,
-        static_offsets: np.ndarray,
-        static_idxs: np.ndarray,
-    ) -> None:
-        k = len(idx)
-        if k == 0:
-            return
-        self._blocks.append(
-            (
-                frame,
-                total_nanos,
-                ego_idx,
-                k,
-                idx,
-                visibility,
-                occluder_offsets,
-                occluder_idxs,
-                static_offsets,
-                static_idxs,
-            )
-        )
-        self.rows += k
+    def add(self, columns: Columns, **constants: int) -> None:
+        """Add the rows of ``columns`` (same length each), with ``constants`` repeated over them."""
+        k = len(columns["idx"])
+        if k:
+            repeated = {name: np.full(k, value, dtype=np.int64) for name, value in constants.items()}
+            self._blocks.append({**columns, **repeated})
+            self.rows += k
 
-    def arrays(self) -> tuple[np.ndarray, ...] | None:
-        """Everything added so far as flat column arrays (None when empty); blocks are cleared.
-
-        ``(frame, total_nanos, ego_idx, idx, visibility, occluder_counts, occluders, static_counts, statics)``:
-        plain numpy, cheap to send between processes; :func:`to_polars` turns it into the table.
-        """
+    def arrays(self) -> Columns | None:
+        """Everything added so far as flat column arrays by name (None when empty); blocks are cleared."""
         if not self._blocks:
             return None
-        frame, nanos, ego, k, idx, vis, occ_off, occ, st_off, st = zip(*self._blocks, strict=True)
-        self._blocks.clear()
-        self.rows = 0
-        k = np.asarray(k)
-        cols = (
-            np.repeat(np.asarray(frame, dtype=np.int64), k),
-            np.repeat(np.asarray(nanos, dtype=np.int64), k),
-            np.repeat(np.asarray(ego, dtype=np.int64), k),
-            np.concatenate(idx).astype(np.int64, copy=False),
-            np.concatenate(vis).astype(np.float64, copy=False),
-            np.concatenate([np.diff(o) for o in occ_off]),
-            np.concatenate(occ).astype(np.int64, copy=False),
-            np.concatenate([np.diff(o) for o in st_off]),
-            np.concatenate(st).astype(np.int64, copy=False),
-        )
-        return cols
-
-    def build(self) -> pl.DataFrame:
-        """The table of everything added so far (blocks are cleared)."""
-        return to_polars(self.arrays(), self.with_ego)
+        blocks, self._blocks, self.rows = self._blocks, [], 0
+        out: Columns = {}
+        for name in blocks[0]:
+            if name in LIST_COLUMNS:
+                out[name] = (
+                    np.concatenate([b[name][0] for b in blocks]),
+                    np.concatenate([b[name][1] for b in blocks]).astype(np.int64, copy=False),
+                )
+            else:
+                out[name] = np.concatenate([b[name] for b in blocks])
+        return out
 
 
-def to_polars(cols: tuple[np.ndarray, ...] | None, with_ego: bool) -> pl.DataFrame:
-    """The visibility table from :meth:`TableBuilder.arrays` output."""
-    if cols is None:
+def _list_column(lengths: np.ndarray, values: np.ndarray) -> pl.Series:
+    offsets = np.zeros(len(lengths) + 1, dtype=np.int64)
+    np.cumsum(lengths, out=offsets[1:])
+    return pl.Series(pa.LargeListArray.from_arrays(pa.array(offsets, pa.int64()), pa.array(values, pa.int64())))
+
+
+def to_polars(columns: Columns | None, with_ego: bool) -> pl.DataFrame:
+    """The visibility table from :meth:`TableBuilder.arrays` output, columns in schema order."""
+    if columns is None:
         return empty_table(with_ego)
-    frame, nanos, ego, idx, visibility, occ_n, occ, st_n, st = cols
-    occ_off = np.concatenate([[0], np.cumsum(occ_n)])
-    st_off = np.concatenate([[0], np.cumsum(st_n)])
-    data = {
-        "frame": pl.Series(frame),
-        "total_nanos": pl.Series(nanos),
-        "ego_idx": pl.Series(ego),
-        "idx": pl.Series(idx),
-        "occluder_idxs": _list_column(occ_off, occ),
-        "static_occluder_idxs": _list_column(st_off, st),
-        "visibility": pl.Series(visibility),
-    }
-    return pl.DataFrame({k: data[k] for k in schema(with_ego)}).cast(schema(with_ego))
+    target = schema(with_ego)
+    data = {name: _list_column(*columns[name]) if name in LIST_COLUMNS else pl.Series(columns[name]) for name in target}
+    return pl.DataFrame(data).cast(target)

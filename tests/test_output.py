@@ -9,8 +9,8 @@ import polars as pl
 import pytest
 from conftest import boxes_table
 
-from omega_prime_visibility import api, get_visibility_df
-from omega_prime_visibility.api import check_output_path
+from omega_prime_visibility import get_visibility_df, pipeline
+from omega_prime_visibility.output import check_output_path
 
 SCENE = pl.concat([boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 4, 0), (20, 0, 4, 2, 0)], f) for f in range(6)])
 
@@ -19,13 +19,13 @@ SCENE = pl.concat([boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 4, 0), (20, 0, 4, 2,
 def engine_calls(monkeypatch) -> list[int]:
     """Counts chunks computed (in this process: workers=1)."""
     calls: list[int] = []
-    run_chunk = api._run_chunk
+    run_chunk = pipeline.run_chunk
 
     def counting(*args):
         calls.append(1)
         return run_chunk(*args)
 
-    monkeypatch.setattr(api, "_run_chunk", counting)
+    monkeypatch.setattr(pipeline, "run_chunk", counting)
     return calls
 
 
@@ -81,7 +81,7 @@ def test_output_leaves_only_the_final_file(tmp_path, engine_calls) -> None:
 
 
 def test_failed_run_leaves_no_partial_file(tmp_path, monkeypatch) -> None:
-    run_chunk = api._run_chunk
+    run_chunk = pipeline.run_chunk
     calls: list[int] = []
 
     def failing_second(*args):
@@ -90,7 +90,7 @@ def test_failed_run_leaves_no_partial_file(tmp_path, monkeypatch) -> None:
             raise RuntimeError("engine failed")
         return run_chunk(*args)
 
-    monkeypatch.setattr(api, "_run_chunk", failing_second)
+    monkeypatch.setattr(pipeline, "run_chunk", failing_second)
     target = tmp_path / "vis.parquet"
     target.write_bytes(b"previous result")
     with pytest.raises(RuntimeError, match="engine failed"):

@@ -29,7 +29,7 @@ from reference import (
 from shapely import affinity
 
 from omega_prime_visibility import get_visibility_df
-from omega_prime_visibility.engines import get_engine
+from omega_prime_visibility.engines import Viewpoint, get_engine
 from omega_prime_visibility.engines.crossings import prepare_frame
 from omega_prime_visibility.engines.sweep import SweepEngine
 from omega_prime_visibility.geometry import angular_extent, box_rings, covers_point
@@ -298,12 +298,15 @@ def test_observe_many_equals_observe_and_extents_are_geometry_s() -> None:
     statics = load_static_occluders(scene.statics)
     engine = SweepEngine(statics)
     observers = frame.position[[0, 3, 7]] + [[0.0, 0.0], [0.3, 0.1], [-0.2, 0.4]]
-    transparent = np.array([covers_point(o, frame.rings) for o in observers])
-    transparent[:, 0] = True
-    static_tr = np.array([shapely.intersects(statics.geometries, shapely.Point(o)) for o in observers], dtype=bool)
-    many = engine.observe_many(frame, observers, transparent, static_tr)
+    views = []
+    for k, o in enumerate(observers):
+        transparent = covers_point(o, frame.rings)
+        transparent[0] = True
+        static_tr = np.asarray(shapely.intersects(statics.geometries, shapely.Point(o)), dtype=bool)
+        views.append(Viewpoint(o, 0.0, [0, 3, 7][k], transparent, static_tr))
+    many = engine.observe(frame, views)
     for k, obs in enumerate(many):
-        one = engine.observe(frame, observers[k], transparent[k], static_tr[k])
+        (one,) = engine.observe(frame, [views[k]])
         for field in obs.__dataclass_fields__:
             assert np.array_equal(getattr(obs, field), getattr(one, field)), field
         # angular extents are bit-identical to geometry.angular_extent's
@@ -407,7 +410,7 @@ def test_only_transparent_bodies_and_empty_frames() -> None:
     engine = SweepEngine(load_static_occluders([shapely.box(-5, -5, 5, 5)]))
     rings = box_rings(np.array([0.0, 1.0]), np.zeros(2), np.array([4.0, 8.0]), np.array([2.0, 4.0]), np.zeros(2))
     frame = FrameObjects(0, 0, np.arange(2), np.zeros((2, 2)), np.zeros(2), rings)
-    obs = engine.observe(frame, np.zeros(2), np.ones(2, dtype=bool), np.ones(1, dtype=bool))
+    (obs,) = engine.observe(frame, [Viewpoint(np.zeros(2), 0.0, -1, np.ones(2, dtype=bool), np.ones(1, dtype=bool))])
     assert obs.visible_angle.shape == (2,) and len(obs.occluders) == 0 and len(obs.static_occluders) == 0
     assert np.array_equal(obs.occluder_offsets, np.zeros(3)) and np.array_equal(obs.static_offsets, np.zeros(3))
     # nothing but the ego

@@ -10,10 +10,10 @@ from conftest import boxes_table, scene_table
 from reference import random_scene, reference_visibility
 
 from omega_prime_visibility import ENGINES, get_visibility_df
-from omega_prime_visibility.api import transparency_masks
 from omega_prime_visibility.engines.polygon_check import nearer_edge_exists
 from omega_prime_visibility.engines.visilibity import VisiLibityEngine
 from omega_prime_visibility.geometry import edges
+from omega_prime_visibility.pipeline import viewpoints
 from omega_prime_visibility.scene import load_objects, load_static_occluders
 
 
@@ -21,17 +21,16 @@ def engine_and_frame(table, statics):
     objects = load_objects(table)
     frame = objects.frame_objects(0)
     static = load_static_occluders(statics)
-    observer = frame.position[0]
-    transparent, static_transparent = (m[0] for m in transparency_masks(frame, np.array([0]), static))
-    return VisiLibityEngine(static), frame, observer, transparent, static_transparent
+    (view,) = viewpoints(frame, np.array([0]), static)
+    return VisiLibityEngine(static), frame, view
 
 
 @pytest.mark.parametrize("seed", range(30))
 def test_environment_is_valid_on_random_overlapping_scenes(seed: int) -> None:
     rng = np.random.default_rng(seed)
     observer, objects, statics, _ = random_scene(rng, 10, overlap=True, with_statics=True, include_ego=True)
-    engine, frame, o, transparent, static_transparent = engine_and_frame(scene_table(observer, objects, True), statics)
-    env, _ = engine.environment(frame, o, transparent, static_transparent)
+    engine, frame, view = engine_and_frame(scene_table(observer, objects, True), statics)
+    env, _ = engine.environment(frame, view)
     assert env.is_valid(engine.epsilon)
     assert env.h() >= 1
 
@@ -39,20 +38,20 @@ def test_environment_is_valid_on_random_overlapping_scenes(seed: int) -> None:
 def test_environment_valid_when_bodies_touch_at_a_corner_and_enclose_the_observer() -> None:
     # four cars around the ego, touching at corners: the observer is enclosed in a courtyard
     boxes = [(0, 0, 2, 1, 0), (0, 3, 6, 2, 0), (0, -3, 6, 2, 0), (4, 0, 2, 4, 0), (-4, 0, 2, 4, 0), (20, 0, 4, 2, 0)]
-    engine, frame, o, transparent, static_transparent = engine_and_frame(boxes_table(boxes), [])
-    env, _ = engine.environment(frame, o, transparent, static_transparent)
+    engine, frame, view = engine_and_frame(boxes_table(boxes), [])
+    env, _ = engine.environment(frame, view)
     assert env.is_valid(engine.epsilon)
-    obs = engine.observe(frame, o, transparent, static_transparent)
+    (obs,) = engine.observe(frame, [view])
     # the far car is entirely hidden by the ring of cars; the ring's inner faces are all visible
     assert obs.visible_angle[5] == 0.0
     assert obs.visible_angle[1:5].sum() == pytest.approx(2 * np.pi, abs=1e-9)
 
 
-def test_visibility_polygon_is_star_shaped_region_around_observer() -> None:
+def test_visible_region_is_star_shaped_region_around_observer() -> None:
     boxes = [(0, 0, 4, 2, 0), (10, 0, 4, 4, 0), (20, 0, 4, 2, 0)]
-    engine, frame, o, transparent, static_transparent = engine_and_frame(boxes_table(boxes), [])
-    poly = engine.visibility_polygon(frame, o, transparent, static_transparent)
-    assert poly.is_valid and poly.contains(shapely.Point(o))
+    engine, frame, view = engine_and_frame(boxes_table(boxes), [])
+    poly = engine.visible_region(frame, view)
+    assert poly.is_valid and poly.contains(shapely.Point(view.position))
     assert not poly.intersects(shapely.box(18, -1, 22, 1))  # the hidden car
     assert poly.intersects(shapely.box(8, -2, 12, 2))  # the visible one's near face bounds it
 
@@ -98,17 +97,16 @@ def test_sliver_past_a_car_beside_a_long_thin_wall(engine: str) -> None:
 
 def test_visilibity_polygon_that_skips_a_body_is_caught() -> None:
     # VisiLibity's raw polygon for the scene above runs along the wall past target 32; the exact check sees it
-    engine, frame, o, transparent, static_transparent = engine_and_frame(
-        sliver_table(), [shapely.from_wkt(SLIVER_WALL)]
-    )
-    env, origin = engine.environment(frame, o, transparent, static_transparent)
+    engine, frame, view = engine_and_frame(sliver_table(), [shapely.from_wkt(SLIVER_WALL)])
+    env, origin = engine.environment(frame, view)
+    o = view.position
     raw = engine._polygon_points(env, o - origin) - (o - origin)
     a, b = edges(frame.rings)
     seg = np.stack([a, b], axis=1) - o
-    blocking = ~np.repeat(transparent, 4)
+    blocking = ~np.repeat(view.transparent, 4)
     assert nearer_edge_exists(np.ascontiguousarray(raw), seg, blocking, 1e-7, 1e-9)
-    fixed = np.asarray(engine.visibility_polygon(frame, o, transparent, static_transparent).exterior.coords)[:-1] - o
+    fixed = np.asarray(engine.visible_region(frame, view).exterior.coords)[:-1] - o
     assert not nearer_edge_exists(np.ascontiguousarray(fixed), seg, blocking, 1e-7, 1e-9)
     # the corrected polygon holds target 32's corner at bearing -56.72° on its boundary
     corner = shapely.Point(19.622, -29.908)
-    assert engine.visibility_polygon(frame, o, transparent, static_transparent).boundary.distance(corner) < 1e-6
+    assert engine.visible_region(frame, view).boundary.distance(corner) < 1e-6

@@ -2,96 +2,124 @@
 
 Every engine has the same contract, so the front end never asks which one it runs:
 
-- ``Engine(statics)`` is built once per recording from the validated :class:`~..scene.StaticOccluders`;
-- ``engine.observe(objects, observer, transparent, static_transparent)`` returns an :class:`Observation`
-  for one observer in one frame;
-- ``engine.observe_many(objects, observers, transparent, static_transparent)`` does the same for several
-  observers of the same frame (engines may share work between them).
+- ``Engine(statics)`` is built once per chunk of frames from the validated :class:`~..scene.StaticOccluders`;
+- ``engine.observe(objects, viewpoints)`` returns one :class:`Observation` per :class:`Viewpoint` of the frame
+  (engines may share work between the viewpoints of a frame);
+- ``Engine.measure`` says what its angles are: ``"radians"`` for the 2D engines (a 3D engine measures solid
+  angles, ``"steradians"``, with the same occluder layout).
 
+What the numbers mean in the table (the policy keyed on the :class:`Reason` codes) lives in :mod:`..table`.
 A new engine is one module and one line in :data:`ENGINES`.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import enum
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Protocol
+from typing import ClassVar, Protocol
 
 import numpy as np
 
 from ..scene import FrameObjects, StaticOccluders
 
 
+class Reason(enum.IntEnum):
+    """Why a target is seen as it is, one code per target of an :class:`Observation`."""
+
+    IN_VIEW = 0
+    """Nothing is hit before the target in any direction of its extent: it is fully visible."""
+    OCCLUDED = 1
+    """Some body is hit before the target in some direction: partly or wholly hidden."""
+    CONTAINS_OBSERVER = 2
+    """The target contains (or touches) the viewpoint: it is transparent and counts as fully visible."""
+
+
+@dataclass(frozen=True, slots=True)
+class Viewpoint:
+    """Where one observer looks from in one frame, and what it looks through.
+
+    Attributes
+    ----------
+    position : ndarray, shape (2,)
+        The viewpoint, metres, in the recording's frame.
+    heading : float
+        Direction the observer faces, radians counter-clockwise from +x (the observing object's yaw).
+    own : int
+        Position, in the frame's object arrays, of the observing object (it gets no row), or -1.
+    transparent : ndarray of bool, shape (n,)
+        Objects that neither block nor occlude: the observer's own body and bodies containing the viewpoint.
+    static_transparent : ndarray of bool, shape (n_sources,)
+        Static occluders containing the viewpoint.
+    """
+
+    position: np.ndarray
+    heading: float
+    own: int
+    transparent: np.ndarray
+    static_transparent: np.ndarray
+
+
 @dataclass(frozen=True, slots=True)
 class Observation:
-    """What one observer sees of every object of a frame.
+    """What one viewpoint sees of every object of a frame.
 
     Attributes
     ----------
     visible_angle : ndarray, shape (n,), float64
-        Radians of directions along which the object is the first thing hit.
+        Angle of directions along which the object is the first thing hit (in the engine's ``measure``).
     angular_extent : ndarray, shape (n,), float64
-        Radians of directions that hit the object at all.
+        Angle of directions that hit the object at all.
+    reason : ndarray, shape (n,), int8
+        A :class:`Reason` code per object.
     occluder_offsets : ndarray, shape (n + 1,), int64
         Object ``i``'s occluders are ``occluders[occluder_offsets[i]:occluder_offsets[i + 1]]``.
     occluders : ndarray, shape (k,), int64
-        Positions (into the frame's object arrays) of objects hit before the target in some direction, ascending.
+        Row numbers (into the frame's object arrays) of objects hit before the target somewhere, ascending.
     static_offsets : ndarray, shape (n + 1,), int64
     static_occluders : ndarray, shape (k2,), int64
         Positions, in the user's static occluder list, of static occluders hit before the target, ascending.
 
-    Entries for objects marked transparent are unspecified; the front end replaces them.
+    Entries for objects with ``Reason.CONTAINS_OBSERVER`` are unspecified but for the code itself.
     """
 
     visible_angle: np.ndarray
     angular_extent: np.ndarray
+    reason: np.ndarray
     occluder_offsets: np.ndarray
     occluders: np.ndarray
     static_offsets: np.ndarray
     static_occluders: np.ndarray
 
+    @classmethod
+    def from_parts(
+        cls,
+        visible_angle: np.ndarray,
+        angular_extent: np.ndarray,
+        occluder_offsets: np.ndarray,
+        occluders: np.ndarray,
+        static_offsets: np.ndarray,
+        static_occluders: np.ndarray,
+        transparent: np.ndarray,
+    ) -> Observation:
+        """An observation whose reason codes follow from the occluder lists and the transparency mask."""
+        hidden = (np.diff(occluder_offsets) > 0) | (np.diff(static_offsets) > 0)
+        reason = np.where(hidden, Reason.OCCLUDED, Reason.IN_VIEW).astype(np.int8)
+        reason[np.asarray(transparent, dtype=bool)] = Reason.CONTAINS_OBSERVER
+        return cls(visible_angle, angular_extent, reason, occluder_offsets, occluders, static_offsets, static_occluders)
+
 
 class Engine(Protocol):
-    name: str
+    """The engine contract (see the module docstring)."""
+
+    name: ClassVar[str]
+    measure: ClassVar[str]
 
     def __init__(self, statics: StaticOccluders) -> None: ...
 
-    def observe(
-        self,
-        objects: FrameObjects,
-        observer: np.ndarray,
-        transparent: np.ndarray,
-        static_transparent: np.ndarray,
-    ) -> Observation:
-        """One observer (shape (2,), metres); ``transparent`` (n,) and ``static_transparent`` (n_sources,) masks
-        mark bodies that neither block nor occlude (the ego itself and bodies containing the observer)."""
+    def observe(self, objects: FrameObjects, viewpoints: Sequence[Viewpoint]) -> list[Observation]:
+        """One observation per viewpoint of this frame."""
         ...
-
-    def observe_many(
-        self,
-        objects: FrameObjects,
-        observers: np.ndarray,
-        transparent: np.ndarray,
-        static_transparent: np.ndarray,
-    ) -> list[Observation]:
-        """Several observers (k, 2) of the same frame, masks of shape (k, n) and (k, n_sources)."""
-        ...
-
-
-class EngineBase:
-    """Default :meth:`observe_many`: one :meth:`observe` per observer."""
-
-    def observe_many(
-        self,
-        objects: FrameObjects,
-        observers: np.ndarray,
-        transparent: np.ndarray,
-        static_transparent: np.ndarray,
-    ) -> list[Observation]:
-        return [
-            self.observe(objects, observers[k], transparent[k], static_transparent[k])  # type: ignore[attr-defined]
-            for k in range(len(observers))
-        ]
 
 
 def _visilibity() -> type:
@@ -109,7 +137,7 @@ def _sweep() -> type:
 ENGINES: dict[str, Callable[[], type]] = {"visilibity": _visilibity, "sweep": _sweep}
 
 
-def get_engine(name: str) -> type:
+def get_engine(name: str) -> type[Engine]:
     """The engine class registered under ``name``."""
     try:
         return ENGINES[name]()

@@ -39,6 +39,7 @@ go through numpy, whose SIMD ``arctan2`` differs from libm's in the last bit).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numba
 import numpy as np
@@ -46,7 +47,7 @@ import numpy as np
 from ..geometry import edges, ring_ids
 from ..occlusion import MIN_PIECE, occludes_one
 from ..scene import FrameObjects, StaticOccluders
-from . import EngineBase, Observation
+from . import Observation, Viewpoint
 from .crossings import build_static_grid, prepare_frame, segment_distance2, static_crossings
 
 PI = math.pi
@@ -667,10 +668,11 @@ def _observe_frame(observers, coords, offsets, nxt, ang, transparent, st_tr, st_
 # -- the engine --------------------------------------------------------------------------------------------
 
 
-class SweepEngine(EngineBase):
+class SweepEngine:
     """Exact 2D visibility by an angular sweep over front-facing edges (see module docstring)."""
 
     name = "sweep"
+    measure = "radians"
 
     def __init__(self, statics: StaticOccluders) -> None:
         self.statics = statics
@@ -692,21 +694,18 @@ class SweepEngine(EngineBase):
             self._grid = (np.zeros(3), np.ones(2, dtype=np.int64), np.zeros(2, dtype=np.int64), np.zeros(0, np.int64))
             self._ss = (np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64))
 
-    def observe(
-        self,
-        objects: FrameObjects,
-        observer: np.ndarray,
-        transparent: np.ndarray,
-        static_transparent: np.ndarray,
-    ) -> Observation:
-        return self.observe_many(
+    def observe(self, objects: FrameObjects, viewpoints: Sequence[Viewpoint]) -> list[Observation]:
+        """One :class:`Observation` per viewpoint; the frame's edge crossings are found once for all of them."""
+        if not viewpoints:
+            return []
+        return self._observe_arrays(
             objects,
-            np.asarray(observer, dtype=np.float64).reshape(1, 2),
-            np.asarray(transparent, dtype=bool).reshape(1, -1),
-            np.asarray(static_transparent, dtype=bool).reshape(1, -1),
-        )[0]
+            np.array([v.position for v in viewpoints], dtype=np.float64).reshape(-1, 2),
+            np.array([v.transparent for v in viewpoints], dtype=bool).reshape(len(viewpoints), -1),
+            np.array([v.static_transparent for v in viewpoints], dtype=bool).reshape(len(viewpoints), -1),
+        )
 
-    def observe_many(
+    def _observe_arrays(
         self,
         objects: FrameObjects,
         observers: np.ndarray,
@@ -738,13 +737,14 @@ class SweepEngine(EngineBase):
         )
         visible, width, occ_off, occ, occ_cut, st_off, st, st_cut = out
         return [
-            Observation(
+            Observation.from_parts(
                 visible[k],
                 width[k],
                 occ_off[k],
                 occ[occ_cut[k] : occ_cut[k + 1]],
                 st_off[k],
                 st[st_cut[k] : st_cut[k + 1]],
+                transparent[k],
             )
             for k in range(len(observers))
         ]

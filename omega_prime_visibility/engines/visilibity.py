@@ -19,6 +19,8 @@ Per frame and observer:
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numba
 import numpy as np
 import shapely
@@ -29,7 +31,7 @@ from scipy.sparse.csgraph import connected_components
 from ..geometry import Rings, angular_extent, edges, ring_ids
 from ..occlusion import occluding_pairs
 from ..scene import FrameObjects, StaticOccluders, polygonal_and_lineal_parts
-from . import EngineBase, Observation, group_pairs
+from . import Observation, Viewpoint, group_pairs
 from .polygon_check import nearer_edge_exists
 
 BOX_MARGIN = 10.0  # metres of free space around everything
@@ -136,7 +138,7 @@ class _Unenclosable(Exception):
     """The fast environment does not apply (the observer is enclosed by a group of bodies)."""
 
 
-class VisiLibityEngine(EngineBase):
+class VisiLibityEngine:
     """Exact 2D visibility with VisiLibity1 (see module docstring).
 
     Parameters
@@ -151,6 +153,7 @@ class VisiLibityEngine(EngineBase):
     """
 
     name = "visilibity"
+    measure = "radians"
 
     def __init__(
         self,
@@ -242,14 +245,13 @@ class VisiLibityEngine(EngineBase):
         np.cumsum(np.bincount(seg_body, minlength=n + self.statics.n_sources), out=seg_offsets[1:])
         return rings, segments, seg_offsets
 
-    def observe(
-        self,
-        objects: FrameObjects,
-        observer: np.ndarray,
-        transparent: np.ndarray,
-        static_transparent: np.ndarray,
-    ) -> Observation:
-        observer = np.asarray(observer, dtype=np.float64)
+    def observe(self, objects: FrameObjects, viewpoints: Sequence[Viewpoint]) -> list[Observation]:
+        """One :class:`Observation` per viewpoint (see :mod:`..engines`)."""
+        return [self._observe_one(objects, viewpoint) for viewpoint in viewpoints]
+
+    def _observe_one(self, objects: FrameObjects, viewpoint: Viewpoint) -> Observation:
+        observer = np.asarray(viewpoint.position, dtype=np.float64)
+        transparent, static_transparent = viewpoint.transparent, viewpoint.static_transparent
         origin = self._use_origin(observer)
         n = len(objects)
         o = observer - origin
@@ -272,7 +274,7 @@ class VisiLibityEngine(EngineBase):
         is_obj = body < n
         occ_offsets, occ = group_pairs(target[is_obj], body[is_obj], n)
         st_offsets, st = group_pairs(target[~is_obj], body[~is_obj] - n, n)
-        return Observation(visible, width, occ_offsets, occ, st_offsets, st)
+        return Observation.from_parts(visible, width, occ_offsets, occ, st_offsets, st, transparent)
 
     def _checked_points(
         self,
@@ -343,29 +345,26 @@ class VisiLibityEngine(EngineBase):
         vp = vis.Visibility_Polygon(vis.Point(float(o[0]), float(o[1])), env, self.epsilon)
         return np.array([(vp[i].x(), vp[i].y()) for i in range(vp.n())], dtype=np.float64).reshape(-1, 2)
 
-    def environment(
-        self, objects: FrameObjects, observer: np.ndarray, transparent: np.ndarray, static_transparent: np.ndarray
-    ) -> tuple[vis.Environment, np.ndarray]:
-        """The VisiLibity environment used for this observer, and the origin its coordinates are relative to."""
-        observer = np.asarray(observer, dtype=np.float64)
+    def environment(self, objects: FrameObjects, viewpoint: Viewpoint) -> tuple[vis.Environment, np.ndarray]:
+        """The VisiLibity environment used for this viewpoint, and the origin its coordinates are relative to."""
+        observer = np.asarray(viewpoint.position, dtype=np.float64)
         self._use_origin(observer)
         rings = Rings(objects.rings.coords - self._origin, objects.rings.offsets)
         polys = self._build_environment(
-            rings, ~np.asarray(transparent, bool), ~np.asarray(static_transparent, bool), observer - self._origin
+            rings, ~viewpoint.transparent, ~viewpoint.static_transparent, observer - self._origin
         )
         return vis.Environment(polys), self._origin
 
-    def visibility_polygon(
-        self, objects: FrameObjects, observer: np.ndarray, transparent: np.ndarray, static_transparent: np.ndarray
-    ) -> shapely.Polygon:
-        """The region visible from ``observer`` (world coordinates, metres), bounded by a box around the scene."""
-        observer = np.asarray(observer, dtype=np.float64)
+    def visible_region(self, objects: FrameObjects, viewpoint: Viewpoint) -> shapely.Polygon:
+        """The region visible from the viewpoint (world coordinates, metres), bounded by a box ``box_margin``
+        metres around the scene."""
+        observer = np.asarray(viewpoint.position, dtype=np.float64)
         origin = self._use_origin(observer)
         rings, segments, seg_offsets = self._frame_geometry(objects)
         o = observer - origin
-        obj_blocking = ~np.asarray(transparent, bool)
-        static_blocking = ~np.asarray(static_transparent, bool)
-        pts = self._checked_points(rings, obj_blocking, static_blocking, o, segments, seg_offsets)
+        pts = self._checked_points(
+            rings, ~viewpoint.transparent, ~viewpoint.static_transparent, o, segments, seg_offsets
+        )
         return shapely.Polygon(pts + observer)
 
     def _environment(
