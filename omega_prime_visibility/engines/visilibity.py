@@ -41,13 +41,24 @@ CHECK_RELATIVE = 1e-9  # ... plus this fraction of the boundary's distance
 
 
 @numba.njit(cache=True)
+def _distance_along(theta, ax, ay, bx, by):
+    """Distance, metres, from the observer (origin) along bearing ``theta`` to the line through a and b."""
+    dx, dy = np.cos(theta), np.sin(theta)
+    ex, ey = bx - ax, by - ay
+    den = dx * ey - dy * ex
+    return (ax * ey - ay * ex) / den if den != 0.0 else np.inf
+
+
+@numba.njit(cache=True)
 def _attribute_visible_angles(pts, seg, seg_offsets, targets, extent_start, extent_width, tolerance):
     """Angle of the visibility polygon's boundary lying on each target, radians.
 
     ``pts`` are the visibility polygon's vertices relative to the observer, counter-clockwise; the polygon is
     star-shaped around the observer, so its edges are ordered by bearing and those inside a target's angular
-    extent are found by binary search. An edge counts for the first target (in ``targets`` order) on whose
-    boundary its midpoint lies (within ``tolerance`` metres); edges pointing at the observer subtend no angle.
+    extent are found by binary search. A polygon edge may run along several bodies (merging overlapping or
+    touching bodies joins their collinear edges into one): each target is credited the bearings over which one
+    of its edges lies on the polygon edge (the two agree within ``tolerance`` times the distance, at both ends
+    of the shared bearings). Edges pointing at the observer subtend no angle.
     """
     m = len(pts)
     n_bodies = len(seg_offsets) - 1
@@ -64,7 +75,6 @@ def _attribute_visible_angles(pts, seg, seg_offsets, targets, extent_start, exte
         span[i] = np.arctan2(ax * by - ay * bx, ax * bx + ay * by)
     order = np.argsort(bearing)
     sorted_bearing = bearing[order]
-    owned = np.zeros(m, dtype=np.bool_)
     for t in targets:
         s0 = extent_start[t]
         # edges starting within [s0 - pi, s0 + width]: an edge spans < pi, so this holds all that can overlap
@@ -77,22 +87,28 @@ def _attribute_visible_angles(pts, seg, seg_offsets, targets, extent_start, exte
             b = np.searchsorted(sorted_bearing, hi, side="right")
             for q in range(a, b):
                 i = order[q]
-                if owned[i] or span[i] <= 0.0:
+                if span[i] <= 0.0:
                     continue
                 j = (i + 1) % m
-                mx, my = 0.5 * (pts[i, 0] + pts[j, 0]), 0.5 * (pts[i, 1] + pts[j, 1])
-                tol = tolerance * max(1.0, np.hypot(mx, my))
+                px, py, qx, qy = pts[i, 0], pts[i, 1], pts[j, 0], pts[j, 1]
                 for e in range(seg_offsets[t], seg_offsets[t + 1]):
-                    ax, ay = seg[e, 0, 0], seg[e, 0, 1]
-                    ex, ey = seg[e, 1, 0] - ax, seg[e, 1, 1] - ay
-                    wx, wy = mx - ax, my - ay
-                    ee = ex * ex + ey * ey
-                    u = (wx * ex + wy * ey) / ee if ee > 0 else 0.0
-                    u = min(max(u, 0.0), 1.0)
-                    if np.hypot(wx - u * ex, wy - u * ey) <= tol:
-                        owned[i] = True
-                        visible[t] += span[i]
-                        break
+                    ax, ay, bx, by = seg[e, 0, 0], seg[e, 0, 1], seg[e, 1, 0], seg[e, 1, 1]
+                    # the target edge's bearings relative to the polygon edge's start
+                    rel_a = np.arctan2(px * ay - py * ax, px * ax + py * ay)
+                    rel_b = rel_a + np.arctan2(ax * by - ay * bx, ax * bx + ay * by)
+                    shared_lo = max(min(rel_a, rel_b), 0.0)
+                    shared_hi = min(max(rel_a, rel_b), span[i])
+                    if shared_hi <= shared_lo:
+                        continue
+                    on_edge = True
+                    for rel in (shared_lo, shared_hi):
+                        theta = bearing[i] + rel
+                        boundary = _distance_along(theta, px, py, qx, qy)
+                        body = _distance_along(theta, ax, ay, bx, by)
+                        if abs(boundary - body) > tolerance * max(1.0, boundary):
+                            on_edge = False
+                    if on_edge:
+                        visible[t] += shared_hi - shared_lo
     return visible
 
 

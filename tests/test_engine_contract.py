@@ -1,0 +1,134 @@
+"""The engine contract, on every registered engine: hand-made scenes whose answers are derived on paper (in the
+comments), ties and touching bodies included."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import polars as pl
+import pytest
+import shapely
+from conftest import boxes_table
+
+from omega_prime_visibility import ENGINES, VisibilityInputWarning, get_visibility_df
+
+
+# the sweep is exact to rounding; VisiLibity joins bodies touching at a point by a 0.1 µm buffer, which moves
+# visible angles by up to about that over the distance (radians)
+EXACT = {"sweep": 1e-12, "visilibity": 1e-7}
+
+
+def row(df: pl.DataFrame, idx: int) -> dict:
+    return df.filter(pl.col("idx") == idx).row(0, named=True)
+
+
+@pytest.fixture(params=sorted(ENGINES))
+def engine(request) -> str:
+    return request.param
+
+
+def run(engine: str, boxes, statics=None, ego=0) -> pl.DataFrame:
+    return get_visibility_df(boxes_table(boxes), ego, statics, engine=engine)
+
+
+def test_fully_hidden_and_unobstructed(engine: str) -> None:
+    df = run(engine, [(0, 0, 4, 2, 0), (10, 0, 4, 4, 0), (20, 0, 4, 2, 0), (0, 30, 4, 2, 1.0)])
+    assert row(df, 1)["visibility"] == 1.0 and row(df, 1)["occluder_idxs"] == []
+    assert row(df, 2)["visibility"] == 0.0 and row(df, 2)["occluder_idxs"] == [1]
+    assert row(df, 3)["visibility"] == 1.0 and row(df, 3)["occluder_idxs"] == []
+
+
+@pytest.mark.parametrize(
+    "wall",
+    [shapely.Polygon([(5, -5), (5.1, -5), (5.1, 0), (5, 0)]), shapely.LineString([(5, -5), (5, 0)])],
+)
+def test_half_behind_a_wall(engine: str, wall) -> None:
+    # a square centred at (10, 0) has an extent symmetric about +x; the wall ends on the +x axis
+    df = run(engine, [(0, 0, 1, 1, 0), (10, 0, 2, 2, 0)], [wall])
+    assert row(df, 1)["visibility"] == pytest.approx(0.5, abs=EXACT[engine])
+    assert row(df, 1)["static_occluder_idxs"] == [0] and row(df, 1)["occluder_idxs"] == []
+
+
+@pytest.mark.parametrize("angle", [math.pi, -math.pi, math.pi - 1e-3, -math.pi + 1e-9, 3 * math.pi / 4, 0.0])
+def test_straddling_the_cut(engine: str, angle: float) -> None:
+    # target at bearing `angle`, a thin blocker covers exactly its clockwise half
+    c, s = math.cos(angle), math.sin(angle)
+    boxes = [(0, 0, 1, 1, 0), (10 * c, 10 * s, 2, 2, angle), (5 * c + 2.5 * s, 5 * s - 2.5 * c, 0.2, 5, angle)]
+    df = run(engine, boxes)
+    assert row(df, 1)["visibility"] == pytest.approx(0.5, abs=max(1e-9, EXACT[engine]))
+    assert row(df, 1)["occluder_idxs"] == [2]
+    assert row(df, 2)["visibility"] == 1.0
+
+
+def test_two_overlapping_targets(engine: str) -> None:
+    # B (idx 2) is A (idx 1) shifted by (1, 1): the corner of A over B hides B's directions below A's upper edge
+    df = run(engine, [(0, 0, 1, 1, 0), (10, 0, 2, 2, 0), (11, 1, 2, 2, 0)])
+    a, b = row(df, 1), row(df, 2)
+    assert a["visibility"] == 1.0 and a["occluder_idxs"] == []
+    # B's extent runs from A's top edge direction... : bearings atan2(0, 12) .. atan2(2, 10); A's top corner (9, 1)
+    lo, hi = math.atan2(0.0, 12.0), math.atan2(2.0, 10.0)
+    hidden = math.atan2(1.0, 9.0) - lo
+    assert b["visibility"] == pytest.approx(1.0 - hidden / (hi - lo), abs=EXACT[engine])
+    assert b["occluder_idxs"] == [1]
+
+
+def test_touching_boxes(engine: str) -> None:
+    # 1 and 2 side by side sharing an edge that points at the observer; 4 directly behind 3 sharing its back edge
+    # (across the -pi/pi cut); 5 on top of 3 sharing an edge (3 hides part of it); 6 touches 5 at a corner only
+    boxes = [(0, 0, 1, 1, 0), (10, 1, 2, 2, 0), (10, -1, 2, 2, 0), (-10, 0, 2, 2, 0), (-12, 0, 2, 2, 0)]
+    boxes += [(-10, 2, 2, 2, 0), (-8, 4, 2, 2, 0)]
+    df = run(engine, boxes)
+    for i in (1, 2, 3, 6):
+        assert row(df, i)["visibility"] == 1.0 and row(df, i)["occluder_idxs"] == [], i
+    assert row(df, 4)["visibility"] == 0.0 and row(df, 4)["occluder_idxs"] == [3]
+    # 5 spans pi - atan(3/9) .. pi - atan(1/11); box 3 hides pi - atan(1/9) .. pi - atan(1/11)
+    hidden = math.atan(1 / 9) - math.atan(1 / 11)
+    assert row(df, 5)["visibility"] == pytest.approx(
+        1 - hidden / (math.atan(3 / 9) - math.atan(1 / 11)), abs=EXACT[engine]
+    )
+    assert row(df, 5)["occluder_idxs"] == [3]
+
+
+def test_coincident_and_collinear_edges(engine: str) -> None:
+    # two identical cars (coincident edges: neither is hit strictly before the other) in front of a third
+    df = run(engine, [(0, 0, 1, 1, 0), (10, 0, 4, 2, 0), (10, 0, 4, 2, 0), (20, 0, 2, 1, 0)])
+    assert row(df, 1)["visibility"] == 1.0 and row(df, 2)["visibility"] == 1.0
+    assert row(df, 1)["occluder_idxs"] == [] and row(df, 2)["occluder_idxs"] == []
+    assert row(df, 3)["visibility"] == 0.0 and row(df, 3)["occluder_idxs"] == [1, 2]
+    # a box whose lower edge points straight at the observer, partly behind a box with such an upper edge
+    df = run(engine, [(0, 0, 1, 1, 0), (11, 1, 2, 2, 0), (8, -1, 2, 2, 0)])
+    assert row(df, 1)["visibility"] == 1.0 and row(df, 2)["visibility"] == 1.0
+
+
+def test_courtyard_and_transparent_bodies(engine: str) -> None:
+    # the observer stands in the courtyard (a hole) of a building: inside targets visible, outside ones hidden;
+    # a building containing the observer is transparent
+    building = shapely.Polygon(
+        [(-50, -50), (50, -50), (50, 50), (-50, 50)], [[(-20, -20), (20, -20), (20, 20), (-20, 20)]]
+    )
+    hall = shapely.box(-200, -200, 200, 200)
+    df = run(engine, [(0, 0, 1, 1, 0), (10, 0, 4, 2, 0), (70, 0, 4, 2, 0)], [building])
+    assert row(df, 1)["visibility"] == 1.0 and row(df, 1)["static_occluder_idxs"] == []
+    assert row(df, 2)["visibility"] == 0.0 and row(df, 2)["static_occluder_idxs"] == [0]
+    df = run(engine, [(0, 0, 1, 1, 0), (10, 0, 4, 2, 0)], [hall])
+    assert row(df, 1)["visibility"] == 1.0 and row(df, 1)["static_occluder_idxs"] == []
+
+
+def test_body_touching_the_observer_is_transparent(engine: str) -> None:
+    # the observer (origin) lies on the left edge x = 0 of box 1 ([0, 4] x [-1, 1]): that box counts as containing
+    # it, so it neither hides box 2 straight behind it nor lists occluders, and is itself fully visible
+    with pytest.warns(VisibilityInputWarning, match="idx 1 contains observer 0"):
+        df = run(engine, [(0, 0, 1, 1, 0), (2, 0, 4, 2, 0), (10, 0, 2, 2, 0)])
+    assert row(df, 1)["visibility"] == 1.0 and row(df, 1)["occluder_idxs"] == []
+    assert row(df, 2)["visibility"] == 1.0 and row(df, 2)["occluder_idxs"] == []
+
+
+def test_equal_distances_do_not_occlude(engine: str) -> None:
+    # box 2 lies on box 1's far edge line x = 11 seen along the +x axis: the two touch along x = 11 but nothing of
+    # box 1 is hit *before* box 2 except where box 1 lies in front, which is nowhere in box 2's extent
+    # (box 2 = [11, 13] x [2, 4] lies beside box 1 = [9, 11] x [-1, 1] as seen from the origin)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        df = run(engine, [(0, 0, 1, 1, 0), (10, 0, 2, 2, 0), (12, 3, 2, 2, 0)])
+    assert row(df, 2)["occluder_idxs"] == [] and row(df, 2)["visibility"] == 1.0
