@@ -30,8 +30,8 @@ from shapely import affinity
 
 from omega_prime_visibility import get_visibility_df
 from omega_prime_visibility.engines import get_engine
-from omega_prime_visibility.engines.crossings import prepare_frame
 from omega_prime_visibility.engines.sweep import SweepEngine
+from omega_prime_visibility.engines.sweep.crossings import prepare_frame
 from omega_prime_visibility.geometry import angular_extent, box_rings, covers_point
 from omega_prime_visibility.scene import FrameObjects, load_objects, load_static_occluders
 

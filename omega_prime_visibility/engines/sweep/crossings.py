@@ -10,6 +10,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from ...kernels import next_vertex_index, prefix_sum, push_pair
+
 GRID_CELLS = 256  # cells along the longer side of the static edges' grid
 
 
@@ -18,6 +20,7 @@ GRID_CELLS = 256  # cells along the longer side of the static edges' grid
 
 @numba.njit(cache=True)
 def _orient(ax, ay, bx, by, cx, cy):
+    """Twice the signed area of triangle abc, square metres: positive when c lies left of the line a -> b."""
     return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
 
 
@@ -31,48 +34,6 @@ def _cross_properly(ax, ay, bx, by, cx, cy, dx, dy):
     d3 = _orient(cx, cy, dx, dy, ax, ay)
     d4 = _orient(cx, cy, dx, dy, bx, by)
     return (d3 > 0.0 and d4 < 0.0) or (d3 < 0.0 and d4 > 0.0)
-
-
-@numba.njit(cache=True)
-def segment_distance2(ax, ay, bx, by):
-    """Squared distance from the origin to segment ab."""
-    ex, ey = bx - ax, by - ay
-    ee = ex * ex + ey * ey
-    t = -(ax * ex + ay * ey) / ee if ee > 0.0 else 0.0
-    t = min(max(t, 0.0), 1.0)
-    dx, dy = ax + t * ex, ay + t * ey
-    return dx * dx + dy * dy
-
-
-@numba.njit(cache=True)
-def _grow_int(a, size):
-    b = np.empty(max(2 * len(a), 16), dtype=np.int64)
-    b[:size] = a[:size]
-    return b
-
-
-@numba.njit(cache=True, inline="always")
-def _push_pair(first, second, k, i, j):
-    """Append the pair ``(i, j)`` at position ``k`` (growing the arrays when full); return arrays and ``k + 1``."""
-    if k == len(first):
-        first = _grow_int(first, k)
-        second = _grow_int(second, k)
-    first[k] = i
-    second[k] = j
-    return first, second, k + 1
-
-
-@numba.njit(cache=True)
-def _next_vertex(offsets):
-    m = offsets[-1]
-    nxt = np.empty(m, dtype=np.int64)
-    for i in range(len(offsets) - 1):
-        s, e = offsets[i], offsets[i + 1]
-        for j in range(s, e - 1):
-            nxt[j] = j + 1
-        if e > s:
-            nxt[e - 1] = s
-    return nxt
 
 
 # -- crossings ---------------------------------------------------------------------------------------------
@@ -92,8 +53,7 @@ def build_static_grid(a, b):
     counts = np.zeros(nx * ny + 1, dtype=np.int64)
     for rep in range(2):
         if rep == 1:
-            for c in range(nx * ny):
-                counts[c + 1] += counts[c]
+            prefix_sum(counts)
             fill = counts[:-1].copy()
             items = np.empty(counts[-1], dtype=np.int64)
         for k in range(s):
@@ -114,6 +74,11 @@ def build_static_grid(a, b):
 
 @numba.njit(cache=True)
 def _cell_range(xmin, ymin, xmax, ymax, x0, y0, cell, nx, ny):
+    """Grid cells (column range ``cx0..cx1``, row range ``cy0..cy1``, inclusive) covered by a bounding box.
+
+    The box ``[xmin, xmax] x [ymin, ymax]`` and the grid's corner ``(x0, y0)`` and ``cell`` size are in metres; the
+    grid has ``nx`` columns and ``ny`` rows; cells outside it are clamped to its border.
+    """
     cx0 = min(max(int((xmin - x0) / cell), 0), nx - 1)
     cx1 = min(max(int((xmax - x0) / cell), 0), nx - 1)
     cy0 = min(max(int((ymin - y0) / cell), 0), ny - 1)
@@ -127,8 +92,8 @@ def static_crossings(a, b, group, grid_f, grid_i, cell_off, items):
     x0, y0, cell = grid_f[0], grid_f[1], grid_f[2]
     nx, ny = grid_i[0], grid_i[1]
     stamp = np.full(len(a), -1, dtype=np.int64)
-    pi_ = np.empty(16, dtype=np.int64)
-    pj_ = np.empty(16, dtype=np.int64)
+    first = np.empty(16, dtype=np.int64)
+    second = np.empty(16, dtype=np.int64)
     k = 0
     for i in range(len(a)):
         xmin, xmax = min(a[i, 0], b[i, 0]), max(a[i, 0], b[i, 0])
@@ -143,8 +108,8 @@ def static_crossings(a, b, group, grid_f, grid_i, cell_off, items):
                         continue
                     stamp[j] = i
                     if _cross_properly(a[i, 0], a[i, 1], b[i, 0], b[i, 1], a[j, 0], a[j, 1], b[j, 0], b[j, 1]):
-                        pi_, pj_, k = _push_pair(pi_, pj_, k, i, j)
-    return pi_[:k].copy(), pj_[:k].copy()
+                        first, second, k = push_pair(first, second, k, i, j)
+    return first[:k].copy(), second[:k].copy()
 
 
 @numba.njit(cache=True)
@@ -189,7 +154,7 @@ def _frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off,
                             coords[pa, 0], coords[pa, 1], coords[pb, 0], coords[pb, 1],
                             coords[qa, 0], coords[qa, 1], coords[qb, 0], coords[qb, 1],
                         ):  # fmt: skip
-                            out_i, out_j, k = _push_pair(out_i, out_j, k, p, q)
+                            out_i, out_j, k = push_pair(out_i, out_j, k, p, q)
     if len(st_a):
         x0, y0, cell = grid_f[0], grid_f[1], grid_f[2]
         nx, ny = grid_i[0], grid_i[1]
@@ -220,7 +185,7 @@ def _frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off,
                                 coords[p, 0], coords[p, 1], coords[pb, 0], coords[pb, 1],
                                 st_a[t, 0], st_a[t, 1], st_b[t, 0], st_b[t, 1],
                             ):  # fmt: skip
-                                out_i, out_j, k = _push_pair(out_i, out_j, k, p, m + t)
+                                out_i, out_j, k = push_pair(out_i, out_j, k, p, m + t)
     total = k + len(ss_i)
     ci = np.empty(total, dtype=np.int64)
     cj = np.empty(total, dtype=np.int64)
@@ -240,7 +205,7 @@ def prepare_frame(observers, coords, offsets, st_a, st_b, grid_f, grid_i, cell_o
     steps) for the ``m`` object edges, then the shifted vertex coordinates (vertex bearings).
     """
     m = len(coords)
-    nxt = _next_vertex(offsets)
+    nxt = next_vertex_index(offsets)
     ci, cj = _frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off, items, ss_i, ss_j)
     k = len(observers)
     y = np.empty((k, 2 * m))
@@ -255,6 +220,3 @@ def prepare_frame(observers, coords, offsets, st_a, st_b, grid_f, grid_i, cell_o
             y[o, m + j] = ay
             x[o, m + j] = ax
     return nxt, ci, cj, y, x
-
-
-# -- the sweep ---------------------------------------------------------------------------------------------
