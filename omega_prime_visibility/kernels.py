@@ -9,7 +9,8 @@ hand-written copy changes no result in the last bit.
 - index building: :func:`prefix_sum`, :func:`group_by_key` (a stable counting sort with its CSR offsets),
   :func:`counting_sort`, :func:`ring_index`, :func:`next_vertex_index`;
 - distances: :func:`nearest_offset` (point to segment), :func:`segment_distance2` (origin to segment),
-  :func:`ray_line_distance` (origin along a ray to a line).
+  :func:`ray_line_distance` (origin along a ray to a line);
+- angles: :func:`wrap_positive`.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+TWO_PI = 2.0 * np.pi
 MIN_CAPACITY = 16  # smallest capacity a growable buffer is given
 
 # -- growable buffers ------------------------------------------------------------------------------------------
@@ -179,3 +181,12 @@ def ray_line_distance(dx, dy, ax, ay, ex, ey):
     if den == 0.0:
         return np.inf
     return (ax * ey - ay * ex) / den
+
+
+# -- angles ----------------------------------------------------------------------------------------------------
+
+
+@numba.njit(cache=True, inline="always")
+def wrap_positive(angle):
+    """``angle - 2 pi floor(angle / 2 pi)``: an angle (radians) taken into ``[0, 2 pi]`` (2 pi only by rounding)."""
+    return angle - TWO_PI * np.floor(angle / TWO_PI)

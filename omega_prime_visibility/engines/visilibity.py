@@ -25,6 +25,7 @@ import shapely
 import visilibity as vis
 
 from ..geometry import Rings, angular_extent, edges, ring_ids
+from ..kernels import MIN_CAPACITY, nearest_offset, push_pair
 from ..occlusion import occluding_pairs
 from ..scene import FrameObjects, StaticOccluders, polygonal_and_lineal_parts
 from . import EngineBase, Observation, group_pairs
@@ -80,12 +81,8 @@ def _attribute_visible_angles(pts, seg, seg_offsets, targets, extent_start, exte
                 tol = tolerance * max(1.0, np.hypot(mx, my))
                 for e in range(seg_offsets[t], seg_offsets[t + 1]):
                     ax, ay = seg[e, 0, 0], seg[e, 0, 1]
-                    ex, ey = seg[e, 1, 0] - ax, seg[e, 1, 1] - ay
-                    wx, wy = mx - ax, my - ay
-                    ee = ex * ex + ey * ey
-                    u = (wx * ex + wy * ey) / ee if ee > 0 else 0.0
-                    u = min(max(u, 0.0), 1.0)
-                    if np.hypot(wx - u * ex, wy - u * ey) <= tol:
+                    dx, dy = nearest_offset(mx - ax, my - ay, seg[e, 1, 0] - ax, seg[e, 1, 1] - ay)
+                    if np.hypot(dx, dy) <= tol:
                         owned[i] = True
                         visible[t] += span[i]
                         break
@@ -96,8 +93,9 @@ def _attribute_visible_angles(pts, seg, seg_offsets, targets, extent_start, exte
 def _box_overlaps(lo, hi):
     """Pairs (i, j), i < j, of axis-aligned boxes ``[lo, hi]`` that overlap (sort and sweep on x)."""
     order = np.argsort(lo[:, 0])
-    first = []
-    second = []
+    first = np.empty(MIN_CAPACITY, dtype=np.int64)
+    second = np.empty(MIN_CAPACITY, dtype=np.int64)
+    k = 0
     for a in range(len(order)):
         i = order[a]
         for b in range(a + 1, len(order)):
@@ -105,9 +103,8 @@ def _box_overlaps(lo, hi):
             if lo[j, 0] > hi[i, 0]:
                 break
             if lo[j, 1] <= hi[i, 1] and lo[i, 1] <= hi[j, 1]:
-                first.append(min(i, j))
-                second.append(max(i, j))
-    return np.array(first, dtype=np.int64), np.array(second, dtype=np.int64)
+                first, second, k = push_pair(first, second, k, min(i, j), max(i, j))
+    return first[:k].copy(), second[:k].copy()
 
 
 def _components(n: int, first: np.ndarray, second: np.ndarray) -> np.ndarray:
