@@ -289,16 +289,16 @@ def crossing_cuts(kept, record_edge, records, cross_first, cross_second):
         if den == 0.0:
             continue
         t = ((p2x - p1x) * d2y - (p2y - p1y) * d2x) / den
-        xx, yy = p1x + t * d1x, p1y + t * d1y
-        radius = math.sqrt(xx * xx + yy * yy)
+        cross_x, cross_y = p1x + t * d1x, p1y + t * d1y
+        radius = math.sqrt(cross_x * cross_x + cross_y * cross_y)
         if radius == 0.0:
             continue
-        phi = math.atan2(yy, xx)
+        bearing = math.atan2(cross_y, cross_x)
         for e in (e1, e2):
             for r in range(record_offsets[e], record_offsets[e + 1]):
-                if records[r, R_LO] < phi < records[r, R_HI]:
+                if records[r, R_LO] < bearing < records[r, R_HI]:
                     cut_record[n_cut] = r
-                    cut[n_cut, 0], cut[n_cut, 1], cut[n_cut, 2] = phi, xx / radius, yy / radius
+                    cut[n_cut, 0], cut[n_cut, 1], cut[n_cut, 2] = bearing, cross_x / radius, cross_y / radius
                     n_cut += 1
                     break
     cut_offsets, order = group_by_key(cut_record, n_rec, np.arange(n_cut))
