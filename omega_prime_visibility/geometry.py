@@ -17,6 +17,8 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from .kernels import segment_distance2
+
 TWO_PI = 2.0 * np.pi
 
 
@@ -190,6 +192,8 @@ def angular_extent(observer: np.ndarray, rings: Rings) -> tuple[np.ndarray, np.n
 
 @numba.njit(cache=True)
 def _covers_point(px, py, coords, offsets, tolerance):
+    """Whether each ragged ring (``coords`` (m, 2), ``offsets`` (n + 1,), metres) contains the point ``(px, py)``
+    (even-odd rule) or passes within ``tolerance`` metres of it; shape (n,) bool."""
     n = len(offsets) - 1
     out = np.zeros(n, dtype=np.bool_)
     for i in range(n):
@@ -206,10 +210,7 @@ def _covers_point(px, py, coords, offsets, tolerance):
             bx, by = coords[k, 0] - px, coords[k, 1] - py
             if (ay > 0) != (by > 0) and ax + (bx - ax) * (0 - ay) / (by - ay) > 0:
                 inside = not inside
-            ex, ey = bx - ax, by - ay
-            ee = ex * ex + ey * ey
-            t = min(max(-(ax * ex + ay * ey) / ee, 0.0), 1.0) if ee > 0 else 0.0
-            best = min(best, (ax + t * ex) ** 2 + (ay + t * ey) ** 2)
+            best = min(best, segment_distance2(ax, ay, bx, by))
         out[i] = inside or best <= tolerance * tolerance
     return out
 

@@ -15,19 +15,23 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from .kernels import TWO_PI, nearest_offset, ray_line_distance, reserve, wrap_positive
+
 RELATIVE_TOLERANCE = 1e-9  # J must be nearer by this fraction of T's distance to count as in front
 MIN_PIECE = 1e-12  # radians; thinner pieces are ignored
 
 
 @numba.njit(cache=True, inline="always")
 def _line_distance(ox, oy, dx, dy, ax, ay, bx, by):
-    """Distance along the unit ray (o, d) to the line through a and b (inf when parallel or behind)."""
-    ex, ey = bx - ax, by - ay
-    den = dx * ey - dy * ex
-    if den == 0.0:
-        return np.inf
-    t = ((ax - ox) * ey - (ay - oy) * ex) / den
+    """Distance along the unit ray (o, d) to the line through a and b (inf when parallel or behind), metres."""
+    t = ray_line_distance(dx, dy, ax - ox, ay - oy, bx - ax, by - ay)
     return t if t > 0.0 else np.inf
+
+
+@numba.njit(cache=True, inline="always")
+def _edge_line_distance(ox, oy, dx, dy, seg, j):
+    """:func:`_line_distance` to the line of edge ``seg[j]`` (shape (s, 2, 2), metres)."""
+    return _line_distance(ox, oy, dx, dy, seg[j, 0, 0], seg[j, 0, 1], seg[j, 1, 0], seg[j, 1, 1])
 
 
 @numba.njit(cache=True)
@@ -52,6 +56,22 @@ def _nearest_edge(ox, oy, dx, dy, seg, start, stop):
 
 @numba.njit(cache=True)
 def occludes_one(ox, oy, seg, j_start, j_stop, t_start, t_stop, extent_start, extent_width):
+    """Whether body ``J`` is hit strictly before target ``T`` along some direction of ``T``'s extent (exact).
+
+    Parameters
+    ----------
+    ox, oy : float
+        Observer, metres.
+    seg : ndarray, shape (s, 2, 2)
+        Edges, ``[[x0, y0], [x1, y1]]`` metres; ``J`` owns ``seg[j_start:j_stop]``, ``T`` owns
+        ``seg[t_start:t_stop]``.
+    extent_start, extent_width : float
+        ``T``'s angular extent, radians counter-clockwise from +x (see :func:`geometry.angular_extent`).
+
+    Returns
+    -------
+    bool
+    """
     n = 2 * (j_stop - j_start + t_stop - t_start) + 2
     cuts = np.empty(n)
     k = 0
@@ -62,8 +82,7 @@ def occludes_one(ox, oy, seg, j_start, j_stop, t_start, t_stop, extent_start, ex
     for lo, hi in ((j_start, j_stop), (t_start, t_stop)):
         for j in range(lo, hi):
             for e in range(2):
-                rel = np.arctan2(seg[j, e, 1] - oy, seg[j, e, 0] - ox) - extent_start
-                rel = rel - 2.0 * np.pi * np.floor(rel / (2.0 * np.pi))
+                rel = wrap_positive(np.arctan2(seg[j, e, 1] - oy, seg[j, e, 0] - ox) - extent_start)
                 if rel < extent_width:
                     cuts[k] = rel
                     k += 1
@@ -74,21 +93,22 @@ def occludes_one(ox, oy, seg, j_start, j_stop, t_start, t_stop, extent_start, ex
             continue
         mid = extent_start + 0.5 * (u0 + u1)
         dx, dy = np.cos(mid), np.sin(mid)
-        jt = _nearest_edge(ox, oy, dx, dy, seg, t_start, t_stop)
-        jj = _nearest_edge(ox, oy, dx, dy, seg, j_start, j_stop)
-        if jt < 0 or jj < 0:
+        target_edge = _nearest_edge(ox, oy, dx, dy, seg, t_start, t_stop)
+        body_edge = _nearest_edge(ox, oy, dx, dy, seg, j_start, j_stop)
+        if target_edge < 0 or body_edge < 0:
             continue
         for u in (u0, u1):
             ex, ey = np.cos(extent_start + u), np.sin(extent_start + u)
-            rt = _line_distance(ox, oy, ex, ey, seg[jt, 0, 0], seg[jt, 0, 1], seg[jt, 1, 0], seg[jt, 1, 1])
-            rj = _line_distance(ox, oy, ex, ey, seg[jj, 0, 0], seg[jj, 0, 1], seg[jj, 1, 0], seg[jj, 1, 1])
-            if rj < rt * (1.0 - RELATIVE_TOLERANCE):
+            target_distance = _edge_line_distance(ox, oy, ex, ey, seg, target_edge)
+            body_distance = _edge_line_distance(ox, oy, ex, ey, seg, body_edge)
+            if body_distance < target_distance * (1.0 - RELATIVE_TOLERANCE):
                 return True
     return False
 
 
 @numba.njit(cache=True)
 def _occludes_pairs(ox, oy, seg, seg_offsets, occluder, target, extent_start, extent_width):
+    """:func:`occludes_one` for each pair ``(occluder[p], target[p])`` of body numbers, shape (p,) bool."""
     out = np.zeros(len(occluder), dtype=np.bool_)
     for p in range(len(occluder)):
         j, t = occluder[p], target[p]
@@ -153,7 +173,6 @@ def _candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_o
     than the target's farthest point, each pair once; and whether the pair is certainly occluding (an object
     entirely nearer than the target's nearest point, with overlapping extents)."""
     n_bodies = len(blocking)
-    two_pi = 2.0 * np.pi
     m = len(seg)
     e_start = np.empty(m)
     e_width = np.empty(m)
@@ -167,11 +186,8 @@ def _candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_o
         ta = np.arctan2(ay, ax)
         e_start[j] = ta if span >= 0 else ta + span
         e_width[j] = abs(span)
-        ex, ey = bx - ax, by - ay
-        ee = ex * ex + ey * ey
-        t = -(ax * ex + ay * ey) / ee if ee > 0 else 0.0
-        t = min(max(t, 0.0), 1.0)
-        e_near[j] = np.hypot(ax + t * ex, ay + t * ey)
+        dx, dy = nearest_offset(-ax, -ay, bx - ax, by - ay)
+        e_near[j] = np.hypot(dx, dy)
         b = seg_body[j]
         near[b] = min(near[b], e_near[j])
         far[b] = max(far[b], np.hypot(ax, ay), np.hypot(bx, by))
@@ -187,25 +203,21 @@ def _candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_o
             b = seg_body[j]
             if b == t or not blocking[b] or seen[b] == t or e_near[j] >= far[t]:
                 continue
-            rel = e_start[j] - start[t]
-            rel = rel - two_pi * np.floor(rel / two_pi)
-            if rel < width[t] or rel + e_width[j] > two_pi:
+            rel = wrap_positive(e_start[j] - start[t])
+            if rel < width[t] or rel + e_width[j] > TWO_PI:
                 seen[b] = t
-                if k == len(out_body):
-                    out_body = np.concatenate((out_body, np.empty(k, dtype=np.int64)))
-                    out_target = np.concatenate((out_target, np.empty(k, dtype=np.int64)))
-                    out_certain = np.concatenate((out_certain, np.empty(k, dtype=np.bool_)))
+                out_body = reserve(out_body, k, k + 1)
+                out_target = reserve(out_target, k, k + 1)
+                out_certain = reserve(out_certain, k, k + 1)
                 out_body[k] = b
                 out_target[k] = t
                 certain = False
                 if b < n_objects and far[b] < near[t]:
                     # the body's whole extent is nearer; it occludes iff the two extents overlap
-                    rel2 = start[b] - start[t]
-                    rel2 = rel2 - two_pi * np.floor(rel2 / two_pi)
-                    certain = rel2 < width[t] - MIN_PIECE or rel2 + width[b] > two_pi + MIN_PIECE
+                    rel2 = wrap_positive(start[b] - start[t])
+                    certain = rel2 < width[t] - MIN_PIECE or rel2 + width[b] > TWO_PI + MIN_PIECE
                     # the target's whole extent inside the body's: the target is hidden behind it
-                    rel3 = start[t] - start[b]
-                    rel3 = rel3 - two_pi * np.floor(rel3 / two_pi)
+                    rel3 = wrap_positive(start[t] - start[b])
                     if rel3 + width[t] <= width[b]:
                         hidden[t] = True
                 out_certain[k] = certain

@@ -13,7 +13,6 @@ from conftest import boxes_table
 
 from omega_prime_visibility import ENGINES, VisibilityInputWarning, get_visibility_df
 
-
 # the sweep is exact to rounding; VisiLibity joins bodies touching at a point by a 0.1 µm buffer, which moves
 # visible angles by up to about that over the distance (radians)
 EXACT = {"sweep": 1e-12, "visilibity": 1e-7}

@@ -30,8 +30,8 @@ from shapely import affinity
 
 from omega_prime_visibility import get_visibility_df
 from omega_prime_visibility.engines import Viewpoint, get_engine
-from omega_prime_visibility.engines.crossings import prepare_frame
 from omega_prime_visibility.engines.sweep import SweepEngine
+from omega_prime_visibility.engines.sweep.crossings import prepare_frame
 from omega_prime_visibility.geometry import angular_extent, box_rings, covers_point
 from omega_prime_visibility.scene import FrameObjects, load_objects, load_static_occluders
 
@@ -130,7 +130,7 @@ def test_thin_wall_case_matches_reference() -> None:
 
 
 def test_agrees_with_visilibity_for_every_observer_of_a_frame() -> None:
-    # ego_idx="all": observe_many shares the frame's work between observers; many observers sit inside others
+    # ego_idx="all": the sweep shares the frame's work between observers; many observers sit inside others
     rng = np.random.default_rng(5)
     for _ in range(4):
         observer, objects, statics, _ = random_scene(rng, 10, overlap=True, with_statics=True)
@@ -291,7 +291,7 @@ def test_property_reference_and_rotation_invariance(scene, angle: float, far: bo
     assert np.abs(moved["visibility"].to_numpy() - out["visibility"].to_numpy()).max(initial=0.0) < 1e-6
 
 
-def test_observe_many_equals_observe_and_extents_are_geometry_s() -> None:
+def test_observing_together_equals_one_by_one_and_extents_are_geometry_s() -> None:
     scene = random_scene(np.random.default_rng(11), 12, overlap=True, with_statics=True)
     table = scene_table(scene.observer, scene.objects, False)
     frame = load_objects(table).frame_objects(0)

@@ -19,21 +19,13 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from ..kernels import ray_line_distance
+
 TWO_PI = 2.0 * np.pi
 MIN_SPAN = 1e-12  # radians; edges subtending less point at the observer and bound nothing
 # radians; narrower shared intervals are not compared: where a body's silhouette ends, the polygon's radial edge
 # starts at the same bearing up to rounding, and a sliver this thin changes a visible angle by nothing that counts
 MIN_SHARED = 1e-9
-
-
-@numba.njit(cache=True, inline="always")
-def _ray_line_distance(dx, dy, ax, ay, bx, by):
-    """Distance from the origin along the unit direction (dx, dy) to the line through a and b (inf if parallel)."""
-    ex, ey = bx - ax, by - ay
-    den = dx * ey - dy * ex
-    if den == 0.0:
-        return np.inf
-    return (ax * ey - ay * ex) / den
 
 
 @numba.njit(cache=True)
@@ -98,8 +90,8 @@ def nearer_edge_exists(pts, seg, check, absolute_tolerance, relative_tolerance):
                     p0, p1 = pts[k], pts[(k + 1) % m]
                     for theta in (shared_lo, shared_hi):
                         dx, dy = np.cos(theta), np.sin(theta)
-                        boundary = _ray_line_distance(dx, dy, p0[0], p0[1], p1[0], p1[1])
-                        body = _ray_line_distance(dx, dy, ax, ay, bx, by)
+                        boundary = ray_line_distance(dx, dy, p0[0], p0[1], p1[0] - p0[0], p1[1] - p0[1])
+                        body = ray_line_distance(dx, dy, ax, ay, bx - ax, by - ay)
                         if body < boundary - absolute_tolerance - relative_tolerance * boundary:
                             return True
                 k += 1

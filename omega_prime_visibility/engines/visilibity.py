@@ -29,6 +29,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
 from ..geometry import Rings, angular_extent, edges, ring_ids
+from ..kernels import MIN_CAPACITY, push_pair
 from ..occlusion import occluding_pairs
 from ..scene import FrameObjects, StaticOccluders, polygonal_and_lineal_parts
 from . import Observation, Viewpoint, group_pairs
@@ -116,8 +117,9 @@ def _attribute_visible_angles(pts, seg, seg_offsets, targets, extent_start, exte
 def _box_overlaps(lo, hi):
     """Pairs (i, j), i < j, of axis-aligned boxes ``[lo, hi]`` that overlap (sort and sweep on x)."""
     order = np.argsort(lo[:, 0])
-    first = []
-    second = []
+    first = np.empty(MIN_CAPACITY, dtype=np.int64)
+    second = np.empty(MIN_CAPACITY, dtype=np.int64)
+    k = 0
     for a in range(len(order)):
         i = order[a]
         for b in range(a + 1, len(order)):
@@ -125,9 +127,8 @@ def _box_overlaps(lo, hi):
             if lo[j, 0] > hi[i, 0]:
                 break
             if lo[j, 1] <= hi[i, 1] and lo[i, 1] <= hi[j, 1]:
-                first.append(min(i, j))
-                second.append(max(i, j))
-    return np.array(first, dtype=np.int64), np.array(second, dtype=np.int64)
+                first, second, k = push_pair(first, second, k, min(i, j), max(i, j))
+    return first[:k].copy(), second[:k].copy()
 
 
 def _components(n: int, first: np.ndarray, second: np.ndarray) -> np.ndarray:

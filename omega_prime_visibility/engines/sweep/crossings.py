@@ -10,6 +10,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from ...kernels import MIN_CAPACITY, next_vertex_index, prefix_sum, push_pair
+
 GRID_CELLS = 256  # cells along the longer side of the static edges' grid
 
 
@@ -18,6 +20,7 @@ GRID_CELLS = 256  # cells along the longer side of the static edges' grid
 
 @numba.njit(cache=True)
 def _orient(ax, ay, bx, by, cx, cy):
+    """Twice the signed area of triangle abc, square metres: positive when c lies left of the line a -> b."""
     return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
 
 
@@ -31,48 +34,6 @@ def _cross_properly(ax, ay, bx, by, cx, cy, dx, dy):
     d3 = _orient(cx, cy, dx, dy, ax, ay)
     d4 = _orient(cx, cy, dx, dy, bx, by)
     return (d3 > 0.0 and d4 < 0.0) or (d3 < 0.0 and d4 > 0.0)
-
-
-@numba.njit(cache=True)
-def segment_distance2(ax, ay, bx, by):
-    """Squared distance from the origin to segment ab."""
-    ex, ey = bx - ax, by - ay
-    ee = ex * ex + ey * ey
-    t = -(ax * ex + ay * ey) / ee if ee > 0.0 else 0.0
-    t = min(max(t, 0.0), 1.0)
-    dx, dy = ax + t * ex, ay + t * ey
-    return dx * dx + dy * dy
-
-
-@numba.njit(cache=True)
-def _grow_int(a, size):
-    b = np.empty(max(2 * len(a), 16), dtype=np.int64)
-    b[:size] = a[:size]
-    return b
-
-
-@numba.njit(cache=True, inline="always")
-def _push_pair(first, second, k, i, j):
-    """Append the pair ``(i, j)`` at position ``k`` (growing the arrays when full); return arrays and ``k + 1``."""
-    if k == len(first):
-        first = _grow_int(first, k)
-        second = _grow_int(second, k)
-    first[k] = i
-    second[k] = j
-    return first, second, k + 1
-
-
-@numba.njit(cache=True)
-def _next_vertex(offsets):
-    m = offsets[-1]
-    nxt = np.empty(m, dtype=np.int64)
-    for i in range(len(offsets) - 1):
-        s, e = offsets[i], offsets[i + 1]
-        for j in range(s, e - 1):
-            nxt[j] = j + 1
-        if e > s:
-            nxt[e - 1] = s
-    return nxt
 
 
 # -- crossings ---------------------------------------------------------------------------------------------
@@ -92,8 +53,7 @@ def build_static_grid(a, b):
     counts = np.zeros(nx * ny + 1, dtype=np.int64)
     for rep in range(2):
         if rep == 1:
-            for c in range(nx * ny):
-                counts[c + 1] += counts[c]
+            prefix_sum(counts)
             fill = counts[:-1].copy()
             items = np.empty(counts[-1], dtype=np.int64)
         for k in range(s):
@@ -114,6 +74,11 @@ def build_static_grid(a, b):
 
 @numba.njit(cache=True)
 def _cell_range(xmin, ymin, xmax, ymax, x0, y0, cell, nx, ny):
+    """Grid cells (column range ``cx0..cx1``, row range ``cy0..cy1``, inclusive) covered by a bounding box.
+
+    The box ``[xmin, xmax] x [ymin, ymax]`` and the grid's corner ``(x0, y0)`` and ``cell`` size are in metres; the
+    grid has ``nx`` columns and ``ny`` rows; cells outside it are clamped to its border.
+    """
     cx0 = min(max(int((xmin - x0) / cell), 0), nx - 1)
     cx1 = min(max(int((xmax - x0) / cell), 0), nx - 1)
     cy0 = min(max(int((ymin - y0) / cell), 0), ny - 1)
@@ -127,8 +92,8 @@ def static_crossings(a, b, group, grid_f, grid_i, cell_off, items):
     x0, y0, cell = grid_f[0], grid_f[1], grid_f[2]
     nx, ny = grid_i[0], grid_i[1]
     stamp = np.full(len(a), -1, dtype=np.int64)
-    pi_ = np.empty(16, dtype=np.int64)
-    pj_ = np.empty(16, dtype=np.int64)
+    first = np.empty(MIN_CAPACITY, dtype=np.int64)
+    second = np.empty(MIN_CAPACITY, dtype=np.int64)
     k = 0
     for i in range(len(a)):
         xmin, xmax = min(a[i, 0], b[i, 0]), max(a[i, 0], b[i, 0])
@@ -143,43 +108,43 @@ def static_crossings(a, b, group, grid_f, grid_i, cell_off, items):
                         continue
                     stamp[j] = i
                     if _cross_properly(a[i, 0], a[i, 1], b[i, 0], b[i, 1], a[j, 0], a[j, 1], b[j, 0], b[j, 1]):
-                        pi_, pj_, k = _push_pair(pi_, pj_, k, i, j)
-    return pi_[:k].copy(), pj_[:k].copy()
+                        first, second, k = push_pair(first, second, k, i, j)
+    return first[:k].copy(), second[:k].copy()
 
 
 @numba.njit(cache=True)
-def _frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off, items, ss_i, ss_j):
+def _frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off, items, static_first, static_second):
     """Properly crossing edge pairs of different bodies in one frame.
 
     Edges are numbered object edges first (``0..m-1``), then static edges (``m + k``).
     """
     n = len(offsets) - 1
     m = len(coords)
-    bb = np.empty((n, 4))  # xmin, ymin, xmax, ymax
+    bbox = np.empty((n, 4))  # xmin, ymin, xmax, ymax
     for i in range(n):
         x0, y0 = np.inf, np.inf
         x1, y1 = -np.inf, -np.inf
         for v in range(offsets[i], offsets[i + 1]):
             x0, x1 = min(x0, coords[v, 0]), max(x1, coords[v, 0])
             y0, y1 = min(y0, coords[v, 1]), max(y1, coords[v, 1])
-        bb[i, 0], bb[i, 1], bb[i, 2], bb[i, 3] = x0, y0, x1, y1
-    out_i = np.empty(16, dtype=np.int64)
-    out_j = np.empty(16, dtype=np.int64)
+        bbox[i, 0], bbox[i, 1], bbox[i, 2], bbox[i, 3] = x0, y0, x1, y1
+    first = np.empty(MIN_CAPACITY, dtype=np.int64)
+    second = np.empty(MIN_CAPACITY, dtype=np.int64)
     k = 0
     if n > 1:
         # sort-and-sweep along the axis where the bodies are spread most
-        spread_x = bb[:, 2].max() - bb[:, 0].min()
-        spread_y = bb[:, 3].max() - bb[:, 1].min()
-        ax = 0 if spread_x >= spread_y else 1
-        other = 1 - ax
-        order = np.argsort(bb[:, ax].copy())
+        spread_x = bbox[:, 2].max() - bbox[:, 0].min()
+        spread_y = bbox[:, 3].max() - bbox[:, 1].min()
+        axis = 0 if spread_x >= spread_y else 1
+        other = 1 - axis
+        order = np.argsort(bbox[:, axis].copy())
         for ii in range(n):
             i = order[ii]
             for jj in range(ii + 1, n):
                 j = order[jj]
-                if bb[j, ax] > bb[i, ax + 2]:
+                if bbox[j, axis] > bbox[i, axis + 2]:
                     break
-                if bb[j, other] > bb[i, other + 2] or bb[j, other + 2] < bb[i, other]:
+                if bbox[j, other] > bbox[i, other + 2] or bbox[j, other + 2] < bbox[i, other]:
                     continue
                 for p in range(offsets[i], offsets[i + 1]):
                     pa, pb = p, nxt[p]
@@ -189,16 +154,16 @@ def _frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off,
                             coords[pa, 0], coords[pa, 1], coords[pb, 0], coords[pb, 1],
                             coords[qa, 0], coords[qa, 1], coords[qb, 0], coords[qb, 1],
                         ):  # fmt: skip
-                            out_i, out_j, k = _push_pair(out_i, out_j, k, p, q)
+                            first, second, k = push_pair(first, second, k, p, q)
     if len(st_a):
         x0, y0, cell = grid_f[0], grid_f[1], grid_f[2]
         nx, ny = grid_i[0], grid_i[1]
         gx1, gy1 = x0 + nx * cell, y0 + ny * cell
         stamp = np.full(len(st_a), -1, dtype=np.int64)
         for i in range(n):
-            if bb[i, 2] < x0 or bb[i, 0] > gx1 or bb[i, 3] < y0 or bb[i, 1] > gy1:
+            if bbox[i, 2] < x0 or bbox[i, 0] > gx1 or bbox[i, 3] < y0 or bbox[i, 1] > gy1:
                 continue
-            cx0, cx1, cy0, cy1 = _cell_range(bb[i, 0], bb[i, 1], bb[i, 2], bb[i, 3], x0, y0, cell, nx, ny)
+            cx0, cx1, cy0, cy1 = _cell_range(bbox[i, 0], bbox[i, 1], bbox[i, 2], bbox[i, 3], x0, y0, cell, nx, ny)
             for cy in range(cy0, cy1 + 1):
                 for cx in range(cx0, cx1 + 1):
                     c = cy * nx + cx
@@ -208,10 +173,10 @@ def _frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off,
                             continue
                         stamp[t] = i
                         if (
-                            max(st_a[t, 0], st_b[t, 0]) < bb[i, 0]
-                            or min(st_a[t, 0], st_b[t, 0]) > bb[i, 2]
-                            or max(st_a[t, 1], st_b[t, 1]) < bb[i, 1]
-                            or min(st_a[t, 1], st_b[t, 1]) > bb[i, 3]
+                            max(st_a[t, 0], st_b[t, 0]) < bbox[i, 0]
+                            or min(st_a[t, 0], st_b[t, 0]) > bbox[i, 2]
+                            or max(st_a[t, 1], st_b[t, 1]) < bbox[i, 1]
+                            or min(st_a[t, 1], st_b[t, 1]) > bbox[i, 3]
                         ):
                             continue
                         for p in range(offsets[i], offsets[i + 1]):
@@ -220,28 +185,47 @@ def _frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off,
                                 coords[p, 0], coords[p, 1], coords[pb, 0], coords[pb, 1],
                                 st_a[t, 0], st_a[t, 1], st_b[t, 0], st_b[t, 1],
                             ):  # fmt: skip
-                                out_i, out_j, k = _push_pair(out_i, out_j, k, p, m + t)
-    total = k + len(ss_i)
-    ci = np.empty(total, dtype=np.int64)
-    cj = np.empty(total, dtype=np.int64)
-    ci[:k] = out_i[:k]
-    cj[:k] = out_j[:k]
-    for r in range(len(ss_i)):
-        ci[k + r] = m + ss_i[r]
-        cj[k + r] = m + ss_j[r]
-    return ci, cj
+                                first, second, k = push_pair(first, second, k, p, m + t)
+    total = k + len(static_first)
+    cross_first = np.empty(total, dtype=np.int64)
+    cross_second = np.empty(total, dtype=np.int64)
+    cross_first[:k] = first[:k]
+    cross_second[:k] = second[:k]
+    for r in range(len(static_first)):
+        cross_first[k + r] = m + static_first[r]
+        cross_second[k + r] = m + static_second[r]
+    return cross_first, cross_second
 
 
 @numba.njit(cache=True)
-def prepare_frame(observers, coords, offsets, st_a, st_b, grid_f, grid_i, cell_off, items, ss_i, ss_j):
+def prepare_frame(observers, coords, offsets, st_a, st_b, grid_f, grid_i, cell_off, items, static_first, static_second):
     """Frame-level work and the arctangent arguments of every observer (evaluated by numpy's ``arctan2``).
 
-    Row ``k`` of ``y`` and ``x``: the cross and dot products of consecutive vertices (``angular_extent``'s
-    steps) for the ``m`` object edges, then the shifted vertex coordinates (vertex bearings).
+    Parameters
+    ----------
+    observers : ndarray, shape (k, 2)
+        Metres.
+    coords, offsets
+        The frame's ragged object rings, ``m`` vertices (metres).
+    st_a, st_b : ndarray, shape (s, 2)
+        Static edges, metres; ``grid_f, grid_i, cell_off, items`` their grid (:func:`build_static_grid`) and
+        ``static_first, static_second`` their crossings (:func:`static_crossings`).
+
+    Returns
+    -------
+    nxt : ndarray, shape (m,), int64
+        Following vertex of each vertex's ring: edge ``j`` runs from vertex ``j`` to ``nxt[j]``.
+    cross_first, cross_second : ndarray, shape (c,), int64
+        Properly crossing pairs of edges of different bodies (object edges ``0..m-1``, then static edges ``m + k``).
+    y, x : ndarray, shape (k, 2 m)
+        Row ``o``: the cross and dot products of consecutive vertices (``angular_extent``'s steps) for the ``m``
+        object edges, then the shifted vertex coordinates (vertex bearings), as seen from observer ``o``.
     """
     m = len(coords)
-    nxt = _next_vertex(offsets)
-    ci, cj = _frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off, items, ss_i, ss_j)
+    nxt = next_vertex_index(offsets)
+    cross_first, cross_second = _frame_crossings(
+        coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off, items, static_first, static_second
+    )
     k = len(observers)
     y = np.empty((k, 2 * m))
     x = np.empty((k, 2 * m))
@@ -254,7 +238,4 @@ def prepare_frame(observers, coords, offsets, st_a, st_b, grid_f, grid_i, cell_o
             x[o, j] = ax * bx + ay * by
             y[o, m + j] = ay
             x[o, m + j] = ax
-    return nxt, ci, cj, y, x
-
-
-# -- the sweep ---------------------------------------------------------------------------------------------
+    return nxt, cross_first, cross_second, y, x

@@ -1,0 +1,129 @@
+"""Step 3 of the sweep for one observer: the angular sweep over the pieces, with an indexed binary heap.
+
+Start and end events are sorted by bearing; the active pieces live in an indexed binary heap (``heap`` holds
+piece numbers, ``position[piece]`` where each sits, so a piece is deleted where it is, not when it surfaces) and
+only pieces active together are ever compared. Two pieces are compared along the bisector of the directions they
+share, where neither touches the other, which makes the comparison independent of the sweep position. Between two
+consecutive event bearings the heap's top is the nearest piece; the interval's angle is credited to its body.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from .pieces import EX, EY, HI, LO, NUM, UHX, UHY, ULX, ULY
+
+
+@numba.njit(cache=True)
+def nearer(pieces, a, b):
+    """Whether piece ``a`` is nearer than piece ``b`` along the bisector of the directions both cover.
+
+    ``pieces`` is the (k, 9) piece table of :mod:`.pieces`; the distance of a piece along a direction ``d`` is
+    ``NUM / (d x (q - p))``, here with ``d`` the (unnormalised) sum of the unit directions at the shared
+    interval's ends. Ties go to the lower piece number.
+    """
+    if pieces[a, LO] >= pieces[b, LO]:
+        x1, y1 = pieces[a, ULX], pieces[a, ULY]
+    else:
+        x1, y1 = pieces[b, ULX], pieces[b, ULY]
+    if pieces[a, HI] <= pieces[b, HI]:
+        x2, y2 = pieces[a, UHX], pieces[a, UHY]
+    else:
+        x2, y2 = pieces[b, UHX], pieces[b, UHY]
+    dx, dy = x1 + x2, y1 + y2
+    distance_a = pieces[a, NUM] / (dx * pieces[a, EY] - dy * pieces[a, EX])
+    distance_b = pieces[b, NUM] / (dx * pieces[b, EY] - dy * pieces[b, EX])
+    if distance_a < distance_b:
+        return True
+    if distance_a > distance_b:
+        return False
+    return a < b
+
+
+@numba.njit(cache=True)
+def sift_up(pieces, heap, position, i):
+    """Move the piece at heap slot ``i`` up to its place (nearest on top); keep ``position`` in step."""
+    x = heap[i]
+    while i > 0:
+        parent = (i - 1) >> 1
+        y = heap[parent]
+        if not nearer(pieces, x, y):
+            break
+        heap[i] = y
+        position[y] = i
+        i = parent
+    heap[i] = x
+    position[x] = i
+
+
+@numba.njit(cache=True)
+def sift_down(pieces, heap, position, i, size):
+    """Move the piece at heap slot ``i`` down to its place among the first ``size`` slots."""
+    x = heap[i]
+    while True:
+        child = 2 * i + 1
+        if child >= size:
+            break
+        if child + 1 < size and nearer(pieces, heap[child + 1], heap[child]):
+            child += 1
+        if not nearer(pieces, heap[child], x):
+            break
+        heap[i] = heap[child]
+        position[heap[i]] = i
+        i = child
+    heap[i] = x
+    position[x] = i
+
+
+@numba.njit(cache=True)
+def visible_angles(pieces, body, n_bodies):
+    """Angle (radians) along which each body's pieces are the nearest thing hit, shape (n_bodies,).
+
+    Parameters
+    ----------
+    pieces : ndarray, shape (k, 9)
+        The piece table of :mod:`.pieces`.
+    body : ndarray, shape (>= k,), int64
+        The body of each piece, in ``range(n_bodies)``.
+    """
+    k = len(pieces)
+    visible = np.zeros(n_bodies)
+    if k == 0:
+        return visible
+    by_lo = np.argsort(pieces[:, LO].copy())
+    by_hi = np.argsort(pieces[:, HI].copy())
+    heap = np.empty(k, dtype=np.int64)
+    position = np.full(k, -1, dtype=np.int64)
+    size = 0
+    i = 0  # next start event, in by_lo
+    j = 0  # next end event, in by_hi
+    while j < k:
+        theta = pieces[by_hi[j], HI]
+        if i < k and pieces[by_lo[i], LO] < theta:
+            theta = pieces[by_lo[i], LO]
+        while j < k and pieces[by_hi[j], HI] == theta:
+            ending = by_hi[j]
+            h = position[ending]
+            size -= 1
+            if h < size:
+                last = heap[size]
+                heap[h] = last
+                position[last] = h
+                if h > 0 and nearer(pieces, last, heap[(h - 1) >> 1]):
+                    sift_up(pieces, heap, position, h)
+                else:
+                    sift_down(pieces, heap, position, h, size)
+            position[ending] = -1
+            j += 1
+        while i < k and pieces[by_lo[i], LO] == theta:
+            heap[size] = by_lo[i]
+            size += 1
+            sift_up(pieces, heap, position, size - 1)
+            i += 1
+        if size > 0:
+            following = pieces[by_hi[j], HI]  # j < k: active pieces still have to end
+            if i < k and pieces[by_lo[i], LO] < following:
+                following = pieces[by_lo[i], LO]
+            visible[body[heap[0]]] += following - theta
+    return visible

@@ -1,0 +1,112 @@
+"""One frame of the sweep: every observer of the frame, each through steps 1 to 4.
+
+:func:`observe_frame` runs :func:`observe_one` for each observer and packs the ragged occluder lists; the steps
+themselves live in :mod:`.pieces` (1, 2), :mod:`.heap_sweep` (3) and :mod:`.occluders` (4).
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from .heap_sweep import visible_angles
+from .occluders import ObjectsSeen, occluders
+from .pieces import (
+    crossing_cuts,
+    cut_pieces,
+    front_facing_edges,
+    object_distances,
+    object_extents,
+    shifted_object_edges,
+)
+
+
+@numba.njit(cache=True)
+def observe_one(ox, oy, frame, statics, ang, object_transparent, static_transparent):
+    """What the observer at ``(ox, oy)`` (metres) sees of every object of the frame.
+
+    Parameters
+    ----------
+    frame : FrameEdges
+    statics : StaticEdges
+    ang : ndarray, shape (2 m,)
+        This observer's bearings (see :func:`.pieces.object_extents`), radians.
+    object_transparent : ndarray of bool, shape (n,)
+    static_transparent : ndarray of bool, shape (n_sources,)
+
+    Returns
+    -------
+    visible : ndarray, shape (n,)
+        Radians along which each object is the first thing hit.
+    width : ndarray, shape (n,)
+        Radians of each object's angular extent.
+    occ_offsets, occ, st_offsets, st : ndarray, int64
+        Occluding objects and static sources of each object (see :func:`.occluders.occluders`).
+    """
+    offsets = frame.offsets
+    n = len(offsets) - 1
+    n_src = len(static_transparent)
+    seg = shifted_object_edges(frame.coords, frame.following, ox, oy)
+    start, width = object_extents(offsets, ang)
+    near, far, reach2 = object_distances(seg, offsets, object_transparent)
+
+    # 1. front-facing edges; 2. their bearing records cut into pieces
+    kept, record_edge, records = front_facing_edges(
+        seg, ang, frame, statics, object_transparent, static_transparent, ox, oy, reach2
+    )
+    cut_offsets, cuts = crossing_cuts(kept, record_edge, records, frame.cross_first, frame.cross_second)
+    pieces, body = cut_pieces(kept, record_edge, records, cut_offsets, cuts)
+
+    # 3. the sweep
+    visible = visible_angles(pieces, body, n + n_src)[:n].copy()
+
+    # 4. occluders
+    objects = ObjectsSeen(seg, offsets, object_transparent, start, width, near, far)
+    occ_offsets, occ, st_offsets, st = occluders(objects, n_src, kept, record_edge, records, statics, ox, oy)
+    return visible, width, occ_offsets, occ, st_offsets, st
+
+
+@numba.njit(cache=True)
+def observe_frame(observers, frame, statics, ang, transparent, static_transparent):
+    """:func:`observe_one` for each of the ``k`` observers (shape (k, 2), metres) of one frame.
+
+    ``ang`` (k, 2 m), ``transparent`` (k, n) and ``static_transparent`` (k, n_sources) hold one row per observer.
+
+    Returns
+    -------
+    visible, width : ndarray, shape (k, n)
+    occ_offsets : ndarray, shape (k, n + 1), int64
+    occ : ndarray, int64
+        Observer ``o``'s occluder lists are ``occ[occ_cut[o]:occ_cut[o + 1]]``, indexed by ``occ_offsets[o]``.
+    occ_cut : ndarray, shape (k + 1,), int64
+    st_offsets, st, st_cut
+        Likewise for the static occluders.
+    """
+    k = len(observers)
+    n = len(frame.offsets) - 1
+    visible = np.empty((k, n))
+    width = np.empty((k, n))
+    occ_offsets = np.empty((k, n + 1), dtype=np.int64)
+    st_offsets = np.empty((k, n + 1), dtype=np.int64)
+    occ_cut = np.zeros(k + 1, dtype=np.int64)
+    st_cut = np.zeros(k + 1, dtype=np.int64)
+    occ_parts = []
+    st_parts = []
+    for o in range(k):
+        one_visible, one_width, one_occ_offsets, occ, one_st_offsets, st = observe_one(
+            observers[o, 0], observers[o, 1], frame, statics, ang[o], transparent[o], static_transparent[o]
+        )
+        visible[o] = one_visible
+        width[o] = one_width
+        occ_offsets[o] = one_occ_offsets
+        st_offsets[o] = one_st_offsets
+        occ_cut[o + 1] = occ_cut[o] + len(occ)
+        st_cut[o + 1] = st_cut[o] + len(st)
+        occ_parts.append(occ)
+        st_parts.append(st)
+    occ_all = np.empty(occ_cut[k], dtype=np.int64)
+    st_all = np.empty(st_cut[k], dtype=np.int64)
+    for o in range(k):
+        occ_all[occ_cut[o] : occ_cut[o + 1]] = occ_parts[o]
+        st_all[st_cut[o] : st_cut[o + 1]] = st_parts[o]
+    return visible, width, occ_offsets, occ_all, occ_cut, st_offsets, st_all, st_cut

@@ -1,0 +1,320 @@
+"""Step 4 of the sweep for one observer: which bodies occlude each target.
+
+A body ``J`` can only occlude target ``T`` when their bearing intervals overlap and ``J`` comes nearer than ``T``'s
+farthest point. Candidates are enumerated by sweeping the targets' extents (sorted by start) over the bodies'
+intervals (objects: their angular extent; statics: the records of their kept edges), sorted by start, and grouped
+by (target, body) with a counting sort. An object lying entirely nearer than ``T``'s nearest point with an extent
+overlapping ``T``'s by more than ``MIN_PIECE`` is accepted at once (the rule of the VisiLibity engine), so is a
+static edge with a safety margin; all other candidates are decided by the exact pairwise test of
+:mod:`...occlusion` (``occludes_one``) on the same shifted segments. For a static body only its kept edges that
+meet ``T``'s extent nearer than ``T``'s farthest point are handed to that test: a ray from outside enters a body
+through a front-facing edge, so the others cannot decide anything, and a long guard rail would otherwise cost the
+test O(pieces x all its edges).
+
+Bodies are numbered objects first (``0..n-1``), then static sources (``n + source``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections import namedtuple
+
+import numba
+import numpy as np
+
+from ...kernels import counting_sort, group_by_key, prefix_sum, reserve
+from ...occlusion import MIN_PIECE, occludes_one
+from .pieces import R_HI, R_LO
+
+PI = math.pi
+TWO_PI = 2.0 * math.pi
+STATIC_ACCEPT_ANGLE = 1e-9  # radians of overlap needed to accept a static edge without the exact test
+STATIC_ACCEPT_RELATIVE = 1e-7  # ... and it must lie nearer than (1 - this) times the target's nearest distance
+CANDIDATE_EPS = 1e-9  # radians; intervals this close count as overlapping (the exact test decides)
+
+#: The objects as one observer sees them: ``seg`` (m, 2, 2) their edges relative to the observer (metres),
+#: ``offsets`` (n + 1,) object ``i``'s edges are ``seg[offsets[i]:offsets[i + 1]]``, ``transparent`` (n,) bool,
+#: ``start`` and ``width`` (n,) their angular extents (radians), ``near`` and ``far`` (n,) their nearest and
+#: farthest distance (metres).
+ObjectsSeen = namedtuple("ObjectsSeen", "seg offsets transparent start width near far")
+
+
+@numba.njit(cache=True)
+def _records_by_static_body(record_edge, kept_body, n, n_src):
+    """Records of the kept static edges grouped by static source: offsets (n_src + 1,) and record numbers."""
+    n_rec = len(record_edge)
+    source = np.empty(n_rec, dtype=np.int64)
+    static_records = np.empty(n_rec, dtype=np.int64)
+    k = 0
+    for r in range(n_rec):
+        source[r] = kept_body[record_edge[r]] - n
+        if source[r] >= 0:
+            static_records[k] = r
+            k += 1
+    return group_by_key(source, n_src, static_records[:k])
+
+
+@numba.njit(cache=True)
+def _occludes_static(objects, target, kept, record_edge, records, body_records, statics, ox, oy, scratch):
+    """The exact occlusion test of a static body against a target, on the body's edges that can matter.
+
+    A ray from outside enters a body through a front-facing edge, so only the body's kept edges whose bearing
+    interval meets the target's extent and that come nearer than the target's farthest point can be hit before
+    it; the others are left out (long guard rails would otherwise cost the exact test O(pieces * all edges)).
+
+    Parameters
+    ----------
+    objects : ObjectsSeen
+    target : int
+        Object number.
+    kept, record_edge, records
+        The kept edges and their records (:func:`.pieces.front_facing_edges`).
+    body_records : ndarray, shape (k,), int64
+        The static body's records, ascending.
+    statics : StaticEdges
+        Unshifted; the observer is at ``(ox, oy)``, metres.
+    scratch : ndarray, shape (>= m_target + k, 2, 2)
+        Work space for the segments handed to ``occludes_one``.
+    """
+    t_start, t_width, t_far = objects.start[target], objects.width[target], objects.far[target]
+    m = len(objects.seg)
+    k = 0
+    for e in range(objects.offsets[target], objects.offsets[target + 1]):
+        scratch[k] = objects.seg[e]
+        k += 1
+    target_edges = k
+    previous = -1
+    for r in body_records:
+        e = record_edge[r]
+        if e == previous or kept.distance[e, 0] >= t_far:
+            continue
+        x = (records[r, R_LO] - t_start) % TWO_PI
+        if not (x <= t_width + CANDIDATE_EPS or x + (records[r, R_HI] - records[r, R_LO]) >= TWO_PI - CANDIDATE_EPS):
+            continue
+        previous = e
+        s = kept.edge[e] - m
+        scratch[k, 0, 0] = statics.start[s, 0] - ox
+        scratch[k, 0, 1] = statics.start[s, 1] - oy
+        scratch[k, 1, 0] = statics.end[s, 0] - ox
+        scratch[k, 1, 1] = statics.end[s, 1] - oy
+        k += 1
+    if k == target_edges:
+        return False
+    return occludes_one(0.0, 0.0, scratch, target_edges, k, 0, target_edges, t_start, t_width)
+
+
+@numba.njit(cache=True)
+def _accept(overlap, far, is_object, near_t, static_near_t):
+    """Whether an interval of a body, overlapping a target's extent by ``overlap`` radians and lying within
+    ``far`` metres of the observer, certainly occludes the target (the rule the VisiLibity engine uses for
+    objects); ``near_t`` is the target's nearest distance and ``static_near_t`` that with the static margin."""
+    if is_object:
+        return overlap > MIN_PIECE and far < near_t
+    return overlap > STATIC_ACCEPT_ANGLE and far < static_near_t
+
+
+@numba.njit(cache=True)
+def _candidate_intervals(objects, kept, record_edge, records):
+    """The bearing intervals of the bodies and of the targets, for the candidate sweep.
+
+    Returns
+    -------
+    items : tuple of ndarray, each shape (k,)
+        ``(lo, hi, body, near, far)`` sorted by ``lo``: object extents (split at the -pi/pi direction) and the
+        records of kept static edges, radians and metres.
+    queries : tuple of ndarray, each shape (q,)
+        ``(lo, hi, target)`` of the targets' extents (split likewise), in their order of ``lo``.
+    """
+    n = len(objects.offsets) - 1
+    n_rec = len(records)
+    n_items = 0
+    for i in range(n):
+        if not objects.transparent[i]:
+            n_items += 2
+    for r in range(n_rec):
+        if kept.body[record_edge[r]] >= n:
+            n_items += 1
+    item_lo = np.empty(n_items)
+    item_hi = np.empty(n_items)
+    item_body = np.empty(n_items, dtype=np.int64)
+    item_near = np.empty(n_items)
+    item_far = np.empty(n_items)
+    query_lo = np.empty(2 * n)
+    query_hi = np.empty(2 * n)
+    query_target = np.empty(2 * n, dtype=np.int64)
+    k = 0
+    n_queries = 0
+    for i in range(n):
+        if objects.transparent[i]:
+            continue
+        s = objects.start[i]
+        e = s + objects.width[i]
+        for part in range(2):
+            if part == 0:
+                lo, hi = s, min(e, PI)
+            else:
+                if e <= PI:
+                    break
+                lo, hi = -PI, e - TWO_PI
+            item_lo[k], item_hi[k], item_body[k] = lo, hi, i
+            item_near[k], item_far[k] = objects.near[i], objects.far[i]
+            k += 1
+            query_lo[n_queries], query_hi[n_queries], query_target[n_queries] = lo, hi, i
+            n_queries += 1
+    for r in range(n_rec):
+        e = record_edge[r]
+        if kept.body[e] >= n:
+            item_lo[k], item_hi[k], item_body[k] = records[r, R_LO], records[r, R_HI], kept.body[e]
+            item_near[k], item_far[k] = kept.distance[e, 0], kept.distance[e, 1]
+            k += 1
+    order = np.argsort(item_lo[:k])
+    items = (item_lo[order], item_hi[order], item_body[order], item_near[order], item_far[order])
+    query_order = np.argsort(query_lo[:n_queries])
+    queries = (query_lo[query_order], query_hi[query_order], query_target[query_order])
+    return items, queries
+
+
+@numba.njit(cache=True)
+def _candidate_pairs(items, queries, objects):
+    """Candidate (target, body) pairs, in bearing order of the targets, and whether each is accepted at once.
+
+    Returns
+    -------
+    pair_target, pair_body : ndarray, shape (p,), int64
+    pair_certain : ndarray of bool, shape (p,)
+        Certainly occluding (:func:`_accept`); the rest go to the exact test.
+    """
+    n = len(objects.offsets) - 1
+    item_lo, item_hi, item_body, item_near, item_far = items
+    query_lo, query_hi, query_target = queries
+    n_items = len(item_lo)
+    capacity = 4 * n_items + 16
+    pair_target = np.empty(capacity, dtype=np.int64)
+    pair_body = np.empty(capacity, dtype=np.int64)
+    pair_certain = np.empty(capacity, dtype=np.bool_)
+    n_pairs = 0
+    active = np.empty(n_items, dtype=np.int64)  # items that started before the current target
+    n_active = 0
+    p = 0
+    for q in range(len(query_lo)):
+        t = query_target[q]
+        lo, hi = query_lo[q], query_hi[q]
+        while p < n_items and item_lo[p] < lo:
+            active[n_active] = p
+            n_active += 1
+            p += 1
+        pair_target = reserve(pair_target, n_pairs, n_pairs + n_items)
+        pair_body = reserve(pair_body, n_pairs, n_pairs + n_items)
+        pair_certain = reserve(pair_certain, n_pairs, n_pairs + n_items)
+        far_t = objects.far[t]
+        near_t = objects.near[t]
+        static_near_t = near_t * (1.0 - STATIC_ACCEPT_RELATIVE)
+        keep = 0
+        for a in range(n_active):
+            it = active[a]
+            if item_hi[it] <= lo - CANDIDATE_EPS:
+                continue  # ended before this target (and before all later ones)
+            active[keep] = it
+            keep += 1
+            j = item_body[it]
+            if j != t and item_near[it] < far_t:
+                pair_target[n_pairs] = t
+                pair_body[n_pairs] = j
+                overlap = min(hi, item_hi[it]) - lo
+                pair_certain[n_pairs] = _accept(overlap, item_far[it], j < n, near_t, static_near_t)
+                n_pairs += 1
+        n_active = keep
+        it = p
+        while it < n_items and item_lo[it] < hi + CANDIDATE_EPS:
+            j = item_body[it]
+            if j != t and item_near[it] < far_t:
+                pair_target[n_pairs] = t
+                pair_body[n_pairs] = j
+                overlap = min(hi, item_hi[it]) - item_lo[it]
+                pair_certain[n_pairs] = _accept(overlap, item_far[it], j < n, near_t, static_near_t)
+                n_pairs += 1
+            it += 1
+    return pair_target[:n_pairs], pair_body[:n_pairs], pair_certain[:n_pairs]
+
+
+@numba.njit(cache=True)
+def occluders(objects, n_src, kept, record_edge, records, statics, ox, oy):
+    """Occluders of every object seen from ``(ox, oy)`` (metres), grouped by target.
+
+    Parameters
+    ----------
+    objects : ObjectsSeen
+    n_src : int
+        Number of static sources.
+    kept, record_edge, records
+        The kept edges and their records (:func:`.pieces.front_facing_edges`).
+    statics : StaticEdges
+
+    Returns
+    -------
+    occ_offsets : ndarray, shape (n + 1,), int64
+    occ : ndarray, shape (k,), int64
+        Object ``t``'s occluding objects are ``occ[occ_offsets[t]:occ_offsets[t + 1]]``, ascending.
+    st_offsets, st : ndarray
+        Likewise for the occluding static sources.
+    """
+    n = len(objects.offsets) - 1
+    items, queries = _candidate_intervals(objects, kept, record_edge, records)
+    pair_target, pair_body, pair_certain = _candidate_pairs(items, queries, objects)
+    n_pairs = len(pair_target)
+
+    # sort the pairs by (target, body): counting sort by body, then (stably) by target
+    by_body = counting_sort(pair_body, n + n_src, np.arange(n_pairs))
+    order = counting_sort(pair_target, n, by_body)
+
+    # unique pairs, decided
+    static_offsets = np.zeros(0, dtype=np.int64)  # records of each static body, built when first needed
+    static_records = np.zeros(0, dtype=np.int64)
+    scratch = np.empty((0, 2, 2))
+    occ_offsets = np.zeros(n + 1, dtype=np.int64)
+    st_offsets = np.zeros(n + 1, dtype=np.int64)
+    found_body = np.empty(n_pairs, dtype=np.int64)
+    n_found = 0
+    u = 0
+    while u < n_pairs:
+        t = pair_target[order[u]]
+        j = pair_body[order[u]]
+        certain = False
+        while u < n_pairs and pair_target[order[u]] == t and pair_body[order[u]] == j:
+            certain |= pair_certain[order[u]]
+            u += 1
+        if not certain:
+            if j < n:
+                offsets = objects.offsets
+                hit = occludes_one(
+                    0.0, 0.0, objects.seg, offsets[j], offsets[j + 1], offsets[t], offsets[t + 1],
+                    objects.start[t], objects.width[t],
+                )  # fmt: skip
+            else:
+                if len(static_offsets) == 0:
+                    static_offsets, static_records = _records_by_static_body(record_edge, kept.body, n, n_src)
+                    scratch = np.empty((len(objects.seg) + len(records), 2, 2))
+                body_records = static_records[static_offsets[j - n] : static_offsets[j - n + 1]]
+                hit = _occludes_static(objects, t, kept, record_edge, records, body_records, statics, ox, oy, scratch)
+            if not hit:
+                continue
+        found_body[n_found] = j
+        n_found += 1
+        if j < n:
+            occ_offsets[t + 1] += 1
+        else:
+            st_offsets[t + 1] += 1
+    prefix_sum(occ_offsets)
+    prefix_sum(st_offsets)
+    occ = np.empty(occ_offsets[n], dtype=np.int64)
+    st = np.empty(st_offsets[n], dtype=np.int64)
+    n_occ = 0
+    n_st = 0
+    for r in range(n_found):  # sorted by target, then body: objects before statics
+        if found_body[r] < n:
+            occ[n_occ] = found_body[r]
+            n_occ += 1
+        else:
+            st[n_st] = found_body[r] - n
+            n_st += 1
+    return occ_offsets, occ, st_offsets, st
