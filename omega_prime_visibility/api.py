@@ -20,7 +20,8 @@ from tqdm.auto import tqdm
 from .engines import get_engine
 from .output import atomic_write, check_output_path
 from .pipeline import ContainmentLog, chunks, run
-from .scene import ObjectTable, OnInvalid, as_lazy, load_objects, load_static_occluders
+from .scene import ObjectTable, OnInvalid, as_lazy, load_objects
+from .statics import load_static_occluders
 from .table import empty_table, to_polars
 
 EgoSpec = int | Sequence[int] | Literal["all"]

@@ -12,10 +12,13 @@ All functions here are pure and vectorised over numpy arrays. Conventions used t
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numba
 import numpy as np
+import shapely
 
 from .kernels import segment_distance2
 
@@ -227,3 +230,14 @@ def covers_point(point: np.ndarray, rings: Rings, tolerance: float = 1e-9) -> np
     coords = np.ascontiguousarray(rings.coords, dtype=np.float64)
     offsets = np.asarray(rings.offsets, dtype=np.int64)
     return _covers_point(float(point[0]), float(point[1]), coords, offsets, float(tolerance))
+
+
+def rings_from(geoms: Sequence[Any]) -> Rings:
+    """The rings (LinearRings or LineStrings closed on themselves) of shapely ``geoms`` as ragged arrays."""
+    coords, which = shapely.get_coordinates(np.asarray(geoms, dtype=object), return_index=True)
+    sizes = np.bincount(which, minlength=len(geoms))
+    keep = np.ones(len(coords), dtype=bool)
+    keep[np.cumsum(sizes) - 1] = False
+    offsets = np.zeros(len(geoms) + 1, dtype=np.int64)
+    np.cumsum(sizes - 1, out=offsets[1:])
+    return Rings(np.ascontiguousarray(coords[keep]), offsets)

@@ -19,7 +19,8 @@ import shapely
 
 from .engines import Engine, Viewpoint, get_engine
 from .geometry import covers_point
-from .scene import FrameObjects, ObjectTable, StaticOccluders, VisibilityInputWarning
+from .scene import FrameObjects, ObjectTable, VisibilityInputWarning
+from .statics import StaticOccluders
 from .table import Columns, TableBuilder, observation_rows
 
 

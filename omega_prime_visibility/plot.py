@@ -11,7 +11,8 @@ import shapely
 
 from .engines.visilibity import VisiLibityEngine
 from .pipeline import observer_rows, run_chunk, viewpoints
-from .scene import load_objects, load_static_occluders
+from .scene import load_objects
+from .statics import load_static_occluders
 from .table import to_polars
 
 

@@ -1,16 +1,15 @@
 """From a recording to per-frame scene arrays: input checks with clear errors, grouping by frame once.
 
 Data flows one way: :func:`load_objects` validates the moving-object table a single time and sorts it by
-``(frame, idx)``; :meth:`ObjectTable.frames` then hands out one :class:`FrameObjects` per frame as slices of
-the same arrays (no per-frame filtering of the table). :func:`load_static_occluders` does the same for static
-geometry, which is shared by all frames.
+``(frame, idx)``; :meth:`ObjectTable.frame_objects` then hands out one :class:`FrameObjects` per frame as slices
+of the same arrays (no per-frame filtering of the table). Static geometry, shared by all frames, is loaded by
+:mod:`.statics`.
 """
 
 from __future__ import annotations
 
 import os
 import warnings
-from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any, Literal
 
@@ -18,7 +17,7 @@ import numpy as np
 import polars as pl
 import shapely
 
-from .geometry import Rings, box_rings, orient, signed_area
+from .geometry import Rings, box_rings, orient, rings_from
 
 REQUIRED_COLUMNS = ("frame", "total_nanos", "idx", "x", "y")
 BOX_COLUMNS = ("length", "width", "yaw")
@@ -100,43 +99,6 @@ class ObjectTable:
             self.rings.slice(s, e),
             self.frame_starts[start : stop + 1] - s,
         )
-
-    def frames(self) -> Iterator[FrameObjects]:
-        for k in range(self.n_frames):
-            yield self.frame_objects(k)
-
-
-@dataclass(frozen=True, slots=True)
-class StaticOccluders:
-    """Static geometry shared by all frames.
-
-    Attributes
-    ----------
-    rings : Rings
-        Polygon rings, material on the left (exteriors counter-clockwise, interiors clockwise).
-    ring_source : ndarray, shape (r,), int64
-        Position, in the user's list, of the occluder each ring comes from.
-    segments : ndarray, shape (s, 2, 2), float64
-        Two-sided wall segments from LineStrings, ``segments[j] = [[x0, y0], [x1, y1]]``.
-    segment_source : ndarray, shape (s,), int64
-        Position, in the user's list, of the occluder each segment comes from.
-    geometries : ndarray of shapely geometries, shape (n_sources,)
-        The occluders as given (validated).
-    """
-
-    rings: Rings
-    ring_source: np.ndarray
-    segments: np.ndarray
-    segment_source: np.ndarray
-    geometries: np.ndarray
-
-    @property
-    def n_sources(self) -> int:
-        return len(self.geometries)
-
-    @staticmethod
-    def none() -> StaticOccluders:
-        return load_static_occluders(None)
 
 
 def _report(problem: str, on_invalid: OnInvalid) -> None:
@@ -250,7 +212,7 @@ def _polygon_rings(
     if (polygonal & ~small & ~usable).any() or small.any():
         reasons.append(f"{int((polygonal & ~usable).sum() + small.sum())} zero-size or non-finite polygon(s)")
     good = usable & ~small
-    rings = orient(_rings_from(shapely.get_exterior_ring(outline[good])), True)
+    rings = orient(rings_from(shapely.get_exterior_ring(outline[good])), True)
     return rings, good, reasons, notes, broken[good[broken]]
 
 
@@ -330,116 +292,3 @@ def load_objects(data: Any, *, on_invalid: OnInvalid = "warn") -> ObjectTable:
     if len(frame) == 0:
         frame_starts = np.zeros(1, dtype=np.int64)
     return ObjectTable(frame, total_nanos, idx, position, yaw, rings, frame_starts)
-
-
-def _rings_from(geoms: Sequence[Any]) -> Rings:
-    coords, which = shapely.get_coordinates(np.asarray(geoms, dtype=object), return_index=True)
-    sizes = np.bincount(which, minlength=len(geoms))
-    keep = np.ones(len(coords), dtype=bool)
-    keep[np.cumsum(sizes) - 1] = False
-    offsets = np.zeros(len(geoms) + 1, dtype=np.int64)
-    np.cumsum(sizes - 1, out=offsets[1:])
-    return Rings(np.ascontiguousarray(coords[keep]), offsets)
-
-
-def polygonal_and_lineal_parts(geometry: shapely.Geometry) -> tuple[list[shapely.Polygon], list[shapely.LineString]]:
-    """The polygons and the lines a geometry is made of; points and empty parts are dropped.
-
-    Collections (what ``shapely.make_valid`` returns) and multi-part geometries are taken apart, LinearRings
-    count as closed lines.
-
-    Examples
-    --------
-    >>> import shapely
-    >>> wall = shapely.LineString([(2, 0), (3, 0)])
-    >>> g = shapely.GeometryCollection([shapely.box(0, 0, 1, 1), shapely.Point(5, 5), wall])
-    >>> [len(parts) for parts in polygonal_and_lineal_parts(g)]
-    [1, 1]
-    """
-    polygons, lines = [], []
-    for part in shapely.get_parts(geometry):
-        if isinstance(part, shapely.GeometryCollection | shapely.MultiPolygon | shapely.MultiLineString):
-            more_polygons, more_lines = polygonal_and_lineal_parts(part)
-            polygons += more_polygons
-            lines += more_lines
-        elif part.is_empty:
-            continue
-        elif isinstance(part, shapely.Polygon):
-            polygons.append(part)
-        elif isinstance(part, shapely.LinearRing):
-            lines.append(shapely.LineString(part.coords))
-        elif isinstance(part, shapely.LineString):
-            lines.append(part)
-    return polygons, lines
-
-
-def load_static_occluders(geometries: Sequence[Any] | Any | None) -> StaticOccluders:
-    """Validate static occluders and split them into oriented rings and two-sided wall segments.
-
-    Parameters
-    ----------
-    geometries : sequence of shapely geometries, or None
-        Polygons, MultiPolygons (buildings, parked vehicles, vegetation), LineStrings, MultiLineStrings or
-        LinearRings (walls, guard rails, two-sided), and collections of them (points in a collection are
-        dropped). They are reported by their position in this sequence.
-
-    Raises
-    ------
-    ValueError
-        An entry that is not a shapely geometry, is empty, has no polygonal or lineal part (a Point), holds an
-        invalid polygon, or has non-finite coordinates.
-    """
-    if geometries is None:
-        geometries = []
-    elif isinstance(geometries, shapely.Geometry):
-        geometries = [geometries]
-    geoms = list(geometries)
-    rings, ring_source, ccw = [], [], []
-    segments, segment_source = [], []
-    for k, g in enumerate(geoms):
-        if not isinstance(g, shapely.Geometry):
-            raise ValueError(f"static occluder {k} is not a shapely geometry but {type(g).__name__}")
-        if g.is_empty:
-            raise ValueError(f"static occluder {k} is empty")
-        if not np.isfinite(shapely.get_coordinates(g)).all():
-            raise ValueError(f"static occluder {k} has NaN or infinite coordinates")
-        polygons, lines = polygonal_and_lineal_parts(g)
-        if not polygons and not lines:
-            raise ValueError(
-                f"static occluder {k} is a {g.geom_type} without polygonal or lineal parts: it has no extent that "
-                "could block the view (give walls as LineStrings, buildings as Polygons)"
-            )
-        for poly in polygons:
-            if not poly.is_valid:
-                raise ValueError(
-                    f"static occluder {k} is or holds an invalid polygon ({shapely.is_valid_reason(poly)}); "
-                    "repair it, e.g. with shapely.make_valid"
-                )
-            if poly.area < MIN_AREA:
-                raise ValueError(f"static occluder {k} has a zero-size polygon part")
-            for j, ring in enumerate([poly.exterior, *poly.interiors]):
-                rings.append(ring)
-                ring_source.append(k)
-                ccw.append(j == 0)
-        if lines:
-            # split the lines where they cross each other or themselves: no two edges of one body may cross
-            # (occlusion.py)
-            noded = shapely.node(shapely.MultiLineString(lines))
-            for piece in getattr(noded, "geoms", [noded]):
-                c = np.asarray(piece.coords)[:, :2]
-                seg = np.stack([c[:-1], c[1:]], axis=1)
-                seg = seg[np.hypot(*(seg[:, 1] - seg[:, 0]).T) > 0]
-                if len(seg) == 0:
-                    raise ValueError(f"static occluder {k} is a line of zero length")
-                segments.append(seg)
-                segment_source.extend([k] * len(seg))
-    ring_arrays = orient(_rings_from(rings), np.array(ccw, dtype=bool)) if rings else Rings.empty()
-    if len(ring_arrays) and (np.abs(signed_area(ring_arrays)) < MIN_AREA).any():
-        raise ValueError("a static occluder has a zero-size ring")
-    return StaticOccluders(
-        rings=ring_arrays,
-        ring_source=np.asarray(ring_source, dtype=np.int64),
-        segments=np.concatenate(segments) if segments else np.zeros((0, 2, 2)),
-        segment_source=np.asarray(segment_source, dtype=np.int64),
-        geometries=np.asarray([*geoms, None], dtype=object)[:-1],
-    )

@@ -33,7 +33,8 @@ from omega_prime_visibility.engines import Viewpoint, get_engine
 from omega_prime_visibility.engines.sweep import SweepEngine
 from omega_prime_visibility.engines.sweep.crossings import prepare_frame
 from omega_prime_visibility.geometry import angular_extent, box_rings, covers_point
-from omega_prime_visibility.scene import FrameObjects, load_objects, load_static_occluders
+from omega_prime_visibility.scene import FrameObjects, load_objects
+from omega_prime_visibility.statics import load_static_occluders
 
 AGREE = 1e-6  # visibility agreement with the VisiLibity engine
 TINY = 1e-3  # occluders blocking less than this fraction may be missed by the reference's rays

@@ -14,7 +14,8 @@ from omega_prime_visibility.engines.polygon_check import nearer_edge_exists
 from omega_prime_visibility.engines.visilibity import VisiLibityEngine
 from omega_prime_visibility.geometry import edges
 from omega_prime_visibility.pipeline import viewpoints
-from omega_prime_visibility.scene import load_objects, load_static_occluders
+from omega_prime_visibility.scene import load_objects
+from omega_prime_visibility.statics import load_static_occluders
 
 
 def engine_and_frame(table, statics):

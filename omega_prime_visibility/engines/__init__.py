@@ -21,7 +21,8 @@ from typing import ClassVar, Protocol
 
 import numpy as np
 
-from ..scene import FrameObjects, StaticOccluders
+from ..scene import FrameObjects
+from ..statics import StaticOccluders
 
 
 class Reason(enum.IntEnum):

@@ -31,7 +31,8 @@ from scipy.sparse.csgraph import connected_components
 from ..geometry import Rings, angular_extent, edges, ring_ids
 from ..kernels import MIN_CAPACITY, push_pair
 from ..occlusion import occluding_pairs
-from ..scene import FrameObjects, StaticOccluders, polygonal_and_lineal_parts
+from ..scene import FrameObjects
+from ..statics import StaticOccluders, polygonal_and_lineal_parts
 from . import Observation, Viewpoint, group_pairs
 from .polygon_check import nearer_edge_exists
 

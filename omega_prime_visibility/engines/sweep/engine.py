@@ -9,7 +9,8 @@ import numpy as np
 
 from ...geometry import edges, ring_ids
 from ...kernels import ring_index
-from ...scene import FrameObjects, StaticOccluders
+from ...scene import FrameObjects
+from ...statics import StaticOccluders
 from .. import Observation, Viewpoint
 from .crossings import build_static_grid, prepare_frame, static_crossings
 from .observe import observe_frame
