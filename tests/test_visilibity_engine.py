@@ -10,8 +10,8 @@ from conftest import boxes_table, scene_table
 from reference import random_scene, reference_visibility
 
 from omega_prime_visibility import ENGINES, get_visibility_df
-from omega_prime_visibility.engines.polygon_check import nearer_edge_exists
 from omega_prime_visibility.engines.visilibity import VisiLibityEngine
+from omega_prime_visibility.engines.visilibity.polygon_check import nearer_edge_exists
 from omega_prime_visibility.geometry import edges
 from omega_prime_visibility.pipeline import viewpoints
 from omega_prime_visibility.scene import load_objects

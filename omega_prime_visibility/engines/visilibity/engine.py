@@ -1,155 +1,27 @@
-"""The default engine: VisiLibity1's exact visibility polygon, attributed back to the objects.
-
-Per frame and observer:
-
-1. Coordinates are taken relative to the nearest point of a 1024 m grid, for precision with large map
-   coordinates, and so that static geometry is converted to VisiLibity once per grid cell.
-2. A *valid* VisiLibity environment is built (outer boundary counter-clockwise, holes clockwise, disjoint and
-   inside): blocking bodies (objects, static polygons, LineString walls thickened to ``2 * wall_half_width``) whose
-   bounding boxes overlap are tested exactly and overlapping groups are merged with shapely; every group becomes
-   one hole, inside a box around everything. Groups that only touch at a point are joined by a ``touch_gap``
-   buffer. If the observer is enclosed by a group (say a ring of cars around it), the environment is instead the
-   piece of free space holding the observer.
-3. VisiLibity computes the visibility polygon. Each of its edges either runs along some body's boundary (it then
-   lies on one original edge, found as the nearest edge to the edge's midpoint) or points straight at the
-   observer (it subtends no angle). The angle subtended by a body's edges is its visible angle.
-4. Occluders: candidate bodies have an edge inside the target's angular extent nearer than the target's farthest
-   point; the exact pairwise test of :mod:`..occlusion` keeps those really hit before the target.
-"""
+"""The VisiLibity engine: environment per frame, checked visibility polygon, attribution (see the package
+docstring for the steps)."""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 
-import numba
 import numpy as np
 import shapely
 import visilibity as vis
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
-from ..geometry import Rings, angular_extent, edges, ring_ids
-from ..kernels import MIN_CAPACITY, push_pair
-from ..occlusion import occluding_pairs
-from ..scene import FrameObjects
-from ..statics import StaticOccluders, polygonal_and_lineal_parts
-from . import Observation, Viewpoint, group_pairs
+from ...geometry import Rings, angular_extent, edges, ring_ids
+from ...occlusion import occluding_pairs
+from ...scene import FrameObjects
+from ...statics import StaticOccluders, polygonal_and_lineal_parts
+from .. import Observation, Viewpoint, group_pairs
+from .attribution import attribute_visible_angles
+from .conversion import box_overlaps, components, exterior_cw, polygon_coords, vis_polygon
 from .polygon_check import nearer_edge_exists
 
 BOX_MARGIN = 10.0  # metres of free space around everything
 ORIGIN_GRID = 1024.0  # metres; coordinates are taken relative to the nearest multiple (precision, caching)
 CHECK_ABSOLUTE = 1e-7  # metres: a body must come this much nearer than the polygon's boundary to count as missed
 CHECK_RELATIVE = 1e-9  # ... plus this fraction of the boundary's distance
-
-
-@numba.njit(cache=True)
-def _distance_along(theta, ax, ay, bx, by):
-    """Distance, metres, from the observer (origin) along bearing ``theta`` to the line through a and b."""
-    dx, dy = np.cos(theta), np.sin(theta)
-    ex, ey = bx - ax, by - ay
-    den = dx * ey - dy * ex
-    return (ax * ey - ay * ex) / den if den != 0.0 else np.inf
-
-
-@numba.njit(cache=True)
-def _attribute_visible_angles(pts, seg, seg_offsets, targets, extent_start, extent_width, tolerance):
-    """Angle of the visibility polygon's boundary lying on each target, radians.
-
-    ``pts`` are the visibility polygon's vertices relative to the observer, counter-clockwise; the polygon is
-    star-shaped around the observer, so its edges are ordered by bearing and those inside a target's angular
-    extent are found by binary search. A polygon edge may run along several bodies (merging overlapping or
-    touching bodies joins their collinear edges into one): each target is credited the bearings over which one
-    of its edges lies on the polygon edge (the two agree within ``tolerance`` times the distance, at both ends
-    of the shared bearings). Edges pointing at the observer subtend no angle.
-    """
-    m = len(pts)
-    n_bodies = len(seg_offsets) - 1
-    visible = np.zeros(n_bodies)
-    if m < 3:
-        return visible
-    two_pi = 2.0 * np.pi
-    bearing = np.empty(m)
-    span = np.empty(m)
-    for i in range(m):
-        ax, ay = pts[i, 0], pts[i, 1]
-        bx, by = pts[(i + 1) % m, 0], pts[(i + 1) % m, 1]
-        bearing[i] = np.arctan2(ay, ax)
-        span[i] = np.arctan2(ax * by - ay * bx, ax * bx + ay * by)
-    order = np.argsort(bearing)
-    sorted_bearing = bearing[order]
-    for t in targets:
-        s0 = extent_start[t]
-        # edges starting within [s0 - pi, s0 + width]: an edge spans < pi, so this holds all that can overlap
-        for lo, hi in (
-            (s0 - np.pi, s0 + extent_width[t]),
-            (s0 - np.pi - two_pi, s0 + extent_width[t] - two_pi),
-            (s0 - np.pi + two_pi, s0 + extent_width[t] + two_pi),
-        ):
-            a = np.searchsorted(sorted_bearing, lo)
-            b = np.searchsorted(sorted_bearing, hi, side="right")
-            for q in range(a, b):
-                i = order[q]
-                if span[i] <= 0.0:
-                    continue
-                j = (i + 1) % m
-                px, py, qx, qy = pts[i, 0], pts[i, 1], pts[j, 0], pts[j, 1]
-                for e in range(seg_offsets[t], seg_offsets[t + 1]):
-                    ax, ay, bx, by = seg[e, 0, 0], seg[e, 0, 1], seg[e, 1, 0], seg[e, 1, 1]
-                    # the target edge's bearings relative to the polygon edge's start
-                    rel_a = np.arctan2(px * ay - py * ax, px * ax + py * ay)
-                    rel_b = rel_a + np.arctan2(ax * by - ay * bx, ax * bx + ay * by)
-                    shared_lo = max(min(rel_a, rel_b), 0.0)
-                    shared_hi = min(max(rel_a, rel_b), span[i])
-                    if shared_hi <= shared_lo:
-                        continue
-                    on_edge = True
-                    for rel in (shared_lo, shared_hi):
-                        theta = bearing[i] + rel
-                        boundary = _distance_along(theta, px, py, qx, qy)
-                        body = _distance_along(theta, ax, ay, bx, by)
-                        if abs(boundary - body) > tolerance * max(1.0, boundary):
-                            on_edge = False
-                    if on_edge:
-                        visible[t] += shared_hi - shared_lo
-    return visible
-
-
-@numba.njit(cache=True)
-def _box_overlaps(lo, hi):
-    """Pairs (i, j), i < j, of axis-aligned boxes ``[lo, hi]`` that overlap (sort and sweep on x)."""
-    order = np.argsort(lo[:, 0])
-    first = np.empty(MIN_CAPACITY, dtype=np.int64)
-    second = np.empty(MIN_CAPACITY, dtype=np.int64)
-    k = 0
-    for a in range(len(order)):
-        i = order[a]
-        for b in range(a + 1, len(order)):
-            j = order[b]
-            if lo[j, 0] > hi[i, 0]:
-                break
-            if lo[j, 1] <= hi[i, 1] and lo[i, 1] <= hi[j, 1]:
-                first, second, k = push_pair(first, second, k, min(i, j), max(i, j))
-    return first[:k].copy(), second[:k].copy()
-
-
-def _components(n: int, first: np.ndarray, second: np.ndarray) -> np.ndarray:
-    """Connected-component label of each of ``n`` nodes given undirected edges ``first[k] - second[k]``."""
-    graph = coo_matrix((np.ones(len(first)), (first, second)), shape=(n, n))
-    return connected_components(graph, directed=False)[1].astype(np.int64)
-
-
-def _vis_polygon(coords: np.ndarray) -> vis.Polygon:
-    return vis.Polygon([vis.Point(x, y) for x, y in coords.tolist()])
-
-
-def _polygon_coords(polygon: vis.Polygon) -> np.ndarray:
-    return np.array([(polygon[i].x(), polygon[i].y()) for i in range(polygon.n())], dtype=np.float64)
-
-
-def _exterior_cw(polygon: shapely.Polygon) -> np.ndarray:
-    """Exterior vertices of a polygon, clockwise, closing vertex dropped."""
-    c = shapely.get_coordinates(polygon.exterior)[:-1]
-    return c if not shapely.is_ccw(polygon.exterior) else c[::-1]
 
 
 class _Unenclosable(Exception):
@@ -239,7 +111,7 @@ class VisiLibityEngine:
                     parts = list(getattr(merged, "geoms", [merged]))
             parts_arr = np.array([*parts, None], dtype=object)[:-1]
             bounds = shapely.bounds(parts_arr).reshape(-1, 4) if parts else np.zeros((0, 4))
-            holes = [_vis_polygon(_exterior_cw(p)) for p in parts]
+            holes = [vis_polygon(exterior_cw(p)) for p in parts]
             enclosing = [k for k, p in enumerate(parts) if len(p.interiors)]
             self._static_cache[key] = (parts_arr, bounds, holes, enclosing)
         return self._static_cache[key]
@@ -286,7 +158,7 @@ class VisiLibityEngine:
             in_env = obj_blocking & ~hidden[:n]
             pts = self._checked_points(rings, in_env, static_blocking, o, segments, seg_offsets)
             seg = np.ascontiguousarray(segments[: seg_offsets[n]] - o)
-            visible = _attribute_visible_angles(pts, seg, seg_offsets[: n + 1], targets, start, width, 1e-6)[:n]
+            visible = attribute_visible_angles(pts, seg, seg_offsets[: n + 1], targets, start, width, 1e-6)[:n]
         else:
             visible = width.copy()
         is_obj = body < n
@@ -313,7 +185,7 @@ class VisiLibityEngine:
         seg = np.ascontiguousarray(segments - o)
         pts = self._polygon_points(vis.Environment(polys), o) - o
         if nearer_edge_exists(pts, seg, in_env, CHECK_ABSOLUTE, CHECK_RELATIVE):
-            holes = [_polygon_coords(h) - o for h in polys[1:]]
+            holes = [polygon_coords(h) - o for h in polys[1:]]
             region = shapely.orient_polygons(self._region_by_parts(polys[0], polys[1:], holes, o), exterior_cw=False)
             pts = np.ascontiguousarray(shapely.get_coordinates(region.exterior)[:-1])
             if nearer_edge_exists(pts, seg, in_env, CHECK_ABSOLUTE, CHECK_RELATIVE):
@@ -402,7 +274,7 @@ class VisiLibityEngine:
         lo = np.concatenate([lo_o, part_bounds[:, :2]])
         hi = np.concatenate([hi_o, part_bounds[:, 2:]])
         n_obj = len(objs)
-        first, second = _box_overlaps(lo, hi)
+        first, second = box_overlaps(lo, hi)
         holes: list[vis.Polygon] = []
         grouped = np.zeros(len(lo), dtype=bool)
         if len(first):
@@ -411,7 +283,7 @@ class VisiLibityEngine:
             touching = np.asarray(shapely.intersects(shapes[first], shapes[second]), dtype=bool)
             first, second = first[touching], second[touching]
             if len(first):
-                label = _components(len(lo), first, second)
+                label = components(len(lo), first, second)
                 for root in np.unique(label[np.concatenate([first, second])]):
                     members = np.flatnonzero(label == root)
                     grouped[members] = True
@@ -420,7 +292,7 @@ class VisiLibityEngine:
         bounds_lo = lo.min(axis=0) if len(lo) else o
         bounds_hi = hi.max(axis=0) if len(hi) else o
         for k in np.flatnonzero(~grouped[:n_obj]):
-            holes.append(_vis_polygon(rings.ring(objs[k])[::-1]))
+            holes.append(vis_polygon(rings.ring(objs[k])[::-1]))
         holes += [part_holes[k] for k in np.flatnonzero(~grouped[n_obj:])]
         return [self._outer(np.minimum(bounds_lo, o), np.maximum(bounds_hi, o)), *holes]
 
@@ -441,11 +313,11 @@ class VisiLibityEngine:
         point = shapely.Point(o)
         if any(len(p.interiors) and shapely.intersects(shapely.Polygon(p.exterior), point) for p in pieces):
             raise _Unenclosable
-        return [_vis_polygon(_exterior_cw(p)) for p in pieces]
+        return [vis_polygon(exterior_cw(p)) for p in pieces]
 
     def _outer(self, lo: np.ndarray, hi: np.ndarray) -> vis.Polygon:
         (x0, y0), (x1, y1) = lo - self.box_margin, hi + self.box_margin
-        return _vis_polygon(np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]]))
+        return vis_polygon(np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]]))
 
     def _enclosed_environment(
         self, rings: Rings, obj_blocking: np.ndarray, static_blocking: np.ndarray, o: np.ndarray
@@ -466,8 +338,8 @@ class VisiLibityEngine:
             merged = shapely.buffer(merged, self.touch_gap, join_style="mitre")
             piece = self._piece_holding(shapely.difference(box, merged), o)
         piece = shapely.orient_polygons(piece, exterior_cw=False)
-        polys = [_vis_polygon(shapely.get_coordinates(piece.exterior)[:-1])]
-        polys += [_vis_polygon(shapely.get_coordinates(h)[:-1]) for h in piece.interiors]
+        polys = [vis_polygon(shapely.get_coordinates(piece.exterior)[:-1])]
+        polys += [vis_polygon(shapely.get_coordinates(h)[:-1]) for h in piece.interiors]
         return polys
 
     @staticmethod

@@ -1,0 +1,22 @@
+"""The default engine: VisiLibity1's exact visibility polygon, attributed back to the objects.
+
+Per frame and observer:
+
+1. Coordinates are taken relative to the nearest point of a 1024 m grid, for precision with large map
+   coordinates, and so that static geometry is converted to VisiLibity once per grid cell.
+2. A *valid* VisiLibity environment is built (outer boundary counter-clockwise, holes clockwise, disjoint and
+   inside): blocking bodies (objects, static polygons, LineString walls thickened to ``2 * wall_half_width``) whose
+   bounding boxes overlap are tested exactly and overlapping groups are merged with shapely; every group becomes
+   one hole, inside a box around everything. Groups that only touch at a point are joined by a ``touch_gap``
+   buffer. If the observer is enclosed by a group (say a ring of cars around it), the environment is instead the
+   piece of free space holding the observer.
+3. VisiLibity computes the visibility polygon. Each of its edges either runs along some body's boundary (it then
+   lies on one original edge, found as the nearest edge to the edge's midpoint) or points straight at the
+   observer (it subtends no angle). The angle subtended by a body's edges is its visible angle.
+4. Occluders: candidate bodies have an edge inside the target's angular extent nearer than the target's farthest
+   point; the exact pairwise test of :mod:`..occlusion` keeps those really hit before the target.
+"""
+
+from .engine import VisiLibityEngine
+
+__all__ = ["VisiLibityEngine"]
