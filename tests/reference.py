@@ -636,8 +636,8 @@ def long_static_scene(rng: np.random.Generator, n_objects: int = 25, n_statics: 
     """Long thin static occluders (noise barriers, guard rails, kerbs) among scattered, sometimes overlapping cars.
 
     The family that made VisiLibity's sweep skip a nearer car: its queue of edges ordered by range goes stale
-    when long edges stay in it over a wide bearing range (see ``engines/visilibity/polygon_check.py``). The ego (object 0,
-    transparent) contains the observer; statics are 0.2-0.8 m wide polygons or LineStrings 40-160 m long, in
+    when long edges stay in it over a wide bearing range (see ``engines/visilibity/polygon_check.py``). The ego
+    (object 0, transparent) contains the observer; statics are 0.2-0.8 m wide polygons or LineStrings 40-160 m long, in
     any direction, clear of the observer; cars are placed anywhere within ``radius``.
     """
     o = rng.uniform(-50.0, 50.0, 2)
