@@ -14,6 +14,7 @@ from reference import occluder_disagreements, random_scene, reference_visibility
 from omega_prime_visibility import ENGINES, get_visibility_df
 
 N_RAYS = 20000
+ROW_TOLERANCE = 5e-4  # what 20,000 rays across a target's extent resolve; a 1 % bias on a wide target is 20x that
 TINY = 1e-3  # occluders blocking less than this fraction of the extent may be missed by the rays
 
 
@@ -34,6 +35,8 @@ def compare(scene, include_ego: bool, engine: str) -> tuple[np.ndarray, list[str
     for row in out.iter_rows(named=True):
         i = row["idx"]
         errors.append(abs(row["visibility"] - ref.visibility[i]))
+        for listed in (row["occluder_idxs"], row["static_occluder_idxs"]):
+            assert listed == sorted(set(listed)), f"target {i}: occluder list {listed} not ascending and unique"
         for got, want, bodies, kind in (
             (set(row["occluder_idxs"]), ref.occluders[i], ref_objects, "objects"),
             (set(row["static_occluder_idxs"]), ref.static_occluders[i], statics, "statics"),
@@ -53,8 +56,8 @@ def test_random_scenes_against_reference(engine: str, overlap: bool) -> None:
         errors.append(e)
         problems += p
     errors = np.concatenate(errors)
-    assert errors.mean() < 0.002, errors.mean()
-    assert errors.max() < 0.02, errors.max()
+    assert errors.mean() < 5e-5, errors.mean()
+    assert errors.max() < ROW_TOLERANCE, errors.max()
     assert not problems, "\n".join(problems)
 
 
@@ -63,7 +66,7 @@ def test_random_scenes_against_reference(engine: str, overlap: bool) -> None:
 @given(scene=scenes(min_objects=1, max_objects=7, include_ego=True))
 def test_property_random_scenes(engine: str, scene) -> None:
     errors, problems = compare(scene, True, engine)
-    assert errors.max(initial=0.0) < 0.02
+    assert errors.max(initial=0.0) < ROW_TOLERANCE
     assert not problems, "\n".join(problems)
 
 
