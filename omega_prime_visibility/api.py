@@ -37,7 +37,7 @@ def describe_idx(present: np.ndarray) -> str:
 
 
 def resolve_egos(ego_idx: EgoSpec, objects: ObjectTable) -> tuple[np.ndarray, bool]:
-    """The observers' idx as an ascending array, and whether the table needs an ``ego_idx`` column."""
+    """The observers' idx as an ascending array, and whether the table needs an ``idx_ego`` column."""
     present = np.unique(objects.idx)
     if isinstance(ego_idx, str):
         if ego_idx != "all":
@@ -101,7 +101,7 @@ def get_visibility_df(
         polygons) or ``length, width, yaw`` (metres, radians counter-clockwise from +x).
     ego_idx : int, list of int or "all"
         The observing object(s); the observer sits at the centre ``(x, y)`` of its bounding box. With more than
-        one, the table gains an ``ego_idx`` column.
+        one, the table gains an ``idx_ego`` column (named as in omega-prime's own metrics, so they join).
     static_occluder_polys : sequence of shapely geometries, optional
         Static occluders (Polygon, MultiPolygon, LineString, ...), reported by their position in this sequence.
     epsilon : float, optional

@@ -96,7 +96,7 @@ def run(
     else:
         with pl.Config(tbl_rows=rows, tbl_cols=-1, fmt_table_cell_list_len=8):
             typer.echo(table)
-        by = ["ego_idx", "idx"] if "ego_idx" in table.columns else ["idx"]
+        by = ["idx_ego", "idx"] if "idx_ego" in table.columns else ["idx"]
         summary = table.group_by(by).agg(
             pl.col("visibility").mean().alias("mean_visibility"),
             (pl.col("visibility") == 0.0).mean().alias("hidden_share"),

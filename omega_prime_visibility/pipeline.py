@@ -104,7 +104,7 @@ def observe_frame(
         if inside.any():
             containment.add(ego, objects.idx[inside], objects.frame)
         columns = observation_rows(observation, view.own, objects.idx)
-        builder.add(columns, frame=objects.frame, total_nanos=objects.total_nanos, ego_idx=ego)
+        builder.add(columns, frame=objects.frame, total_nanos=objects.total_nanos, idx_ego=ego)
 
 
 def run_chunk(

@@ -18,13 +18,14 @@ from .engines import Observation, Reason
 SCHEMA: dict[str, pl.DataType] = {
     "frame": pl.Int64(),
     "total_nanos": pl.Int64(),
-    "ego_idx": pl.Int64(),
+    "idx_ego": pl.Int64(),
     "idx": pl.Int64(),
     "occluder_idxs": pl.List(pl.Int64()),
     "static_occluder_idxs": pl.List(pl.Int64()),
     "visibility": pl.Float64(),
 }
-"""Column types of the visibility table. ``ego_idx`` is present only when several observers were asked for."""
+"""Column types of the visibility table. ``idx_ego`` (the observer; named as in omega-prime's own
+metrics, e.g. its time gap, so the tables join) is present only when several observers were asked for."""
 
 LIST_COLUMNS = tuple(name for name, dtype in SCHEMA.items() if isinstance(dtype, pl.List))
 """List columns travel as ``(lengths, values)`` pairs of flat arrays."""
@@ -36,8 +37,8 @@ _IN_VIEW = int(Reason.IN_VIEW)
 
 
 def schema(with_ego: bool) -> dict[str, pl.DataType]:
-    """The table's schema, with or without the ``ego_idx`` column."""
-    return {k: v for k, v in SCHEMA.items() if with_ego or k != "ego_idx"}
+    """The table's schema, with or without the ``idx_ego`` column."""
+    return {k: v for k, v in SCHEMA.items() if with_ego or k != "idx_ego"}
 
 
 def empty_table(with_ego: bool = False) -> pl.DataFrame:
@@ -125,7 +126,7 @@ class TableBuilder:
     """Collects per-(frame, viewpoint) blocks of named columns and concatenates them once.
 
     A block gives every column of the schema: arrays of one value per row, list columns as ``(lengths, values)``,
-    and scalars (``frame``, ``total_nanos``, ``ego_idx``) that hold for all its rows.
+    and scalars (``frame``, ``total_nanos``, ``idx_ego``) that hold for all its rows.
     """
 
     def __init__(self) -> None:

@@ -24,7 +24,7 @@ def row(df: pl.DataFrame, idx: int) -> dict:
 def test_free_view_and_fully_hidden(engine: str) -> None:
     # ego at origin; a 4 m wide wall-like car at x=10 hides a 2 m wide car at x=20 completely
     df = get_visibility_df(boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 4, 0), (20, 0, 4, 2, 0)]), 0, engine=engine)
-    assert df.columns == [c for c in SCHEMA if c != "ego_idx"]
+    assert df.columns == [c for c in SCHEMA if c != "idx_ego"]
     assert row(df, 1)["visibility"] == 1.0 and row(df, 1)["occluder_idxs"] == []
     assert row(df, 2)["visibility"] == 0.0 and row(df, 2)["occluder_idxs"] == [1]
 
@@ -175,7 +175,7 @@ def test_several_observers() -> None:
     out = get_visibility_df(df, "all")
     assert out.columns == list(SCHEMA)
     assert out.height == 6
-    seen_from_2 = out.filter(pl.col("ego_idx") == 2)
+    seen_from_2 = out.filter(pl.col("idx_ego") == 2)
     assert row(seen_from_2, 0)["visibility"] == 0.0 and row(seen_from_2, 0)["occluder_idxs"] == [1]
     single = get_visibility_df(df, [0])
     assert single.columns == list(SCHEMA)
@@ -198,7 +198,7 @@ def test_chunks_workers_and_parquet_output_give_the_same_table(tmp_path) -> None
     chunked = get_visibility_df(df, 0, workers=1, chunk_frames=7)
     assert chunked.equals(serial)
     parallel = get_visibility_df(df, [0, 3], workers=2, chunk_frames=7)
-    assert parallel.filter(pl.col("ego_idx") == 0).drop("ego_idx").equals(serial)
+    assert parallel.filter(pl.col("idx_ego") == 0).drop("idx_ego").equals(serial)
     lazy = get_visibility_df(df, 0, workers=1, chunk_frames=4, output=tmp_path / "vis.parquet")
     assert isinstance(lazy, pl.LazyFrame)
     assert lazy.collect().equals(serial)

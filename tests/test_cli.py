@@ -55,8 +55,8 @@ def test_cli_writes_parquet_with_engine_and_several_egos(tmp_path) -> None:
     out = cli(MCAP, "--ego", "0,1", "--engine", "sweep", "--no-progress", "-o", out_path)
     assert out.returncode == 0, out.stderr
     table = pl.read_parquet(out_path)
-    assert table.columns[:3] == ["frame", "total_nanos", "ego_idx"]
-    assert set(table["ego_idx"].unique()) == {0, 1}
+    assert table.columns[:3] == ["frame", "total_nanos", "idx_ego"]
+    assert set(table["idx_ego"].unique()) == {0, 1}
     assert files_under(tmp_path) == {Path("vis.parquet")}  # no temporary file left beside it
 
 

@@ -138,8 +138,8 @@ def test_agrees_with_visilibity_for_every_observer_of_a_frame() -> None:
         table = scene_table(observer, objects, False)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            a = get_visibility_df(table, "all", statics, engine="visilibity").sort("ego_idx", "idx")
-            b = get_visibility_df(table, "all", statics, engine="sweep").sort("ego_idx", "idx")
+            a = get_visibility_df(table, "all", statics, engine="visilibity").sort("idx_ego", "idx")
+            b = get_visibility_df(table, "all", statics, engine="sweep").sort("idx_ego", "idx")
         assert a.drop("visibility").equals(b.drop("visibility"))
         diff = np.abs(a["visibility"].to_numpy() - b["visibility"].to_numpy())
         assert diff.max() <= (1e-4 if has_walls(statics) else AGREE)
