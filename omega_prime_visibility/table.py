@@ -134,11 +134,10 @@ class TableBuilder:
         self.rows = 0
 
     def add(self, columns: Columns, **constants: int) -> None:
-        """Add the rows of ``columns`` (same length each), with ``constants`` repeated over them."""
+        """Add the rows of ``columns`` (same length each), with ``constants`` holding for all of them."""
         k = len(columns["idx"])
         if k:
-            repeated = {name: np.full(k, value, dtype=np.int64) for name, value in constants.items()}
-            self._blocks.append({**columns, **repeated})
+            self._blocks.append((k, columns, constants))
             self.rows += k
 
     def arrays(self) -> Columns | None:
@@ -146,15 +145,18 @@ class TableBuilder:
         if not self._blocks:
             return None
         blocks, self._blocks, self.rows = self._blocks, [], 0
+        counts = np.array([k for k, _, _ in blocks])
         out: Columns = {}
-        for name in blocks[0]:
+        for name in blocks[0][2]:
+            out[name] = np.repeat(np.array([c[name] for _, _, c in blocks], dtype=np.int64), counts)
+        for name in blocks[0][1]:
             if name in LIST_COLUMNS:
                 out[name] = (
-                    np.concatenate([b[name][0] for b in blocks]),
-                    np.concatenate([b[name][1] for b in blocks]).astype(np.int64, copy=False),
+                    np.concatenate([b[name][0] for _, b, _ in blocks]),
+                    np.concatenate([b[name][1] for _, b, _ in blocks]).astype(np.int64, copy=False),
                 )
             else:
-                out[name] = np.concatenate([b[name] for b in blocks])
+                out[name] = np.concatenate([b[name] for _, b, _ in blocks])
         return out
 
 

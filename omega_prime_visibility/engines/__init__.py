@@ -19,6 +19,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import ClassVar, Protocol
 
+import numba
 import numpy as np
 
 from ..scene import FrameObjects
@@ -34,6 +35,9 @@ class Reason(enum.IntEnum):
     """Some body is hit before the target in some direction: partly or wholly hidden."""
     CONTAINS_OBSERVER = 2
     """The target contains (or touches) the viewpoint: it is transparent and counts as fully visible."""
+
+
+_IN_VIEW, _OCCLUDED, _CONTAINS_OBSERVER = int(Reason.IN_VIEW), int(Reason.OCCLUDED), int(Reason.CONTAINS_OBSERVER)
 
 
 @dataclass(frozen=True, slots=True)
@@ -104,10 +108,23 @@ class Observation:
         transparent: np.ndarray,
     ) -> Observation:
         """An observation whose reason codes follow from the occluder lists and the transparency mask."""
-        hidden = (np.diff(occluder_offsets) > 0) | (np.diff(static_offsets) > 0)
-        reason = np.where(hidden, Reason.OCCLUDED, Reason.IN_VIEW).astype(np.int8)
-        reason[np.asarray(transparent, dtype=bool)] = Reason.CONTAINS_OBSERVER
+        reason = _reason_codes(occluder_offsets, static_offsets, np.asarray(transparent, dtype=np.bool_))
         return cls(visible_angle, angular_extent, reason, occluder_offsets, occluders, static_offsets, static_occluders)
+
+
+@numba.njit(cache=True)
+def _reason_codes(occluder_offsets, static_offsets, transparent):
+    """One :class:`Reason` code per object from its occluder lists and whether it contains the viewpoint."""
+    n = len(transparent)
+    reason = np.empty(n, dtype=np.int8)
+    for i in range(n):
+        if transparent[i]:
+            reason[i] = _CONTAINS_OBSERVER
+        elif occluder_offsets[i + 1] > occluder_offsets[i] or static_offsets[i + 1] > static_offsets[i]:
+            reason[i] = _OCCLUDED
+        else:
+            reason[i] = _IN_VIEW
+    return reason
 
 
 class Engine(Protocol):

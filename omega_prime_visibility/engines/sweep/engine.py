@@ -14,7 +14,6 @@ from ...statics import StaticOccluders
 from .. import Observation, Viewpoint
 from .crossings import build_static_grid, prepare_frame, static_crossings
 from .observe import observe_frame
-from .pieces import FrameEdges, StaticEdges
 
 
 class SweepEngine:
@@ -42,7 +41,7 @@ class SweepEngine:
         else:
             self._grid = (np.zeros(3), np.ones(2, dtype=np.int64), np.zeros(2, dtype=np.int64), np.zeros(0, np.int64))
             self._ss = (np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64))
-        self._static_edges = StaticEdges(self._st_a, self._st_b, self._st_src, self._st_two)
+        self._static_edges = (self._st_a, self._st_b, self._st_src, self._st_two)  # StaticEdges' fields
 
     def observe(self, objects: FrameObjects, viewpoints: Sequence[Viewpoint]) -> list[Observation]:
         """One :class:`Observation` per viewpoint; the frame's edge crossings are found once for all of them."""
@@ -70,10 +69,9 @@ class SweepEngine:
             observers, coords, offsets, self._st_a, self._st_b, grid_f, grid_i, cell_off, items, *self._ss
         )
         ang = np.arctan2(y, x)
-        frame = FrameEdges(coords, offsets, nxt, ring_index(offsets), ci, cj)
         out = observe_frame(
             observers,
-            frame,
+            (coords, offsets, nxt, ring_index(offsets), ci, cj),
             self._static_edges,
             ang,
             np.ascontiguousarray(transparent, dtype=bool).reshape(len(observers), -1),

@@ -12,6 +12,8 @@ import numpy as np
 from .heap_sweep import visible_angles
 from .occluders import ObjectsSeen, occluders
 from .pieces import (
+    FrameEdges,
+    StaticEdges,
     crossing_cuts,
     cut_pieces,
     front_facing_edges,
@@ -67,10 +69,13 @@ def observe_one(ox, oy, frame, statics, ang, object_transparent, static_transpar
 
 
 @numba.njit(cache=True)
-def observe_frame(observers, frame, statics, ang, transparent, static_transparent):
+def observe_frame(observers, frame_arrays, static_arrays, ang, transparent, static_transparent):
     """:func:`observe_one` for each of the ``k`` observers (shape (k, 2), metres) of one frame.
 
-    ``ang`` (k, 2 m), ``transparent`` (k, n) and ``static_transparent`` (k, n_sources) hold one row per observer.
+    ``frame_arrays`` and ``static_arrays`` are plain tuples of the :class:`FrameEdges` and :class:`StaticEdges`
+    fields (the named tuples are built here: handing named tuples in from Python costs a type inference per
+    call). ``ang`` (k, 2 m), ``transparent`` (k, n) and ``static_transparent`` (k, n_sources) hold one row per
+    observer.
 
     Returns
     -------
@@ -82,6 +87,8 @@ def observe_frame(observers, frame, statics, ang, transparent, static_transparen
     st_offsets, st, st_cut
         Likewise for the static occluders.
     """
+    frame = FrameEdges(*frame_arrays)
+    statics = StaticEdges(*static_arrays)
     k = len(observers)
     n = len(frame.offsets) - 1
     visible = np.empty((k, n))
