@@ -115,12 +115,14 @@ def test_courtyard_and_transparent_bodies(engine: str) -> None:
 
 
 def test_body_touching_the_observer_is_transparent(engine: str) -> None:
-    # the observer (origin) lies on the left edge x = 0 of box 1 ([0, 4] x [-1, 1]): that box counts as containing
-    # it, so it neither hides box 2 straight behind it nor lists occluders, and is itself fully visible
-    with pytest.warns(VisibilityInputWarning, match="idx 1 contains observer 0"):
-        df = run(engine, [(0, 0, 1, 1, 0), (2, 0, 4, 2, 0), (10, 0, 2, 2, 0)])
-    assert row(df, 1)["visibility"] == 1.0 and row(df, 1)["occluder_idxs"] == []
-    assert row(df, 2)["visibility"] == 1.0 and row(df, 2)["occluder_idxs"] == []
+    # the observer (origin) lies on the right edge x = 0 of box 1 ([-4, 0] x [-1, 1]) and on the left edge of
+    # box 3 ([0, 4] x [-1, 1]): both count as containing it, so they hide neither box 2 nor box 4 straight behind
+    # them, list no occluders and are fully visible (a point-in-polygon parity test alone calls one side outside)
+    boxes = [(0, 0, 1, 1, 0), (-2, 0, 4, 2, 0), (-10, 0, 2, 2, 0), (2, 0, 4, 2, 0), (10, 0, 2, 2, 0)]
+    with pytest.warns(VisibilityInputWarning, match="idx 1 contains observer 0.*idx 3 contains observer 0"):
+        df = run(engine, boxes)
+    for i in (1, 2, 3, 4):
+        assert row(df, i)["visibility"] == 1.0 and row(df, i)["occluder_idxs"] == [], i
 
 
 def test_equal_distances_do_not_occlude(engine: str) -> None:
