@@ -111,11 +111,13 @@ def orient(rings: Rings, counter_clockwise: np.ndarray | bool = True) -> Rings:
     flip = (signed_area(rings) > 0) != want
     if not flip.any():
         return rings
-    coords = rings.coords.copy()
-    for i in np.flatnonzero(flip):
-        s, e = rings.offsets[i], rings.offsets[i + 1]
-        coords[s:e] = coords[s:e][::-1]
-    return Rings(coords, rings.offsets)
+    # vertex j of a flipped ring [s, e) takes vertex s + e - 1 - j; all rings at once
+    sizes = rings.sizes
+    start = rings.offsets[:-1]
+    source = np.arange(rings.offsets[-1])
+    vertex_flip = np.repeat(flip, sizes)
+    source[vertex_flip] = np.repeat(2 * start + sizes - 1, sizes)[vertex_flip] - source[vertex_flip]
+    return Rings(rings.coords[source], rings.offsets)
 
 
 def box_rings(x: np.ndarray, y: np.ndarray, length: np.ndarray, width: np.ndarray, yaw: np.ndarray) -> Rings:
