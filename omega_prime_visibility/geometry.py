@@ -120,6 +120,39 @@ def orient(rings: Rings, counter_clockwise: np.ndarray | bool = True) -> Rings:
     return Rings(rings.coords[source], rings.offsets)
 
 
+def convex_quadrilaterals(coords: np.ndarray, min_area: float) -> np.ndarray:
+    """Which closed 4-vertex rings are, beyond doubt, strictly convex with an area above ``min_area``.
+
+    Such a ring is a valid simple polygon (GEOS ``is_valid`` is True) whose area is not below ``min_area``: all
+    four turns have the same sign, and a 4-vertex ring cannot turn twice around. The test is conservative: a turn
+    must have a sine above 1e-6 and the area must exceed ``10 * min_area``, far beyond floating-point error (the
+    products are taken of edge vectors, not of absolute coordinates); any other ring answers False and is left
+    to the caller to check exactly.
+
+    Parameters
+    ----------
+    coords : ndarray, shape (n, 5, 2)
+        Closed rings (last vertex repeating the first), metres.
+    min_area : float
+        Square metres.
+
+    Returns
+    -------
+    ndarray of bool, shape (n,)
+    """
+    edge = np.diff(coords, axis=1)[:, :4]  # (n, 4, 2)
+    after = np.roll(edge, -1, axis=1)
+    turn = edge[..., 0] * after[..., 1] - edge[..., 1] * after[..., 0]
+    scale = np.hypot(edge[..., 0], edge[..., 1]) * np.hypot(after[..., 0], after[..., 1])
+    with np.errstate(invalid="ignore"):
+        sure = np.abs(turn) > 1e-6 * scale
+        same = (turn > 0).all(axis=1) | (turn < 0).all(axis=1)
+        d0, d1 = coords[:, 2] - coords[:, 0], coords[:, 3] - coords[:, 1]
+        area = 0.5 * np.abs(d0[:, 0] * d1[:, 1] - d0[:, 1] * d1[:, 0])
+        big = area > 10.0 * min_area
+    return np.isfinite(coords).all(axis=(1, 2)) & sure.all(axis=1) & same & big
+
+
 def box_rings(x: np.ndarray, y: np.ndarray, length: np.ndarray, width: np.ndarray, yaw: np.ndarray) -> Rings:
     """Counter-clockwise rectangles from centre, size and heading.
 
