@@ -120,19 +120,48 @@ def orient(rings: Rings, counter_clockwise: np.ndarray | bool = True) -> Rings:
     return Rings(rings.coords[source], rings.offsets)
 
 
-def convex_quadrilaterals(coords: np.ndarray, min_area: float) -> np.ndarray:
+@numba.njit(cache=True)
+def _convex_quadrilaterals(coords, first, min_area):
+    n = len(first)
+    out = np.zeros(n, dtype=np.bool_)
+    for i in range(n):
+        s = first[i]
+        finite = True
+        for k in range(5):
+            finite = finite and np.isfinite(coords[s + k, 0]) and np.isfinite(coords[s + k, 1])
+        if not finite:
+            continue
+        positive, negative, sure = 0, 0, True
+        for k in range(4):
+            ex, ey = coords[s + k + 1, 0] - coords[s + k, 0], coords[s + k + 1, 1] - coords[s + k, 1]
+            j = s + (k + 1) % 4
+            fx, fy = coords[j + 1, 0] - coords[j, 0], coords[j + 1, 1] - coords[j, 1]
+            turn = ex * fy - ey * fx
+            sure = sure and abs(turn) > 1e-6 * np.hypot(ex, ey) * np.hypot(fx, fy)
+            positive += turn > 0
+            negative += turn < 0
+        d0x, d0y = coords[s + 2, 0] - coords[s, 0], coords[s + 2, 1] - coords[s, 1]
+        d1x, d1y = coords[s + 3, 0] - coords[s + 1, 0], coords[s + 3, 1] - coords[s + 1, 1]
+        area = 0.5 * abs(d0x * d1y - d0y * d1x)
+        out[i] = sure and (positive == 4 or negative == 4) and area > 10.0 * min_area
+    return out
+
+
+def convex_quadrilaterals(coords: np.ndarray, first: np.ndarray, min_area: float) -> np.ndarray:
     """Which closed 4-vertex rings are, beyond doubt, strictly convex with an area above ``min_area``.
 
     Such a ring is a valid simple polygon (GEOS ``is_valid`` is True) whose area is not below ``min_area``: all
-    four turns have the same sign, and a 4-vertex ring cannot turn twice around. The test is conservative: a turn
-    must have a sine above 1e-6 and the area must exceed ``10 * min_area``, far beyond floating-point error (the
-    products are taken of edge vectors, not of absolute coordinates); any other ring answers False and is left
-    to the caller to check exactly.
+    four turns have the same sign, and a 4-vertex ring cannot turn twice around. The test is conservative: every
+    turn must have a sine above 1e-6 and the area must exceed ``10 * min_area``, far beyond floating-point error
+    (the products are taken of edge vectors, not of absolute coordinates); any other ring (also one with a NaN
+    or infinite vertex) answers False and is left to the caller to check exactly.
 
     Parameters
     ----------
-    coords : ndarray, shape (n, 5, 2)
-        Closed rings (last vertex repeating the first), metres.
+    coords : ndarray, shape (m, 2), float64
+        Vertices, metres.
+    first : ndarray, shape (n,), int64
+        Ring ``i`` is the closed ring ``coords[first[i]:first[i] + 5]`` (last vertex repeating the first).
     min_area : float
         Square metres.
 
@@ -140,17 +169,10 @@ def convex_quadrilaterals(coords: np.ndarray, min_area: float) -> np.ndarray:
     -------
     ndarray of bool, shape (n,)
     """
-    edge = np.diff(coords, axis=1)[:, :4]  # (n, 4, 2)
-    after = np.roll(edge, -1, axis=1)
-    turn = edge[..., 0] * after[..., 1] - edge[..., 1] * after[..., 0]
-    scale = np.hypot(edge[..., 0], edge[..., 1]) * np.hypot(after[..., 0], after[..., 1])
-    with np.errstate(invalid="ignore"):
-        sure = np.abs(turn) > 1e-6 * scale
-        same = (turn > 0).all(axis=1) | (turn < 0).all(axis=1)
-        d0, d1 = coords[:, 2] - coords[:, 0], coords[:, 3] - coords[:, 1]
-        area = 0.5 * np.abs(d0[:, 0] * d1[:, 1] - d0[:, 1] * d1[:, 0])
-        big = area > 10.0 * min_area
-    return np.isfinite(coords).all(axis=(1, 2)) & sure.all(axis=1) & same & big
+    if len(first) == 0:
+        return np.zeros(0, dtype=bool)
+    coords = np.ascontiguousarray(coords, dtype=np.float64)
+    return _convex_quadrilaterals(coords, np.asarray(first, dtype=np.int64), float(min_area))
 
 
 def box_rings(x: np.ndarray, y: np.ndarray, length: np.ndarray, width: np.ndarray, yaw: np.ndarray) -> Rings:

@@ -203,15 +203,15 @@ def _polygon_rings(
         reasons.append(f"{int((candidate & ~polygonal).sum())} outline(s) not a shapely Polygon")
     geoms = np.where(polygonal, polygons, None)
     single = polygonal & (type_id == POLYGON)
-    n_coords = np.where(single, shapely.get_num_coordinates(geoms), 0)
-    plain = single & (shapely.get_num_interior_rings(np.where(single, geoms, None)) == 0)
-    coords, _ = shapely.get_coordinates(np.where(single, geoms, None), return_index=True)
-    first = np.concatenate([[0], np.cumsum(n_coords)[:-1]])  # each row's first coordinate in ``coords``
+    single_geoms = np.where(single, geoms, None)
+    n_coords = shapely.get_num_coordinates(single_geoms)
+    plain = single & (shapely.get_num_interior_rings(single_geoms) == 0)
+    coords = shapely.get_coordinates(single_geoms)
+    first = np.zeros(len(polygons), dtype=np.int64)  # each row's first coordinate in ``coords``
+    np.cumsum(n_coords[:-1], out=first[1:])
     quad = np.flatnonzero(plain & (n_coords == 5))
     sure = np.zeros(len(polygons), dtype=bool)
-    if len(quad):
-        corners = coords[first[quad][:, None] + np.arange(5)]
-        sure[quad] = convex_quadrilaterals(corners, MIN_AREA)
+    sure[quad] = convex_quadrilaterals(coords, first[quad], MIN_AREA)
     simple = sure.copy()
     check = np.flatnonzero(single & ~sure)
     simple[check] = shapely.is_valid(geoms[check])
