@@ -111,11 +111,68 @@ def orient(rings: Rings, counter_clockwise: np.ndarray | bool = True) -> Rings:
     flip = (signed_area(rings) > 0) != want
     if not flip.any():
         return rings
-    coords = rings.coords.copy()
-    for i in np.flatnonzero(flip):
-        s, e = rings.offsets[i], rings.offsets[i + 1]
-        coords[s:e] = coords[s:e][::-1]
-    return Rings(coords, rings.offsets)
+    # vertex j of a flipped ring [s, e) takes vertex s + e - 1 - j; all rings at once
+    sizes = rings.sizes
+    start = rings.offsets[:-1]
+    source = np.arange(rings.offsets[-1])
+    vertex_flip = np.repeat(flip, sizes)
+    source[vertex_flip] = np.repeat(2 * start + sizes - 1, sizes)[vertex_flip] - source[vertex_flip]
+    return Rings(rings.coords[source], rings.offsets)
+
+
+@numba.njit(cache=True)
+def _convex_quadrilaterals(coords, first, min_area):
+    n = len(first)
+    out = np.zeros(n, dtype=np.bool_)
+    for i in range(n):
+        s = first[i]
+        finite = True
+        for k in range(5):
+            finite = finite and np.isfinite(coords[s + k, 0]) and np.isfinite(coords[s + k, 1])
+        if not finite:
+            continue
+        positive, negative, sure = 0, 0, True
+        for k in range(4):
+            ex, ey = coords[s + k + 1, 0] - coords[s + k, 0], coords[s + k + 1, 1] - coords[s + k, 1]
+            j = s + (k + 1) % 4
+            fx, fy = coords[j + 1, 0] - coords[j, 0], coords[j + 1, 1] - coords[j, 1]
+            turn = ex * fy - ey * fx
+            sure = sure and abs(turn) > 1e-6 * np.hypot(ex, ey) * np.hypot(fx, fy)
+            positive += turn > 0
+            negative += turn < 0
+        d0x, d0y = coords[s + 2, 0] - coords[s, 0], coords[s + 2, 1] - coords[s, 1]
+        d1x, d1y = coords[s + 3, 0] - coords[s + 1, 0], coords[s + 3, 1] - coords[s + 1, 1]
+        area = 0.5 * abs(d0x * d1y - d0y * d1x)
+        out[i] = sure and (positive == 4 or negative == 4) and area > 10.0 * min_area
+    return out
+
+
+def convex_quadrilaterals(coords: np.ndarray, first: np.ndarray, min_area: float) -> np.ndarray:
+    """Which closed 4-vertex rings are, beyond doubt, strictly convex with an area above ``min_area``.
+
+    Such a ring is a valid simple polygon (GEOS ``is_valid`` is True) whose area is not below ``min_area``: all
+    four turns have the same sign, and a 4-vertex ring cannot turn twice around. The test is conservative: every
+    turn must have a sine above 1e-6 and the area must exceed ``10 * min_area``, far beyond floating-point error
+    (the products are taken of edge vectors, not of absolute coordinates); any other ring (also one with a NaN
+    or infinite vertex) answers False and is left to the caller to check exactly.
+
+    Parameters
+    ----------
+    coords : ndarray, shape (m, 2), float64
+        Vertices, metres.
+    first : ndarray, shape (n,), int64
+        Ring ``i`` is the closed ring ``coords[first[i]:first[i] + 5]`` (last vertex repeating the first).
+    min_area : float
+        Square metres.
+
+    Returns
+    -------
+    ndarray of bool, shape (n,)
+    """
+    if len(first) == 0:
+        return np.zeros(0, dtype=bool)
+    coords = np.ascontiguousarray(coords, dtype=np.float64)
+    return _convex_quadrilaterals(coords, np.asarray(first, dtype=np.int64), float(min_area))
 
 
 def box_rings(x: np.ndarray, y: np.ndarray, length: np.ndarray, width: np.ndarray, yaw: np.ndarray) -> Rings:

@@ -17,7 +17,7 @@ import numpy as np
 import polars as pl
 import shapely
 
-from .geometry import Rings, box_rings, orient, rings_from
+from .geometry import Rings, box_rings, convex_quadrilaterals, orient
 
 REQUIRED_COLUMNS = ("frame", "total_nanos", "idx", "x", "y")
 BOX_COLUMNS = ("length", "width", "yaw")
@@ -169,6 +169,18 @@ def _repaired_outline(geometry: Any) -> shapely.Polygon | None:
     return shapely.Polygon(polygons[0].exterior) if len(polygons) == 1 else shapely.MultiPolygon(polygons).convex_hull
 
 
+POLYGON, MULTIPOLYGON = 3, 6  # shapely.get_type_id
+
+
+def _type_ids(polygons: np.ndarray) -> np.ndarray:
+    """``shapely.get_type_id`` of every entry, -1 for None or anything that is not a shapely geometry."""
+    try:
+        return shapely.get_type_id(polygons)
+    except TypeError:  # some entry is not a geometry at all
+        is_geometry = np.array([isinstance(p, shapely.Geometry) for p in polygons], dtype=bool)
+        return np.where(is_geometry, shapely.get_type_id(np.where(is_geometry, polygons, None)), -1)
+
+
 def _polygon_rings(
     polygons: np.ndarray, candidate: np.ndarray, boxes: Rings | None, on_invalid: OnInvalid
 ) -> tuple[Rings, np.ndarray, list[str], list[str], np.ndarray]:
@@ -178,13 +190,31 @@ def _polygon_rings(
     ring per row, NaN where unusable) has one, else repaired (:func:`_repaired_outline`); with
     ``on_invalid="raise"`` they raise instead. Returns the rings of the usable rows (in row order), the mask of
     usable rows, the reasons for skipped rows, notes on replaced outlines and the rows whose outline was replaced.
+
+    Read at array speed: the coordinates of all polygons come out of one ``shapely.get_coordinates`` call, and
+    outlines that are strictly convex quadrilaterals (as boxes are) are known valid and large enough without
+    asking GEOS (:func:`~.geometry.convex_quadrilaterals`); only the other rows go through ``shapely.is_valid``
+    and ``shapely.area``.
     """
-    polygonal = candidate & np.array([isinstance(p, shapely.Polygon | shapely.MultiPolygon) for p in polygons])
+    type_id = _type_ids(polygons)
+    polygonal = candidate & ((type_id == POLYGON) | (type_id == MULTIPOLYGON))
     reasons, notes = [], []
     if (candidate & ~polygonal).any():
         reasons.append(f"{int((candidate & ~polygonal).sum())} outline(s) not a shapely Polygon")
     geoms = np.where(polygonal, polygons, None)
-    simple = polygonal & np.array([isinstance(p, shapely.Polygon) for p in geoms]) & shapely.is_valid(geoms)
+    single = polygonal & (type_id == POLYGON)
+    single_geoms = np.where(single, geoms, None)
+    n_coords = shapely.get_num_coordinates(single_geoms)
+    plain = single & (shapely.get_num_interior_rings(single_geoms) == 0)
+    coords = shapely.get_coordinates(single_geoms)
+    first = np.zeros(len(polygons), dtype=np.int64)  # each row's first coordinate in ``coords``
+    np.cumsum(n_coords[:-1], out=first[1:])
+    quad = np.flatnonzero(plain & (n_coords == 5))
+    sure = np.zeros(len(polygons), dtype=bool)
+    sure[quad] = convex_quadrilaterals(coords, first[quad], MIN_AREA)
+    simple = sure.copy()
+    check = np.flatnonzero(single & ~sure)
+    simple[check] = shapely.is_valid(geoms[check])
     broken = np.flatnonzero(polygonal & ~simple)
     if len(broken) and on_invalid == "raise":
         raise ValueError(
@@ -206,14 +236,32 @@ def _polygon_rings(
             f"{len(fixed)} invalid or multi-part outline(s) repaired with shapely.make_valid (one part kept as "
             "it is, several by their convex hull)"
         )
-    usable = polygonal & np.array([g is not None for g in outline])
-    area = np.where(usable, shapely.area(np.where(usable, outline, None)), 0.0)
-    small = usable & (~np.isfinite(area) | (area < MIN_AREA))
+    usable = polygonal.copy()
+    usable[[i for i in repaired if outline[i] is None]] = False
+    measure = np.flatnonzero(usable & ~sure)  # the ``sure`` rows are known to have finite areas >= MIN_AREA
+    area = shapely.area(outline[measure])
+    small = np.zeros(len(polygons), dtype=bool)
+    small[measure] = ~np.isfinite(area) | (area < MIN_AREA)
     if (polygonal & ~small & ~usable).any() or small.any():
         reasons.append(f"{int((polygonal & ~usable).sum() + small.sum())} zero-size or non-finite polygon(s)")
     good = usable & ~small
-    rings = orient(rings_from(shapely.get_exterior_ring(outline[good])), True)
-    return rings, good, reasons, notes, broken[good[broken]]
+    # plain polygons that were kept as they are: their coordinates are those of their exterior ring
+    direct = good & plain
+    direct[broken] = False
+    other = np.flatnonzero(good & ~direct)
+    extra, extra_which = shapely.get_coordinates(shapely.get_exterior_ring(outline[other]), return_index=True)
+    extra_sizes = np.bincount(extra_which, minlength=len(other))
+    source_first = first.copy()
+    sizes = n_coords.copy()
+    source_first[other] = len(coords) + np.concatenate([[0], np.cumsum(extra_sizes)[:-1]]).astype(np.int64)
+    sizes[other] = extra_sizes
+    rows = np.flatnonzero(good)
+    ring_sizes = sizes[rows] - 1  # the closing vertex is not repeated
+    offsets = np.zeros(len(rows) + 1, dtype=np.int64)
+    np.cumsum(ring_sizes, out=offsets[1:])
+    vertex = np.repeat(source_first[rows] - offsets[:-1], ring_sizes) + np.arange(offsets[-1])
+    rings = Rings(np.concatenate([coords, extra])[vertex], offsets)
+    return orient(rings, True), good, reasons, notes, broken[good[broken]]
 
 
 def load_objects(data: Any, *, on_invalid: OnInvalid = "warn") -> ObjectTable:
