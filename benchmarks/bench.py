@@ -24,6 +24,24 @@ TARGETS_US = {("visilibity", 50): 40.0, ("sweep", 50): 2.0, ("sweep", 200): 3.0}
 CROWDED_RUNS = (("sweep", 50), ("sweep", 200), ("visilibity", 50))
 
 
+def tracks(t, x, y, length, width, yaw) -> pl.DataFrame:
+    """An object table from times ``t`` (s, shape (f,)), x positions (f, n) and per-object ``y, length, width,
+    yaw`` (n,) that stay constant (metres, radians)."""
+    n_frames, n_objects = x.shape
+    return pl.DataFrame(
+        {
+            "frame": np.repeat(np.arange(n_frames), n_objects),
+            "total_nanos": np.repeat((t * 1e9).astype(np.int64), n_objects),
+            "idx": np.tile(np.arange(n_objects), n_frames),
+            "x": x.ravel(),
+            "y": np.tile(y, n_frames),
+            "length": np.tile(length, n_frames),
+            "width": np.tile(width, n_frames),
+            "yaw": np.tile(yaw, n_frames),
+        }
+    )
+
+
 def synthetic_highway(n_objects: int, n_frames: int, seed: int = 0, dt: float = 0.04) -> pl.DataFrame:
     """Boxes on a 4-lane highway (lane width 3.5 m), moving in +x; idx 0 is the ego in lane 1.
 
@@ -47,18 +65,7 @@ def synthetic_highway(n_objects: int, n_frames: int, seed: int = 0, dt: float = 
     y = 3.5 * lanes + rng.uniform(-0.3, 0.3, n_objects)
     t = np.arange(n_frames) * dt
     x = x0[None, :] + speed[None, :] * t[:, None]
-    return pl.DataFrame(
-        {
-            "frame": np.repeat(np.arange(n_frames), n_objects),
-            "total_nanos": np.repeat((t * 1e9).astype(np.int64), n_objects),
-            "idx": np.tile(np.arange(n_objects), n_frames),
-            "x": x.ravel(),
-            "y": np.tile(y, n_frames),
-            "length": np.tile(length, n_frames),
-            "width": np.tile(width, n_frames),
-            "yaw": np.zeros(n_frames * n_objects),
-        }
-    )
+    return tracks(t, x, y, length, width, np.zeros(n_objects))
 
 
 def crowded_highway(n_objects: int, n_frames: int, seed: int = 0, dt: float = 0.04) -> pl.DataFrame:
@@ -83,18 +90,7 @@ def crowded_highway(n_objects: int, n_frames: int, seed: int = 0, dt: float = 0.
     yaw = rng.uniform(-0.03, 0.03, n_objects)
     t = np.arange(n_frames) * dt
     x = x0[None, :] + (speed - speed[0])[None, :] * t[:, None]  # the ego's frame of reference: it stays at 0
-    return pl.DataFrame(
-        {
-            "frame": np.repeat(np.arange(n_frames), n_objects),
-            "total_nanos": np.repeat((t * 1e9).astype(np.int64), n_objects),
-            "idx": np.tile(np.arange(n_objects), n_frames),
-            "x": x.ravel(),
-            "y": np.tile(y, n_frames),
-            "length": np.tile(length, n_frames),
-            "width": np.tile(width, n_frames),
-            "yaw": np.tile(yaw, n_frames),
-        }
-    )
+    return tracks(t, x, y, length, width, yaw)
 
 
 def with_polygons(table: pl.DataFrame) -> pl.DataFrame:
