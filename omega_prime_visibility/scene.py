@@ -225,7 +225,8 @@ def _polygon_rings(
     from_box = [i for i in broken if boxes is not None and np.isfinite(boxes.ring(i)).all()]
     for i in from_box:
         outline[i] = shapely.Polygon(boxes.ring(i))
-    repaired = [i for i in broken if i not in set(from_box)]
+    replaced_by_box = set(from_box)
+    repaired = [i for i in broken if i not in replaced_by_box]
     for i in repaired:
         outline[i] = _repaired_outline(geoms[i])
     if from_box:
