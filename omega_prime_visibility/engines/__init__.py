@@ -15,6 +15,7 @@ A new engine is one module and one line in :data:`ENGINES`.
 from __future__ import annotations
 
 import enum
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import ClassVar, Protocol
@@ -23,6 +24,7 @@ import numba
 import numpy as np
 
 from ..scene import FrameObjects
+from ..sensors import DRIVER_EYE_HEIGHT, TWO_PI
 from ..statics import StaticOccluders
 
 
@@ -56,6 +58,16 @@ class Viewpoint:
         Objects that neither block nor occlude: the observer's own body and bodies containing the viewpoint.
     static_transparent : ndarray of bool, shape (n_sources,)
         Static occluders containing the viewpoint.
+    fov : float
+        Horizontal field of view, radians in (0, 2π], centred on ``heading``; 2π looks all around.
+    range : float
+        Metres (``inf``: no limit); a direction counts only where its first hit lies within this distance.
+    height : float
+        Metres above the ground of the eye (3D engines only).
+    vertical_fov : float
+        Radians in (0, π], centred on ``pitch`` (3D engines only).
+    pitch : float
+        Radians, positive looking down (3D engines only).
     """
 
     position: np.ndarray
@@ -63,6 +75,16 @@ class Viewpoint:
     own: int
     transparent: np.ndarray
     static_transparent: np.ndarray
+    fov: float = TWO_PI
+    range: float = math.inf
+    height: float = DRIVER_EYE_HEIGHT
+    vertical_fov: float = math.pi
+    pitch: float = 0.0
+
+    @property
+    def limited(self) -> bool:
+        """Whether the field of view or the range cuts anything off (else the viewpoint sees as a bare point)."""
+        return self.fov < TWO_PI or math.isfinite(self.range)
 
 
 @dataclass(frozen=True, slots=True)
