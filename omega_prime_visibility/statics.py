@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 import shapely
 
-from .geometry import Rings, orient, rings_from, signed_area
+from .geometry import Rings, edges, orient, ring_ids, rings_from, signed_area
 from .scene import MIN_AREA
 
 
@@ -41,6 +41,17 @@ class StaticOccluders:
     @property
     def n_sources(self) -> int:
         return len(self.geometries)
+
+    def source_edges(self) -> tuple[np.ndarray, np.ndarray]:
+        """Every edge (ring edges and wall segments), shape (s, 2, 2) metres, grouped by source: the edges and
+        the CSR offsets (shape (n_sources + 1,)) of each source's edges."""
+        a, b = edges(self.rings)
+        seg = np.concatenate([np.stack([a, b], axis=1), np.asarray(self.segments, dtype=np.float64).reshape(-1, 2, 2)])
+        src = np.concatenate([self.ring_source[ring_ids(self.rings.offsets)], self.segment_source]).astype(np.int64)
+        order = np.argsort(src, kind="stable")
+        offsets = np.zeros(self.n_sources + 1, dtype=np.int64)
+        np.cumsum(np.bincount(src, minlength=self.n_sources), out=offsets[1:])
+        return np.ascontiguousarray(seg[order]), offsets
 
 
 def polygonal_and_lineal_parts(geometry: shapely.Geometry) -> tuple[list[shapely.Polygon], list[shapely.LineString]]:

@@ -12,7 +12,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .pieces import EX, EY, HI, LO, NUM, UHX, UHY, ULX, ULY
+from ...view import limited_angle
+from .pieces import EX, EY, HI, LO, NUM, TWO_PI, UHX, UHY, ULX, ULY
 
 
 @numba.njit(cache=True)
@@ -77,8 +78,10 @@ def sift_down(pieces, heap, position, i, size):
 
 
 @numba.njit(cache=True)
-def visible_angles(pieces, body, n_bodies):
-    """Angle (radians) along which each body's pieces are the nearest thing hit, shape (n_bodies,).
+def visible_angles(pieces, body, n_bodies, wedge_start, fov, max_range):
+    """Angle (radians) along which each body's pieces are the nearest thing hit, inside the field of view
+    ``[wedge_start, wedge_start + fov]`` and within ``max_range`` metres (see :func:`...view.limited_angle`),
+    shape (n_bodies,).
 
     Parameters
     ----------
@@ -86,7 +89,10 @@ def visible_angles(pieces, body, n_bodies):
         The piece table of :mod:`.pieces`.
     body : ndarray, shape (>= k,), int64
         The body of each piece, in ``range(n_bodies)``.
+    wedge_start, fov, max_range : float
+        Radians, radians (``>= 2π``: all around), metres (``inf``: no limit).
     """
+    limited = fov < TWO_PI or max_range < np.inf
     k = len(pieces)
     visible = np.zeros(n_bodies)
     if k == 0:
@@ -125,5 +131,11 @@ def visible_angles(pieces, body, n_bodies):
             following = pieces[by_hi[j], HI]  # j < k: active pieces still have to end
             if i < k and pieces[by_lo[i], LO] < following:
                 following = pieces[by_lo[i], LO]
-            visible[body[heap[0]]] += following - theta
+            top = heap[0]
+            if limited:
+                visible[body[top]] += limited_angle(
+                    theta, following, pieces[top, EX], pieces[top, EY], pieces[top, NUM], wedge_start, fov, max_range
+                )
+            else:
+                visible[body[top]] += following - theta
     return visible
