@@ -36,7 +36,7 @@ SNAP = 1e-12
 
 
 @numba.njit(cache=True, inline="always")
-def _clip(lo, hi, count, c0, cw):
+def clip_circular(lo, hi, count, c0, cw):
     """Intersect the ``count`` intervals ``lo[:count], hi[:count]`` (relative bearings in [0, 2π]) in place with
     the circular interval ``[c0, c0 + cw]`` (``c0`` relative, any value; ``cw`` < 2π); returns the new count."""
     c = wrap_positive(c0)
@@ -76,7 +76,7 @@ def limited_angle(t0, t1, ex, ey, num, wedge_start, fov, max_range):
     hi[0] = length
     count = 1
     if fov < TWO_PI:
-        count = _clip(lo, hi, count, wedge_start - t0, fov)
+        count = clip_circular(lo, hi, count, wedge_start - t0, fov)
     if count and math.isfinite(max_range):
         e2 = ex * ex + ey * ey
         distance = abs(num) / math.sqrt(e2)
@@ -85,7 +85,7 @@ def limited_angle(t0, t1, ex, ey, num, wedge_start, fov, max_range):
         scale = num / e2
         foot = math.atan2(-scale * ex, scale * ey)
         half = math.acos(distance / max_range)
-        count = _clip(lo, hi, count, foot - half - t0, 2.0 * half)
+        count = clip_circular(lo, hi, count, foot - half - t0, 2.0 * half)
     total = 0.0
     for i in range(count):
         total += hi[i] - lo[i]
@@ -219,8 +219,8 @@ def _view_intervals(coords, offsets, targets, start, width, wedge_start, fov, ma
             if fov < TWO_PI:
                 lo = np.concatenate((lo, lo))
                 hi = np.concatenate((hi, hi))
-                count = _clip(lo, hi, count, wedge_start - start[t], fov)
-                fov_count = _clip(fov_lo, fov_hi, 1, wedge_start - start[t], fov)
+                count = clip_circular(lo, hi, count, wedge_start - start[t], fov)
+                fov_count = clip_circular(fov_lo, fov_hi, 1, wedge_start - start[t], fov)
             for i in range(fov_count):
                 in_fov[t] += fov_hi[i] - fov_lo[i]
             lo, hi = _union(lo[:count], hi[:count], w)

@@ -15,7 +15,7 @@ from ...statics import StaticOccluders
 from ...view import restrict_observation
 from .. import Observation, Viewpoint
 from .crossings import build_static_grid, prepare_frame, static_crossings
-from .observe import observe_frame
+from .observe import observe_frame, outline_one
 
 
 class SweepEngine:
@@ -62,6 +62,17 @@ class SweepEngine:
                 observations[k] = restrict_observation(observations[k], objects.rings, *self._source_edges, view)
         return observations
 
+    def _frame_inputs(self, objects: FrameObjects, observers: np.ndarray) -> tuple:
+        """The kernels' per-frame inputs: the frame's edge arrays (a tuple of :class:`.pieces.FrameEdges`' fields)
+        and every observer's bearings."""
+        coords = np.ascontiguousarray(objects.rings.coords, dtype=np.float64)
+        offsets = np.ascontiguousarray(objects.rings.offsets, dtype=np.int64)
+        grid_f, grid_i, cell_off, items = self._grid
+        nxt, ci, cj, y, x = prepare_frame(
+            observers, coords, offsets, self._st_a, self._st_b, grid_f, grid_i, cell_off, items, *self._ss
+        )
+        return (coords, offsets, nxt, ring_index(offsets), ci, cj), np.arctan2(y, x)
+
     def _observe_arrays(
         self,
         objects: FrameObjects,
@@ -73,16 +84,10 @@ class SweepEngine:
         observers = np.ascontiguousarray(observers, dtype=np.float64).reshape(-1, 2)
         if limits is None:  # every observer sees all around, without limit
             limits = np.tile([0.0, TWO_PI, np.inf], (len(observers), 1))
-        coords = np.ascontiguousarray(objects.rings.coords, dtype=np.float64)
-        offsets = np.ascontiguousarray(objects.rings.offsets, dtype=np.int64)
-        grid_f, grid_i, cell_off, items = self._grid
-        nxt, ci, cj, y, x = prepare_frame(
-            observers, coords, offsets, self._st_a, self._st_b, grid_f, grid_i, cell_off, items, *self._ss
-        )
-        ang = np.arctan2(y, x)
+        frame_arrays, ang = self._frame_inputs(objects, observers)
         out = observe_frame(
             observers,
-            (coords, offsets, nxt, ring_index(offsets), ci, cj),
+            frame_arrays,
             self._static_edges,
             ang,
             np.ascontiguousarray(transparent, dtype=bool).reshape(len(observers), -1),
@@ -102,3 +107,26 @@ class SweepEngine:
             )
             for k in range(len(observers))
         ]
+
+    def visible_outline(
+        self, objects: FrameObjects, viewpoint: Viewpoint, radius: float, arc_step: float
+    ) -> np.ndarray:
+        """Vertices (world frame, metres, counter-clockwise) of the region the viewpoint sees within its field of
+        view and within ``radius`` metres (the viewpoint's range, or a bound when it has none); arcs of the
+        circle are drawn as chords every ``arc_step`` radians (see :mod:`.outline`)."""
+        position = np.ascontiguousarray(viewpoint.position, dtype=np.float64).reshape(1, 2)
+        frame_arrays, ang = self._frame_inputs(objects, position)
+        outline = outline_one(
+            float(position[0, 0]),
+            float(position[0, 1]),
+            frame_arrays,
+            self._static_edges,
+            ang[0],
+            np.ascontiguousarray(viewpoint.transparent, dtype=bool),
+            np.ascontiguousarray(viewpoint.static_transparent, dtype=bool),
+            viewpoint.heading - 0.5 * viewpoint.fov,
+            viewpoint.fov,
+            float(radius),
+            float(arc_step),
+        )
+        return outline + position

@@ -11,6 +11,7 @@ import numpy as np
 
 from .heap_sweep import visible_angles
 from .occluders import ObjectsSeen, occluders
+from .outline import visible_outline
 from .pieces import (
     FrameEdges,
     StaticEdges,
@@ -128,3 +129,20 @@ def observe_frame(observers, frame_arrays, static_arrays, ang, transparent, stat
         occ_all[occ_cut[o] : occ_cut[o + 1]] = occ_parts[o]
         st_all[st_cut[o] : st_cut[o + 1]] = st_parts[o]
     return visible, width, occ_offsets, occ_all, occ_cut, st_offsets, st_all, st_cut
+
+
+@numba.njit(cache=True)
+def outline_one(ox, oy, frame, statics, ang, object_transparent, static_transparent, wedge_start, fov, radius, step):
+    """Steps 1 to 3 for the observer at ``(ox, oy)``, then the outline of the region it sees within ``radius``
+    metres (see :func:`.outline.visible_outline`; ``frame`` and ``statics`` as plain tuples of the named tuples'
+    fields), relative to the observer."""
+    frame = FrameEdges(*frame)
+    statics = StaticEdges(*statics)
+    seg = shifted_object_edges(frame.coords, frame.following, ox, oy)
+    reach2 = radius * radius * (1.0 + 1e-9)  # static edges beyond the radius are not seen
+    kept, record_edge, records = front_facing_edges(
+        seg, ang, frame, statics, object_transparent, static_transparent, ox, oy, reach2
+    )
+    cut_offsets, cuts = crossing_cuts(kept, record_edge, records, frame.cross_first, frame.cross_second)
+    pieces, _ = cut_pieces(kept, record_edge, records, cut_offsets, cuts)
+    return visible_outline(pieces, wedge_start, fov, radius, step)
