@@ -15,7 +15,6 @@ from collections.abc import Iterator, Sequence
 from concurrent.futures import Executor
 
 import numpy as np
-import shapely
 
 from .engines import Engine, Viewpoint, get_engine
 from .geometry import covers_point
@@ -80,9 +79,7 @@ def viewpoints(
         for position, heading, sensor in poses:
             transparent = covers_point(position, objects.rings)
             transparent[row] = True
-            static_transparent = np.zeros(statics.n_sources, dtype=bool)
-            if statics.n_sources:
-                static_transparent = np.asarray(shapely.intersects(statics.geometries, shapely.Point(position)))
+            static_transparent = statics.containing(position)
             view = Viewpoint(position, heading, row, transparent, static_transparent)
             if sensor is not None:
                 view = Viewpoint(

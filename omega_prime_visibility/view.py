@@ -300,22 +300,41 @@ def view_intervals(
 
 
 @numba.njit(cache=True)
-def _keep_in_view(seg, seg_offsets, n, occ_offsets, occ, st_offsets, st, start, view_offsets, view_lo, view_hi):
-    """Occluder lists filtered to bodies hit before the target along an in-view direction (exact)."""
+def _keep_in_view(
+    seg, seg_offsets, static_seg, static_offsets, ox, oy, occ_offsets, occ, st_offsets, st, start, view_offsets, lo, hi
+):
+    """Occluder lists filtered to bodies hit before the target along an in-view direction (exact).
+
+    ``seg`` (grouped by ``seg_offsets``) are the objects' edges relative to the viewpoint, ``static_seg`` (grouped
+    by ``static_offsets``) the static sources' edges in the world frame, the viewpoint at ``(ox, oy)``.
+    """
+    n = len(seg_offsets) - 1
     keep_occ = np.zeros(len(occ), dtype=np.bool_)
     keep_st = np.zeros(len(st), dtype=np.bool_)
+    scratch = np.empty((16, 2, 2))
     for t in range(n):
         a, b = view_offsets[t], view_offsets[t + 1]
         if a == b:
             continue
-        lo, hi = view_lo[a:b], view_hi[a:b]
         t0, t1 = seg_offsets[t], seg_offsets[t + 1]
         for q in range(occ_offsets[t], occ_offsets[t + 1]):
             j = occ[q]
-            keep_occ[q] = occludes_within(0.0, 0.0, seg, seg_offsets[j], seg_offsets[j + 1], t0, t1, start[t], lo, hi)
+            keep_occ[q] = occludes_within(
+                0.0, 0.0, seg, seg_offsets[j], seg_offsets[j + 1], t0, t1, start[t], lo[a:b], hi[a:b]
+            )
         for q in range(st_offsets[t], st_offsets[t + 1]):
-            j = n + st[q]
-            keep_st[q] = occludes_within(0.0, 0.0, seg, seg_offsets[j], seg_offsets[j + 1], t0, t1, start[t], lo, hi)
+            # the target's edges, then the static source's, relative to the viewpoint, side by side
+            s0, s1 = static_offsets[st[q]], static_offsets[st[q] + 1]
+            size = (t1 - t0) + (s1 - s0)
+            if len(scratch) < size:
+                scratch = np.empty((2 * size, 2, 2))
+            scratch[: t1 - t0] = seg[t0:t1]
+            for e in range(s0, s1):
+                r = t1 - t0 + e - s0
+                for p in range(2):
+                    scratch[r, p, 0] = static_seg[e, p, 0] - ox
+                    scratch[r, p, 1] = static_seg[e, p, 1] - oy
+            keep_st[q] = occludes_within(0.0, 0.0, scratch, t1 - t0, size, 0, t1 - t0, start[t], lo[a:b], hi[a:b])
     return keep_occ, keep_st
 
 
@@ -353,18 +372,19 @@ def restrict_observation(
     o = np.asarray(viewpoint.position, dtype=np.float64)
     transparent = np.asarray(viewpoint.transparent, dtype=bool)
     coords = rings.coords - o
-    segments = np.concatenate([np.stack([coords, coords[next_vertex(rings.offsets)]], axis=1), static_edges - o])
-    seg_offsets = np.concatenate([rings.offsets, rings.offsets[-1] + static_offsets[1:]]).astype(np.int64)
+    segments = np.ascontiguousarray(np.stack([coords, coords[next_vertex(rings.offsets)]], axis=1))
     start, width, _ = angular_extent(o, rings)
-    n = len(rings)
     wedge_start = viewpoint.heading - 0.5 * viewpoint.fov
     view_off, lo, hi, in_fov, in_view = view_intervals(
         coords, rings.offsets, ~transparent, start, width, wedge_start, viewpoint.fov, viewpoint.range
     )
     keep_occ, keep_st = _keep_in_view(
-        np.ascontiguousarray(segments),
-        seg_offsets,
-        n,
+        segments,
+        np.asarray(rings.offsets, dtype=np.int64),
+        static_edges,
+        static_offsets,
+        float(o[0]),
+        float(o[1]),
         observation.occluder_offsets,
         observation.occluders,
         observation.static_offsets,
