@@ -11,8 +11,9 @@ from __future__ import annotations
 
 import warnings
 from collections import Counter
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from concurrent.futures import Executor
+from typing import Any
 
 import numpy as np
 import shapely
@@ -119,13 +120,32 @@ def run_chunk(
     return builder.arrays(), containment
 
 
-def _run_chunk_star(args: tuple) -> tuple[Columns | None, ContainmentLog]:
-    return run_chunk(*args)
+def _run_chunk_star(args: tuple) -> tuple[Any, ContainmentLog]:
+    *chunk, sink, k = args
+    columns, log = run_chunk(*chunk)
+    return (columns if sink is None else sink(k, columns)), log
 
 
-def chunks(n_frames: int, chunk_frames: int) -> list[tuple[int, int]]:
-    """``(start, stop)`` frame positions of consecutive chunks of at most ``chunk_frames`` frames."""
-    return [(k, min(k + chunk_frames, n_frames)) for k in range(0, n_frames, chunk_frames)]
+def chunks(n_frames: int, chunk_frames: int, workers: int = 1) -> list[tuple[int, int]]:
+    """``(start, stop)`` frame positions of consecutive chunks of at most ``chunk_frames`` frames.
+
+    With several ``workers``, the number of chunks is a multiple of ``workers`` and their sizes differ by at most
+    one frame, so that no worker is left idle while another finishes a last, lone chunk.
+
+    Examples
+    --------
+    >>> chunks(10, 4)
+    [(0, 4), (4, 8), (8, 10)]
+    >>> chunks(10, 4, workers=2)
+    [(0, 3), (3, 6), (6, 8), (8, 10)]
+    """
+    if workers <= 1 or n_frames == 0:
+        return [(k, min(k + chunk_frames, n_frames)) for k in range(0, n_frames, chunk_frames)]
+    count = -(-n_frames // chunk_frames)
+    count = min(-(-count // workers) * workers, n_frames)
+    size, extra = divmod(n_frames, count)
+    stops = np.cumsum([size + (k < extra) for k in range(count)]).tolist()
+    return list(zip([0, *stops[:-1]], stops, strict=True))
 
 
 def run(
@@ -136,7 +156,9 @@ def run(
     *,
     chunk_frames: int,
     executor: Executor | None = None,
-) -> Iterator[tuple[int, Columns | None, ContainmentLog]]:
+    workers: int = 1,
+    sink: Callable[[int, Columns | None], Any] | None = None,
+) -> Iterator[tuple[int, Any, ContainmentLog]]:
     """Observe every frame, chunk by chunk, in order; yields ``(frames in the chunk, columns, containment log)``.
 
     Parameters
@@ -148,12 +170,18 @@ def run(
     engine : str
         A registered engine name; every chunk builds its own engine, so the result never depends on chunking.
     chunk_frames : int
-        Frames per chunk.
+        Frames per chunk (at most).
     executor : concurrent.futures.Executor, optional
         Where chunks run (its ``map`` keeps their order); None runs them here, one after another.
+    workers : int
+        Processes behind ``executor``; the chunks are balanced over them (see :func:`chunks`).
+    sink : callable, optional
+        Called where the chunk ran (in the worker) as ``sink(k, columns)`` for the ``k``-th chunk (0-based); what
+        it returns is yielded instead of the columns (e.g. it writes them to disk and returns a row count, so
+        the columns never travel back to this process).
     """
-    bounds = chunks(objects.n_frames, chunk_frames)
-    tasks = ((objects.frame_range(a, b), statics, egos, engine) for a, b in bounds)
+    bounds = chunks(objects.n_frames, chunk_frames, workers)
+    tasks = ((objects.frame_range(a, b), statics, egos, engine, sink, k) for k, (a, b) in enumerate(bounds))
     results = executor.map(_run_chunk_star, tasks) if executor is not None else map(_run_chunk_star, tasks)
     for (a, b), (columns, log) in zip(bounds, results, strict=True):
         yield b - a, columns, log

@@ -10,7 +10,7 @@ import shapely
 from conftest import boxes_table
 
 from omega_prime_visibility import get_visibility_df
-from omega_prime_visibility.pipeline import run, viewpoints
+from omega_prime_visibility.pipeline import chunks, run, viewpoints
 from omega_prime_visibility.scene import load_objects
 from omega_prime_visibility.statics import load_static_occluders
 from omega_prime_visibility.table import to_polars
@@ -49,3 +49,14 @@ def test_viewpoints_mark_the_own_body_and_bodies_containing_the_viewpoint() -> N
     assert view.own == 0 and view.heading == 0.3 and np.array_equal(view.position, [0.0, 0.0])
     assert view.transparent.tolist() == [True, True, False]
     assert view.static_transparent.tolist() == [True, False]
+
+
+def test_chunks_cover_every_frame_once_and_balance_over_workers() -> None:
+    for n_frames, chunk_frames, workers in [(30_000, 500, 2), (1001, 500, 2), (7, 3, 3), (3, 500, 8), (0, 5, 2)]:
+        bounds = chunks(n_frames, chunk_frames, workers)
+        sizes = [b - a for a, b in bounds]
+        assert [a for a, _ in bounds] == [0, *[b for _, b in bounds]][: len(bounds)] and sum(sizes) == n_frames
+        assert all(0 < s <= chunk_frames for s in sizes) and (max(sizes, default=0) - min(sizes, default=0)) <= 1
+        assert len(bounds) % workers == 0 or len(bounds) == n_frames
+    assert [b - a for a, b in chunks(1001, 500, 2)] == [251, 250, 250, 250]
+    assert chunks(1001, 500) == [(0, 500), (500, 1000), (1000, 1001)]  # one worker: as asked
