@@ -19,10 +19,10 @@ import numpy as np
 import shapely
 
 from .engines import Engine, Viewpoint, get_engine
-from .geometry import covers_point
+from .geometry import covers_points
 from .scene import FrameObjects, ObjectTable, VisibilityInputWarning
 from .statics import StaticOccluders
-from .table import Columns, TableBuilder, observation_rows
+from .table import Columns, TableBuilder, frame_rows
 
 
 class ContainmentLog:
@@ -64,16 +64,24 @@ def viewpoints(objects: FrameObjects, rows: np.ndarray, statics: StaticOccluders
     Transparent to each: its own object and every object containing or touching the viewpoint, and the static
     occluders containing it.
     """
-    out = []
-    for row in np.asarray(rows, dtype=np.int64).tolist():
-        position = objects.position[row]
-        transparent = covers_point(position, objects.rings)
-        transparent[row] = True
-        static_transparent = np.zeros(statics.n_sources, dtype=bool)
-        if statics.n_sources:
-            static_transparent = np.asarray(shapely.intersects(statics.geometries, shapely.Point(position)))
-        out.append(Viewpoint(position, float(objects.yaw[row]), row, transparent, static_transparent))
-    return out
+    rows = np.asarray(rows, dtype=np.int64)
+    positions = objects.position[rows]
+    transparent = covers_points(positions, objects.rings)
+    transparent[np.arange(len(rows)), rows] = True
+    static_transparent = np.zeros((len(rows), statics.n_sources), dtype=bool)
+    if statics.n_sources:
+        # only sources whose bounding box holds a viewpoint can contain it (exact: the boxes are closed)
+        x0, y0, x1, y1 = shapely.bounds(statics.geometries).T[:, :, None]
+        px, py = positions[:, 0], positions[:, 1]
+        near = (x0 <= px) & (px <= x1) & (y0 <= py) & (py <= y1)
+        if near.any():
+            s, v = np.nonzero(near)
+            static_transparent[v, s] = shapely.intersects(statics.geometries[s], shapely.points(positions[v]))
+    yaw = objects.yaw[rows].tolist()
+    return [
+        Viewpoint(positions[k], yaw[k], row, transparent[k], static_transparent[k])
+        for k, row in enumerate(rows.tolist())
+    ]
 
 
 def observer_rows(objects: FrameObjects, egos: np.ndarray) -> np.ndarray:
@@ -98,14 +106,13 @@ def observe_frame(
     if len(rows) == 0:
         return
     views = viewpoints(objects, rows, statics)
-    for view, observation in zip(views, engine.observe(objects, views), strict=True):
-        ego = int(objects.idx[view.own])
-        inside = view.transparent.copy()
-        inside[view.own] = False
-        if inside.any():
-            containment.add(ego, objects.idx[inside], objects.frame)
-        columns = observation_rows(observation, view.own, objects.idx)
-        builder.add(columns, frame=objects.frame, total_nanos=objects.total_nanos, idx_ego=ego)
+    observations = engine.observe(objects, views)
+    inside = np.array([view.transparent for view in views], dtype=bool).reshape(len(views), -1)
+    inside[np.arange(len(views)), [view.own for view in views]] = False
+    for k in np.flatnonzero(inside.any(axis=1)).tolist():
+        containment.add(int(objects.idx[views[k].own]), objects.idx[inside[k]], objects.frame)
+    columns = frame_rows(observations, np.array([view.own for view in views], dtype=np.int64), objects.idx)
+    builder.add(columns, frame=objects.frame, total_nanos=objects.total_nanos)
 
 
 def run_chunk(
