@@ -13,9 +13,11 @@ from ...scene import FrameObjects
 from ...sensors import TWO_PI
 from ...statics import StaticOccluders
 from ...view import restrict_observation
-from .. import Observation, Viewpoint
+from .. import Observation, Reason, Viewpoint
 from .crossings import build_static_grid, prepare_frame, static_crossings
 from .observe import observe_frame, outline_one
+
+_IN_VIEW, _OCCLUDED, _CONTAINS_OBSERVER = int(Reason.IN_VIEW), int(Reason.OCCLUDED), int(Reason.CONTAINS_OBSERVER)
 
 
 class SweepEngine:
@@ -95,15 +97,19 @@ class SweepEngine:
             np.ascontiguousarray(limits, dtype=np.float64).reshape(len(observers), 3),
         )
         visible, width, occ_off, occ, occ_cut, st_off, st, st_cut = out
+        # the reason codes of all observers at once, as Observation.from_parts gives them one by one
+        occluded = (np.diff(occ_off, axis=1) > 0) | (np.diff(st_off, axis=1) > 0)
+        reason = np.where(transparent, _CONTAINS_OBSERVER, np.where(occluded, _OCCLUDED, _IN_VIEW)).astype(np.int8)
+        occ_cut, st_cut = occ_cut.tolist(), st_cut.tolist()
         return [
-            Observation.from_parts(
+            Observation(
                 visible[k],
                 width[k],
+                reason[k],
                 occ_off[k],
                 occ[occ_cut[k] : occ_cut[k + 1]],
                 st_off[k],
                 st[st_cut[k] : st_cut[k + 1]],
-                transparent[k],
             )
             for k in range(len(observers))
         ]
