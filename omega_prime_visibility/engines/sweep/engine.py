@@ -12,7 +12,7 @@ from ...kernels import ring_index
 from ...scene import FrameObjects
 from ...sensors import TWO_PI
 from ...statics import StaticOccluders
-from ...view import restrict_observation
+from ...view import objects_in_view, restrict_observation
 from .. import Observation, Reason, Viewpoint
 from .crossings import build_static_grid, prepare_frame, static_crossings
 from .observe import observe_frame, outline_one
@@ -52,16 +52,21 @@ class SweepEngine:
         """One :class:`Observation` per viewpoint; the frame's edge crossings are found once for all of them."""
         if not viewpoints:
             return []
+        transparent = np.array([v.transparent for v in viewpoints], dtype=bool).reshape(len(viewpoints), -1)
+        seen = {k: objects_in_view(objects.rings, v) for k, v in enumerate(viewpoints) if v.limited}
+        swept = transparent.copy()
+        for k, one in seen.items():  # objects out of a sensor's view need not be swept for it
+            swept[k] |= one.out_of_view(transparent[k])
         observations = self._observe_arrays(
             objects,
             np.array([v.position for v in viewpoints], dtype=np.float64).reshape(-1, 2),
-            np.array([v.transparent for v in viewpoints], dtype=bool).reshape(len(viewpoints), -1),
+            swept,
             np.array([v.static_transparent for v in viewpoints], dtype=bool).reshape(len(viewpoints), -1),
             np.array([(v.heading - 0.5 * v.fov, v.fov, v.range) for v in viewpoints], dtype=np.float64),
         )
-        for k, view in enumerate(viewpoints):
-            if view.limited:
-                observations[k] = restrict_observation(observations[k], objects.rings, *self._source_edges, view)
+        for k, one in seen.items():
+            view = viewpoints[k]
+            observations[k] = restrict_observation(observations[k], one, objects.rings, *self._source_edges, view)
         return observations
 
     def _frame_inputs(self, objects: FrameObjects, observers: np.ndarray) -> tuple:
