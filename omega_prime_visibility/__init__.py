@@ -4,6 +4,7 @@
 """
 
 from .api import get_visibility_df, get_visibility_df_for_frame
+from .batch import run_batch
 from .engines import ENGINES, Observation, Reason, Viewpoint
 from .scene import VisibilityInputWarning
 from .table import SCHEMA
@@ -18,6 +19,7 @@ __all__ = [
     "get_visibility_df",
     "get_visibility_df_for_frame",
     "metrics",
+    "run_batch",
     "visibility",
 ]
 
