@@ -14,9 +14,11 @@ from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
+from pathlib import Path
 
 from . import batch
 from .batch import FileResult, FileTask, process_file
+from .batch_files import remove_leftovers
 
 Report = Callable[[FileResult], None]
 MAX_ATTEMPTS = 2  # a file whose worker process dies this often is reported failed (the others go on)
@@ -60,6 +62,7 @@ def run_local(tasks: Sequence[FileTask], n_workers: int, report: Report) -> None
         pool.shutdown()
         pending = []
         for task in broken:
+            remove_leftovers(Path(task.result))  # a worker killed while writing could not clean up
             attempts[task.result] += 1
             if attempts[task.result] < MAX_ATTEMPTS:
                 pending.append(task)

@@ -201,6 +201,42 @@ def test_interrupted_by_a_signal_then_resumed(tmp_path, expected) -> None:
     assert not leftovers(out)
 
 
+def descendants(pid: int, depth: int) -> list[int]:
+    """Processes ``depth`` generations below ``pid`` (from /proc): the pool's workers sit below its forkserver."""
+    parents = {}
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                parents[int(entry.name)] = int((entry / "stat").read_text().rsplit(")", 1)[1].split()[1])
+            except (OSError, IndexError):
+                pass
+    level = [pid]
+    for _ in range(depth):
+        level = [child for child, parent in parents.items() if parent in level]
+    return level
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="finds the workers through /proc")
+def test_killed_worker_loses_nothing(tmp_path, expected) -> None:
+    copies(tmp_path / "in", 10)
+    out = tmp_path / "out"
+    args = [str(SCRIPT), "batch", str(tmp_path / "in"), "-o", str(out), "--workers", "2", "--no-progress"]
+    process = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while not list(out.glob("*.mcap.parquet")) and process.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.02)
+    workers = descendants(process.pid, 2)
+    assert workers, "no pool workers found"
+    os.kill(workers[0], signal.SIGKILL)
+    stdout, stderr = process.communicate(timeout=120)
+    assert process.returncode == 0, stdout + stderr
+    summary = pl.read_parquet(out / SUMMARY)
+    assert summary["status"].to_list() == ["done"] * 10  # the files the dead worker held were computed again
+    for name in summary["result"]:
+        assert_frame_equal(pl.read_parquet(out / name), expected)
+    assert not leftovers(out)
+
+
 def test_dask_local_cluster_gives_the_local_results(tmp_path, expected) -> None:
     from distributed import LocalCluster
 
