@@ -21,6 +21,7 @@ from .batch import FileResult, FileTask, process_file
 from .batch_files import remove_leftovers
 
 Report = Callable[[FileResult], None]
+PRELOAD = ["omega_prime", "omega_prime_visibility.api", "omega_prime_visibility.io", "omega_prime_visibility.batch"]
 MAX_ATTEMPTS = 2  # a file whose worker process dies this often is reported failed (the others go on)
 
 
@@ -37,10 +38,16 @@ def run_here(tasks: Sequence[FileTask], report: Report) -> None:
 
 def run_local(tasks: Sequence[FileTask], n_workers: int, report: Report) -> None:
     """Compute the tasks over ``n_workers`` local processes (forkserver where available, else spawn: workers use
-    polars, whose threads do not survive a plain fork). A task whose worker dies (killed, out of memory) is tried
-    again in a fresh pool; one that dies ``MAX_ATTEMPTS`` times is reported failed."""
-    method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
-    context = multiprocessing.get_context(method)
+    polars, whose thread pool does not survive a plain fork of a process that used it). A task whose worker dies
+    (killed, out of memory) is tried again in a fresh pool; one that dies ``MAX_ATTEMPTS`` times is reported
+    failed."""
+    if "forkserver" in multiprocessing.get_all_start_methods():
+        context = multiprocessing.get_context("forkserver")
+        # imported once in the fork server, not in every worker (halves a 2-worker batch of small files here);
+        # safe: importing starts none of polars' worker threads, and no polars work runs in the fork server
+        context.set_forkserver_preload(PRELOAD)
+    else:
+        context = multiprocessing.get_context("spawn")
     attempts: Counter[str] = Counter()
     pending = list(tasks)
     while pending:
