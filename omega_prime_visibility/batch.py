@@ -226,8 +226,12 @@ def run_batch(
     if remote and workers is not None:
         raise ValueError("workers counts local processes: on a dask cluster its own workers do the work")
     file_options.check()
+    if Path(output_dir).is_file():
+        raise ValueError(f"the output folder {output_dir} is a file")
+    # recordings first: a typo in the inputs leaves no empty output folder behind
+    pairs = find_recordings([inputs] if isinstance(inputs, str | os.PathLike) else list(inputs), Path("."))
     output_dir = prepare_output_dir(output_dir).resolve()
-    pairs = find_recordings([inputs] if isinstance(inputs, str | os.PathLike) else list(inputs), output_dir)
+    pairs = [(recording, output_dir / result) for recording, result in pairs]
     if any(result == output_dir / SUMMARY_NAME for _, result in pairs):
         raise ValueError(f"a recording's result would overwrite the summary {output_dir / SUMMARY_NAME}")
     fingerprint = file_options.fingerprint()
