@@ -136,16 +136,23 @@ def parse_frames(frames: str) -> slice | None:
     return slice(*values)
 
 
-def single_ego(ego: str, recording) -> int:
-    """``--ego`` for a picture: one idx, by default the recording's host vehicle."""
+def single_ego(ego: str) -> int | None:
+    """``--ego`` for a picture: one idx, or None for the recording's host vehicle."""
     if not ego:
-        if recording.host_vehicle_idx is None:
-            raise fail("the recording names no host vehicle: pass --ego IDX")
-        return int(recording.host_vehicle_idx)
+        return None
     value = parse_ego(ego)
     if not isinstance(value, int):
         raise fail(f"--ego takes one idx for a picture, not {ego!r}")
     return value
+
+
+def host_or(ego_idx: int | None, recording) -> int:
+    """``ego_idx``, or the recording's host vehicle when it is None."""
+    if ego_idx is not None:
+        return ego_idx
+    if recording.host_vehicle_idx is None:
+        raise fail("the recording names no host vehicle: pass --ego IDX")
+    return int(recording.host_vehicle_idx)
 
 
 FramesOption = Annotated[str, typer.Option(help="START:STOP[:STEP] frame numbers (stop excluded); default all")]
@@ -178,9 +185,9 @@ def animate(
         check_output_path(output, (".gif", ".mp4"))
     except ValueError as e:
         raise fail(str(e)) from None
-    span = parse_frames(frames)
+    span, ego_idx = parse_frames(frames), single_ego(ego)
     r = load_recording(recording, map_path)
-    ego_idx = single_ego(ego, r)
+    ego_idx = host_or(ego_idx, r)
     try:
         render(r, ego_idx, output, frames=span, fps=fps, follow=follow, view_range=view_range, target=target,
                sensors=sensors, engine=engine, progress=progress)  # fmt: skip
@@ -210,9 +217,9 @@ def report(
         check_output_path(output, (".html",))
     except ValueError as e:
         raise fail(str(e)) from None
-    span = parse_frames(frames)
+    span, ego_idx = parse_frames(frames), single_ego(ego)
     r = load_recording(recording, map_path)
-    ego_idx = single_ego(ego, r)
+    ego_idx = host_or(ego_idx, r)
     try:
         write_report(r, ego_idx, output, frames=span, view_range=view_range, engine=engine, progress=progress,
                      title=recording.name)  # fmt: skip

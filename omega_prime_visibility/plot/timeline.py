@@ -57,11 +57,6 @@ def timeline_intervals(table: pl.DataFrame, *, by: str = "auto", resolution: flo
     [(0, 0, 'none'), (1, 2, '1')]
     """
     colour = _colour_column(table, by)
-    missing = [c for c in ("frame", "total_nanos", "idx", "visibility", "occluder_idxs") if c not in table.columns]
-    if missing:
-        raise ValueError(f"the table lacks column(s) {missing}: give a table from get_visibility_df")
-    if table.height == 0:
-        raise ValueError("the visibility table is empty: there is no timeline to draw")
     keys = [c for c in ("idx_ego", "sensor", "idx") if c in table.columns]
     times = np.unique(table["total_nanos"].to_numpy())
     step = float(np.median(np.diff(times))) / 1e9 if len(times) > 1 else 0.1
@@ -106,6 +101,14 @@ def timeline_intervals(table: pl.DataFrame, *, by: str = "auto", resolution: flo
 
 
 def _colour_column(table: pl.DataFrame, by: str) -> str:
+    """The column the colour shows, after checking that ``table`` is a visibility table with rows."""
+    if not isinstance(table, pl.DataFrame):
+        raise ValueError(f"expected a polars DataFrame from get_visibility_df, not {type(table).__name__}")
+    missing = [c for c in ("frame", "total_nanos", "idx", "visibility", "occluder_idxs") if c not in table.columns]
+    if missing:
+        raise ValueError(f"the table lacks column(s) {missing}: give a table from get_visibility_df")
+    if table.height == 0:
+        raise ValueError("the visibility table is empty: there is no timeline to draw")
     if by == "auto":
         return "status" if "status" in table.columns else "visibility"
     if by not in ("status", "visibility"):
