@@ -6,7 +6,7 @@ UV := $(shell command -v uv 2>/dev/null || echo .tools/bin/uv)
 UV_DEP := $(if $(filter .tools/bin/uv,$(UV)),.tools/bin/uv,)
 PYTEST_ARGS ?= -n 2
 
-.PHONY: run test lint bench scenario
+.PHONY: run test lint bench scenario pictures
 
 .tools/bin/uv:
 	python3 -m venv .tools
@@ -27,3 +27,6 @@ bench: | $(UV_DEP)
 
 scenario: | $(UV_DEP)
 	$(UV) run python scenarios/highway_merge.py -o highway_merge.mcap
+
+pictures: | $(UV_DEP)
+	$(UV) run python scripts/make_pictures.py

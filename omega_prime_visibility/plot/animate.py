@@ -124,14 +124,15 @@ def render(source, viewer, positions, *, follow, view_range, target, sensors, si
         0.01, 0.97, "", transform=ax.transAxes, va="top", fontsize=8, zorder=10,
         bbox={"facecolor": "white", "alpha": 0.85, "lw": 0, "pad": 2},
     )  # fmt: skip
-    ax.add_patch(Rectangle((0, 0), 1, 0.025, transform=ax.transAxes, facecolor="#dddddd", lw=0, zorder=9))
-    bar = ax.add_patch(Rectangle((0, 0), 0, 0.025, transform=ax.transAxes, facecolor="#1f5fbf", lw=0, zorder=10))
+    # the progress bar: a thin grey track along the bottom edge, filled in dark grey up to the current frame
+    ax.add_patch(Rectangle((0, 0), 1, 0.018, transform=ax.transAxes, facecolor="#dddddd", lw=0, zorder=9))
+    bar = ax.add_patch(Rectangle((0, 0), 0, 0.018, transform=ax.transAxes, facecolor="#555555", lw=0, zorder=10))
     n = len(positions)
     for j, k in enumerate(tqdm(positions.tolist(), desc="frames", unit="frame", disable=not progress)):
         view = viewer.view(k)
         painter.draw(view, limits)
         speed = source.ego_speed(viewer.ego_idx, view.frame)
-        stamp.set_text(f"t = {view.total_nanos / 1e9:6.2f} s   ego speed {speed:5.1f} m/s ({speed * 3.6:4.0f} km/h)")
+        stamp.set_text(f"t = {view.total_nanos / 1e9:.2f} s, ego speed {speed:.1f} m/s ({speed * 3.6:.0f} km/h)")
         bar.set_width((j + 1) / n)
         canvas.draw()
         if j == 0:  # lay out once, then keep every frame's axes where the first frame's are

@@ -105,8 +105,11 @@ class FramePainter:
             handles.append(
                 P(facecolor="none", edgecolor=OCCLUDER_EDGE, lw=2.5, label=f"occluders of idx {self.target}")
             )
-        if self.source.statics.n_sources:
+        kinds = {type(part) for g in self.source.statics.geometries for part in getattr(g, "geoms", [g])}
+        if shapely.Polygon in kinds:
             handles.append(P(facecolor=STATIC_FACE, edgecolor=STATIC_EDGE, hatch="///", label="static occluder"))
+        if kinds & {shapely.LineString, shapely.LinearRing}:
+            handles.append(Line2D([], [], color=STATIC_EDGE, lw=2.5, label="wall (static occluder)"))
         if self.source.lanes:
             handles.append(Line2D([], [], color=LANE_COLOUR, lw=0.8, ls=(0, (6, 6)), label="lane (map)"))
         for k, s in enumerate(sensors):
@@ -189,9 +192,11 @@ class FramePainter:
             xy, offset, va = (centre[0], centre[1]), (0, 0), "center"
         else:
             xy, offset, va = (centre[0], float(ring[:, 1].max())), (0, 2), "bottom"
+        halo = [require("matplotlib.patheffects").withStroke(linewidth=2, foreground="white")]
         return self.ax.annotate(
-            text, xy, xytext=offset, textcoords="offset points", ha="center", va=va, fontsize=7, zorder=5, clip_on=True
-        )
+            text, xy, xytext=offset, textcoords="offset points", ha="center", va=va, fontsize=7, zorder=5, clip_on=True,
+            path_effects=halo,
+        )  # fmt: skip
 
     def _draw_sensor(self, s: Any, view: FrameView, colour: str) -> list[Any]:
         """The field of view as a translucent wedge and its range as a dashed arc (a circle for 360° sensors)."""
