@@ -134,9 +134,17 @@ def render(source, viewer, positions, *, follow, view_range, target, sensors, si
         speed = source.ego_speed(viewer.ego_idx, view.frame)
         stamp.set_text(f"t = {view.total_nanos / 1e9:.2f} s, ego speed {speed:.1f} m/s ({speed * 3.6:.0f} km/h)")
         bar.set_width((j + 1) / n)
-        canvas.draw()
-        if j == 0:  # lay out once, then keep every frame's axes where the first frame's are
+        if j == 0:
+            # lay out once and keep every frame's axes where the first frame's are; what lies outside the scene's
+            # axes (colour bar, legend) is the same in every frame: keep its pixels and redraw only the axes
+            canvas.draw()
             fig.set_layout_engine("none")
+            ax.set_visible(False)
+            canvas.draw()
+            background = canvas.copy_from_bbox(fig.bbox)
+            ax.set_visible(True)
+        canvas.restore_region(background)
+        ax.draw(canvas.get_renderer())
         yield np.asarray(canvas.buffer_rgba())[:, :, :3].copy()
 
 
