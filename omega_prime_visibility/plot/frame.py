@@ -209,7 +209,7 @@ class FramePainter:
         else:
             half = math.degrees(s.fov) / 2
             shape = self.patches.Wedge(pos, radius, math.degrees(heading[0]) - half, math.degrees(heading[0]) + half)
-        shape.set(facecolor=colour, alpha=0.07 if not full else 0.04, lw=0, zorder=0.5, gid=f"sensor {s.name}")
+        shape.set(facecolor=colour, alpha=0.05 if not full else 0.03, lw=0, zorder=0.5, gid=f"sensor {s.name}")
         out = [self.ax.add_patch(shape)]
         if not full:  # the two edges of the field of view
             for side in (-1, 1):
