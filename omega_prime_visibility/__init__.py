@@ -4,8 +4,11 @@
 """
 
 from .api import get_visibility_df, get_visibility_df_for_frame
+from .combine import seen_by_any
 from .engines import ENGINES, Observation, Reason, Viewpoint
+from .intervals import visible_intervals
 from .scene import VisibilityInputWarning
+from .sensors import Sensor
 from .table import SCHEMA
 
 __all__ = [
@@ -13,6 +16,7 @@ __all__ = [
     "SCHEMA",
     "Observation",
     "Reason",
+    "Sensor",
     "Viewpoint",
     "VisibilityInputWarning",
     "animate",
@@ -21,8 +25,10 @@ __all__ = [
     "metrics",
     "plot_frame",
     "save_timeline",
+    "seen_by_any",
     "timeline_chart",
     "visibility",
+    "visible_intervals",
     "write_report",
 ]
 

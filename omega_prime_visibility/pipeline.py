@@ -11,15 +11,15 @@ from __future__ import annotations
 
 import warnings
 from collections import Counter
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from concurrent.futures import Executor
 
 import numpy as np
-import shapely
 
 from .engines import Engine, Viewpoint, get_engine
 from .geometry import covers_point
 from .scene import FrameObjects, ObjectTable, VisibilityInputWarning
+from .sensors import Sensor, sensor_poses
 from .statics import StaticOccluders
 from .table import Columns, TableBuilder, observation_rows
 
@@ -57,21 +57,44 @@ class ContainmentLog:
         )
 
 
-def viewpoints(objects: FrameObjects, rows: np.ndarray, statics: StaticOccluders) -> list[Viewpoint]:
-    """Viewpoints at the bounding-box centres of the objects at row numbers ``rows`` of this frame.
+def viewpoints(
+    objects: FrameObjects, rows: np.ndarray, statics: StaticOccluders, sensors: Sequence[Sensor] | None = None
+) -> list[Viewpoint]:
+    """Viewpoints of the objects at row numbers ``rows`` of this frame: at each bounding-box centre seeing all
+    around, or, with ``sensors``, one per (observer, sensor) in that order, at the sensor's pose with its field
+    of view and range.
 
     Transparent to each: its own object and every object containing or touching the viewpoint, and the static
     occluders containing it.
     """
     out = []
     for row in np.asarray(rows, dtype=np.int64).tolist():
-        position = objects.position[row]
-        transparent = covers_point(position, objects.rings)
-        transparent[row] = True
-        static_transparent = np.zeros(statics.n_sources, dtype=bool)
-        if statics.n_sources:
-            static_transparent = np.asarray(shapely.intersects(statics.geometries, shapely.Point(position)))
-        out.append(Viewpoint(position, float(objects.yaw[row]), row, transparent, static_transparent))
+        if sensors is None:
+            poses = [(objects.position[row], float(objects.yaw[row]), None)]
+        else:
+            poses = []
+            for sensor in sensors:
+                position, heading = sensor_poses(sensor, objects.position[row], objects.yaw[row : row + 1])
+                poses.append((position[0], float(heading[0]), sensor))
+        for position, heading, sensor in poses:
+            transparent = covers_point(position, objects.rings)
+            transparent[row] = True
+            static_transparent = statics.containing(position)
+            view = Viewpoint(position, heading, row, transparent, static_transparent)
+            if sensor is not None:
+                view = Viewpoint(
+                    position,
+                    heading,
+                    row,
+                    transparent,
+                    static_transparent,
+                    sensor.fov,
+                    sensor.range,
+                    sensor.z,
+                    sensor.vertical_fov,
+                    sensor.pitch,
+                )
+            out.append(view)
     return out
 
 
@@ -91,31 +114,41 @@ def observe_frame(
     egos: np.ndarray,
     builder: TableBuilder,
     containment: ContainmentLog,
+    sensors: Sequence[Sensor] | None = None,
 ) -> None:
-    """Run the engine for every observer present in this frame and add the rows to ``builder``."""
+    """Run the engine for every observer (and sensor) present in this frame and add the rows to ``builder``."""
     rows = observer_rows(objects, egos)
     if len(rows) == 0:
         return
-    views = viewpoints(objects, rows, statics)
-    for view, observation in zip(views, engine.observe(objects, views), strict=True):
+    views = viewpoints(objects, rows, statics, sensors)
+    per_observer = 1 if sensors is None else len(sensors)
+    for k, (view, observation) in enumerate(zip(views, engine.observe(objects, views), strict=True)):
         ego = int(objects.idx[view.own])
         inside = view.transparent.copy()
         inside[view.own] = False
         if inside.any():
             containment.add(ego, objects.idx[inside], objects.frame)
-        columns = observation_rows(observation, view.own, objects.idx)
-        builder.add(columns, frame=objects.frame, total_nanos=objects.total_nanos, idx_ego=ego)
+        constants = {"frame": objects.frame, "total_nanos": objects.total_nanos, "idx_ego": ego}
+        if sensors is None:
+            builder.add(observation_rows(observation, view.own, objects.idx), **constants)
+        else:
+            columns = observation_rows(observation, view.own, objects.idx, with_view=True)
+            builder.add(columns, **constants, sensor=k % per_observer)
 
 
 def run_chunk(
-    objects: ObjectTable, statics: StaticOccluders, egos: np.ndarray, engine: str
+    objects: ObjectTable,
+    statics: StaticOccluders,
+    egos: np.ndarray,
+    engine: str,
+    sensors: Sequence[Sensor] | None = None,
 ) -> tuple[Columns | None, ContainmentLog]:
     """All frames of ``objects`` with a fresh engine; plain arrays by column name, and the containment log."""
     eng = get_engine(engine)(statics)
     builder = TableBuilder()
     containment = ContainmentLog()
     for k in range(objects.n_frames):
-        observe_frame(eng, statics, objects.frame_objects(k), egos, builder, containment)
+        observe_frame(eng, statics, objects.frame_objects(k), egos, builder, containment, sensors)
     return builder.arrays(), containment
 
 
@@ -136,6 +169,7 @@ def run(
     *,
     chunk_frames: int,
     executor: Executor | None = None,
+    sensors: Sequence[Sensor] | None = None,
 ) -> Iterator[tuple[int, Columns | None, ContainmentLog]]:
     """Observe every frame, chunk by chunk, in order; yields ``(frames in the chunk, columns, containment log)``.
 
@@ -151,9 +185,12 @@ def run(
         Frames per chunk.
     executor : concurrent.futures.Executor, optional
         Where chunks run (its ``map`` keeps their order); None runs them here, one after another.
+    sensors : sequence of Sensor, optional
+        Observe through these sensors (rows gain a ``sensor`` code, their position in this sequence, and the
+        ``in_view`` and ``status`` columns); None: from each observer's centre, all around.
     """
     bounds = chunks(objects.n_frames, chunk_frames)
-    tasks = ((objects.frame_range(a, b), statics, egos, engine) for a, b in bounds)
+    tasks = ((objects.frame_range(a, b), statics, egos, engine, sensors) for a, b in bounds)
     results = executor.map(_run_chunk_star, tasks) if executor is not None else map(_run_chunk_star, tasks)
     for (a, b), (columns, log) in zip(bounds, results, strict=True):
         yield b - a, columns, log
