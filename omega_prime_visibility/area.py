@@ -156,4 +156,3 @@ def visible_area_over_time(
         table["hidden_road_area"] = hidden
     schema = {"frame": pl.Int64, "total_nanos": pl.Int64, "visible_area": pl.Float64, "hidden_road_area": pl.Float64}
     return pl.DataFrame(table, schema={k: v for k, v in schema.items() if k in table})
-

@@ -221,6 +221,9 @@ def report(
     ego: EgoOption = "",
     frames: FramesOption = "",
     view_range: Annotated[float, typer.Option(help="metres shown each side of the ego")] = 60.0,
+    sensors: Annotated[
+        str | None, typer.Option(help="timeline and summary through sensors: 'roof', 'typical' or a .json file")
+    ] = None,
     engine: Annotated[str, typer.Option(help=f"one of {sorted(ENGINES)}")] = "visilibity",
     map_path: MapOption = None,
     progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
@@ -235,12 +238,12 @@ def report(
         check_output_path(output, (".html",))
     except ValueError as e:
         raise fail(str(e)) from None
-    span, ego_idx = parse_frames(frames), single_ego(ego)
+    span, ego_idx, sensor_set = parse_frames(frames), single_ego(ego), parse_sensors(sensors)
     r = load_recording(recording, map_path)
     ego_idx = host_or(ego_idx, r)
     try:
         write_report(r, ego_idx, output, frames=span, view_range=view_range, engine=engine, progress=progress,
-                     title=recording.name)  # fmt: skip
+                     title=recording.name, sensors=sensor_set)  # fmt: skip
     except (ValueError, ImportError) as e:
         raise fail(str(e)) from None
     typer.echo(f"wrote {output}")

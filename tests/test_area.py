@@ -58,7 +58,10 @@ def test_matches_visilibity_visibility_polygon_cut_to_the_view(seed) -> None:
         observer, objects, statics, _ = scene
         table = scene_table(observer, objects, include_ego).with_columns(yaw=0.0)
         sensor = Sensor(
-            "s", yaw=float(rng.uniform(-3, 3)), fov=float(rng.uniform(0.5, 2 * math.pi)), range=float(rng.uniform(5, 30))
+            "s",
+            yaw=float(rng.uniform(-3, 3)),
+            fov=float(rng.uniform(0.5, 2 * math.pi)),
+            range=float(rng.uniform(5, 30)),
         )
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")

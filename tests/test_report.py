@@ -77,6 +77,15 @@ def test_report_shows_a_given_status_table(recording, expected, tmp_path) -> Non
     assert "occluded: 20" in page  # idx 2 is hidden in frames 0 to 19: the summary counts them
 
 
+def test_report_through_sensors(recording, tmp_path) -> None:
+    out = write_report(recording, 0, tmp_path / "s.html", frames=slice(0, 10), sensors="roof", progress=False)
+    page = out.read_text()
+    assert embedded(page, "timeline-data")["spec"]["encoding"]["color"]["field"] == "status"
+    summary = re.search(r'<table id="summary">(.*?)</table>', page, re.S).group(1)
+    assert "<th>sensor</th>" in summary and "<td>roof</td>" in summary
+    assert "<td>occluded: 10</td>" in summary  # idx 2, behind the truck in all ten frames
+
+
 def test_report_bad_input(recording, tmp_path) -> None:
     with pytest.raises(ValueError, match=r"must end in \.html"):
         write_report(recording, 0, tmp_path / "r.htm")

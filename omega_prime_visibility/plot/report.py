@@ -57,6 +57,7 @@ def write_report(
     *,
     frames: FrameSpec = None,
     table: pl.DataFrame | None = None,
+    sensors: Any = None,
     lanes: Any = True,
     view_range: float = 60.0,
     title: str | None = None,
@@ -79,7 +80,10 @@ def write_report(
         Which frames the slider offers (see :func:`~.animate.animate`); all by default.
     table : polars.DataFrame, optional
         A visibility table to show in the timeline and the summary instead of the one computed here (for
-        example one with the sensors' ``status`` column); rows of other observers are left out.
+        example one computed elsewhere with sensors); rows of other observers are left out.
+    sensors : layout name, JSON path, Sensor or sequence of Sensors, optional
+        Compute the timeline and the summary through these sensors (``get_visibility_df(..., sensors=...)``): one
+        band per (target, sensor), coloured by ``status``. The scene stays the view from the ego's centre.
     lanes : bool, map or sequence of shapely geometries
         As for :func:`~.frame.plot_frame`.
     view_range : float
@@ -93,14 +97,26 @@ def write_report(
     """
     output = check_output_path(output, (".html",))
     vlc = require("vl_convert", "the HTML report")
-    if title is None:
-        title = Path(df).name if isinstance(df, str | os.PathLike) else "recording"
+    if table is not None and sensors is not None:
+        raise ValueError("give either table= or sensors=, not both")
+    if isinstance(df, str | os.PathLike):
+        from ..io import read_recording
+
+        title = Path(df).name if title is None else title
+        df = read_recording(df)
+    title = "recording" if title is None else title
     source = load_source(df, static_occluder_polys, lanes)
     positions = source.positions(frames)
     viewer = FrameViewer(source, ego_idx, engine, margin=2 * view_range)
     show = len(positions) >= PROGRESS_MIN_FRAMES if progress is None else progress
     views = [viewer.view(k) for k in tqdm(positions.tolist(), desc="frames", unit="frame", disable=not show)]
     computed = views_table(views)
+    if sensors is not None:
+        from ..api import get_visibility_df
+
+        table = get_visibility_df(
+            df, ego_idx, static_occluder_polys, engine=engine, sensors=sensors, progress=False
+        )  # fmt: skip
     if table is not None:
         table = _own_rows(table, ego_idx, computed["frame"].unique())
     shown = computed if table is None else table
@@ -223,18 +239,21 @@ def scene_data(views: list[FrameView], source, ego_idx: int, view_range: float) 
 
 def summary_html(table: pl.DataFrame) -> str:
     """The per-target summary as an HTML table: frames, mean and least visibility, share of frames hidden and
-    partly hidden, and every object that hid it at some time (and the ``status`` counts where present)."""
-    by = [c for c in ("sensor", "idx") if c in table.columns]
+    partly hidden (or, where the table has the sensors' ``status``, the frames of each status), and every object
+    that hid it at some time."""
+    by = [c for c in ("idx", "sensor") if c in table.columns]
     aggregations = [
         pl.len().alias("frames"),
         pl.col("visibility").mean().alias("mean visibility"),
         pl.col("visibility").min().alias("least visibility"),
-        (pl.col("visibility") == 0).mean().alias("hidden"),
-        ((pl.col("visibility") > 0) & (pl.col("visibility") < 1)).mean().alias("partly hidden"),
-        pl.col("occluder_idxs").flatten().drop_nulls().unique().sort().alias("hidden by (idx)"),
     ]
-    if "status" in table.columns:
+    if "status" in table.columns:  # the sensors' verdict tells hidden from out of view
         aggregations.append(pl.col("status").value_counts(sort=True).alias("status"))
+    else:
+        aggregations.append((pl.col("visibility") == 0).mean().alias("hidden"))
+        aggregations.append(((pl.col("visibility") > 0) & (pl.col("visibility") < 1)).mean().alias("partly hidden"))
+    if "occluder_idxs" in table.columns:
+        aggregations.append(pl.col("occluder_idxs").flatten().drop_nulls().unique().sort().alias("hidden by (idx)"))
     summary = table.group_by(by).agg(aggregations).sort(by)
     head = "".join(f"<th>{html.escape(c)}</th>" for c in summary.columns)
     body = []

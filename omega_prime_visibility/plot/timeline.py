@@ -35,8 +35,9 @@ def timeline_intervals(table: pl.DataFrame, *, by: str = "auto", resolution: flo
     Parameters
     ----------
     table : polars.DataFrame
-        A visibility table (``frame, total_nanos, idx, visibility, occluder_idxs``; ``idx_ego``, ``sensor``,
-        ``status``, ``static_occluder_idxs`` are used where present).
+        A visibility table (``frame, total_nanos, idx, visibility``; ``idx_ego``, ``sensor``, ``status``,
+        ``occluder_idxs``, ``static_occluder_idxs`` and ``seen_by`` are used where present), as
+        ``get_visibility_df`` or ``seen_by_any`` give it.
     by : {"auto", "status", "visibility"}
         What the colour shows; ``"auto"`` takes ``status`` when the table has that column.
     resolution : float
@@ -71,9 +72,12 @@ def timeline_intervals(table: pl.DataFrame, *, by: str = "auto", resolution: flo
 
     shade = (pl.col("visibility") / resolution).round(0) if colour == "visibility" else pl.col("status")
     rows = table.sort([*keys, "frame"]).with_columns(
-        occluders=text("occluder_idxs"), static_occluders=text("static_occluder_idxs"), shade=shade
+        occluders=text("occluder_idxs"),
+        static_occluders=text("static_occluder_idxs"),
+        seen_by=text("seen_by"),
+        shade=shade,
     )
-    same = [pl.col(c) == pl.col(c).shift(1) for c in (*keys, "shade", "occluders", "static_occluders")]
+    same = [pl.col(c) == pl.col(c).shift(1) for c in (*keys, "shade", "occluders", "static_occluders", "seen_by")]
     contiguous = pl.col("frame") - pl.col("frame").shift(1) == frame_step
     new_run = ~pl.all_horizontal(*same, contiguous).fill_null(False)
     label = pl.concat_str([pl.lit("idx "), pl.col("idx").cast(pl.String)])
@@ -89,6 +93,7 @@ def timeline_intervals(table: pl.DataFrame, *, by: str = "auto", resolution: flo
         pl.col("visibility").mean(),
         pl.col("occluders").first(),
         pl.col("static_occluders").first(),
+        pl.col("seen_by").first(),
     ]
     if colour == "status":
         aggregated.append(pl.col("status").first())
@@ -104,7 +109,7 @@ def _colour_column(table: pl.DataFrame, by: str) -> str:
     """The column the colour shows, after checking that ``table`` is a visibility table with rows."""
     if not isinstance(table, pl.DataFrame):
         raise ValueError(f"expected a polars DataFrame from get_visibility_df, not {type(table).__name__}")
-    missing = [c for c in ("frame", "total_nanos", "idx", "visibility", "occluder_idxs") if c not in table.columns]
+    missing = [c for c in ("frame", "total_nanos", "idx", "visibility") if c not in table.columns]
     if missing:
         raise ValueError(f"the table lacks column(s) {missing}: give a table from get_visibility_df")
     if table.height == 0:
@@ -152,7 +157,12 @@ def timeline_chart(
     overlap = 0.5 * float((data["end"] - data["start"]).min())
     data = data.with_columns(drawn_end=pl.col("end") + overlap)
     domain = [float(data["start"].min()), float(data["end"].max())]
-    order = data.sort([c for c in ("idx_ego", "sensor", "idx") if c in data.columns])["target"].unique(
+    # bands grouped by observer, then target; a target's sensors in the order the table gives them
+    ranked = data
+    if "sensor" in data.columns:
+        first_seen = table["sensor"].cast(pl.String).unique(maintain_order=True).to_list()
+        ranked = data.with_columns(pl.col("sensor").cast(pl.String).replace_strict(first_seen, range(len(first_seen))))
+    order = ranked.sort([c for c in ("idx_ego", "idx", "sensor") if c in data.columns])["target"].unique(
         maintain_order=True
     )
     if colour == "status":
@@ -172,9 +182,13 @@ def timeline_chart(
         alt.Tooltip("first_frame:Q", title="first frame"),
         alt.Tooltip("last_frame:Q", title="last frame"),
         alt.Tooltip("visibility:Q", format=".2f"),
-        alt.Tooltip("occluders:N", title="hidden by (idx)"),
-        alt.Tooltip("static_occluders:N", title="static occluders"),
     ]
+    if "occluder_idxs" in table.columns:
+        tooltip.append(alt.Tooltip("occluders:N", title="hidden by (idx)"))
+    if "static_occluder_idxs" in table.columns:
+        tooltip.append(alt.Tooltip("static_occluders:N", title="static occluders"))
+    if "seen_by" in table.columns:
+        tooltip.append(alt.Tooltip("seen_by:N", title="seen by"))
     if colour == "status":
         tooltip.insert(1, alt.Tooltip("status:N"))
     return (
