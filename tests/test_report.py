@@ -64,7 +64,10 @@ def test_report_scene_and_summary_agree_with_the_table(report, expected) -> None
     assert [(int(i), int(n)) for i, n, _ in rows] == [(i, 201) for i, _ in means]
     assert [float(m) for _, _, m in rows] == pytest.approx([m for _, m in means], abs=6e-4)
     timeline = embedded(page, "timeline-data")
-    assert timeline["mode"] == "vega-lite" and timeline["spec"]["encoding"]["color"]["field"] == "visibility"
+    assert timeline["mode"] == "vega-lite"
+    bands, rule = timeline["spec"]["layer"]
+    assert bands["encoding"]["color"]["field"] == "visibility"
+    assert rule["mark"]["type"] == "rule" and rule["encoding"]["x"]["datum"] == {"expr": "now"}
 
 
 def test_report_shows_a_given_status_table(recording, expected, tmp_path) -> None:
@@ -73,14 +76,14 @@ def test_report_shows_a_given_status_table(recording, expected, tmp_path) -> Non
     )
     out = write_report(recording, 0, tmp_path / "s.html", frames=slice(0, 20), table=status, progress=False)
     page = out.read_text()
-    assert embedded(page, "timeline-data")["spec"]["encoding"]["color"]["field"] == "status"
+    assert embedded(page, "timeline-data")["spec"]["layer"][0]["encoding"]["color"]["field"] == "status"
     assert "occluded: 20" in page  # idx 2 is hidden in frames 0 to 19: the summary counts them
 
 
 def test_report_through_sensors(recording, tmp_path) -> None:
     out = write_report(recording, 0, tmp_path / "s.html", frames=slice(0, 10), sensors="roof", progress=False)
     page = out.read_text()
-    assert embedded(page, "timeline-data")["spec"]["encoding"]["color"]["field"] == "status"
+    assert embedded(page, "timeline-data")["spec"]["layer"][0]["encoding"]["color"]["field"] == "status"
     summary = re.search(r'<table id="summary">(.*?)</table>', page, re.S).group(1)
     assert "<th>sensor</th>" in summary and "<td>roof</td>" in summary
     assert "<td>occluded: 10</td>" in summary  # idx 2, behind the truck in all ten frames
@@ -115,6 +118,8 @@ def test_report_in_a_headless_browser(report, expected, tmp_path) -> None:
             "(r => [r.x, r.y, r.width, r.height])(document.getElementById('scene').getBoundingClientRect())"
         )
         assert browser.evaluate("window.devicePixelRatio") == 1
+        rule = """document.querySelector('#timeline line[stroke="#222222"]').getBoundingClientRect().x"""
+        rule_before = browser.evaluate(rule)
         before = browser.screenshot(tmp_path / "frame0.png")
         # frame 0: the merging car idx 2 is hidden behind the truck, drawn in the colour of visibility 0
         assert red_pixels(before, box) > 20
@@ -128,6 +133,10 @@ def test_report_in_a_headless_browser(report, expected, tmp_path) -> None:
         fill = browser.evaluate("document.querySelector('#scene polygon[data-idx=\"2\"]').getAttribute('fill')")
         want = expected.filter((pl.col("frame") == 150) & (pl.col("idx") == 2))["visibility"].item()
         assert fill == visibility_colour(round(want, 4))
+        # the timeline's rule moved from 0 s to 15 s: three quarters of the 20.1 s axis
+        plot_width = browser.evaluate("document.querySelector('#timeline .mark-rect').getBoundingClientRect().width")
+        browser.wait_for(f"{rule} !== {rule_before}", timeout=10)  # Vega redraws asynchronously
+        assert browser.evaluate(rule) - rule_before == pytest.approx(plot_width * 15 / 20.1, abs=2)
         after = browser.screenshot(tmp_path / "frame150.png")
         # frame 150: everyone in view is visible: no hidden colour left in the scene
         assert red_pixels(after, box) == 0

@@ -73,6 +73,7 @@
     const speed = Number.isFinite(f.speed) ? `${f.speed.toFixed(1)} m/s` : "unknown";
     label.textContent = `frame ${f.frame}, t = ${f.t.toFixed(2)} s, ego speed ${speed}`;
     svg.dataset.frame = f.frame;
+    if (timelineView) timelineView.signal("now", f.t).runAsync();
   }
 
   slider.addEventListener("input", () => draw(Number(slider.value)));
@@ -85,8 +86,13 @@
       draw(Number(slider.value));
     }, 100);
   });
+  let timelineView = null;  // the timeline's Vega view: its rule follows the slider
   draw(0);
   vegaEmbed("#timeline", timeline.spec, { mode: timeline.mode, actions: false, renderer: "svg" })
-    .then(() => { document.body.dataset.timeline = "ready"; })
+    .then((result) => {
+      timelineView = result.view;
+      draw(Number(slider.value));
+      document.body.dataset.timeline = "ready";
+    })
     .catch((err) => { console.error("timeline: " + err); });
 })();

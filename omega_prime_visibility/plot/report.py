@@ -120,7 +120,7 @@ def write_report(
     if table is not None:
         table = _own_rows(table, ego_idx, computed["frame"].unique())
     shown = computed if table is None else table
-    spec, mode = chart_spec(timeline_chart(shown, title=f"seen from idx {ego_idx}", width=760))
+    spec, mode = chart_spec(with_time_rule(timeline_chart(shown, title=f"seen from idx {ego_idx}", width=760), views))
     scene = scene_data(views, source, ego_idx, view_range)
     page = PAGE.format(
         title=html.escape(f"Visibility report: {title}"),
@@ -139,6 +139,18 @@ def write_report(
     with atomic_write(output) as temp:
         temp.write_text(page, encoding="utf-8")
     return output
+
+
+def with_time_rule(chart: Any, views: list[FrameView]) -> Any:
+    """The timeline with a vertical rule at the time of the slider's frame (the Vega signal ``now``, seconds)."""
+    alt = require("altair")
+    now = alt.param(name="now", value=views[0].total_nanos / 1e9)
+    rule = (
+        alt.Chart(alt.Data(values=[{}]))
+        .mark_rule(color="#222222", strokeWidth=1.5)
+        .encode(x=alt.X(datum=alt.ExprRef(expr="now"), type="quantitative"))
+    )
+    return alt.layer(chart, rule).add_params(now)
 
 
 def _asset(name: str) -> str:

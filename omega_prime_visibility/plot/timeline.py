@@ -209,7 +209,7 @@ def chart_spec(chart: Any) -> tuple[dict, str]:
     """``(spec, mode)`` of an altair chart for vega-embed or vl-convert: Vega-Lite, or for charts with more than
     ``VEGAFUSION_MIN_ROWS`` rows a Vega spec whose data vegafusion has already aggregated."""
     alt = require("altair")
-    data = getattr(chart, "data", None)
+    data = getattr(getattr(chart, "layer", [chart])[0], "data", None)  # a layered chart's data: its first layer's
     if data is not None and hasattr(data, "shape") and data.shape[0] > VEGAFUSION_MIN_ROWS:
         require("vegafusion", "timelines of long tables")
         with alt.data_transformers.enable("vegafusion"):
