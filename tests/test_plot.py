@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import subprocess
 import sys
 
 import matplotlib
@@ -136,6 +137,15 @@ def test_plotting_is_public_and_lazy() -> None:
     assert omega_prime_visibility.plot_frame is plot_frame
     for name in ("animate", "timeline_chart", "save_timeline", "write_report"):
         assert callable(getattr(omega_prime_visibility, name))
+
+
+def test_importing_the_package_loads_no_plotting_library() -> None:
+    code = (
+        "import sys, omega_prime_visibility as o; o.plot_frame; "
+        "print(sorted(m for m in ('matplotlib', 'altair', 'vl_convert', 'PIL', 'imageio_ffmpeg') if m in sys.modules))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"  # plot_frame itself imports matplotlib only when it draws
 
 
 def test_missing_plotting_library_names_the_extra(monkeypatch) -> None:
