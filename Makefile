@@ -24,6 +24,7 @@ test: lint | $(UV_DEP)
 
 bench: | $(UV_DEP)
 	$(UV) run python benchmarks/bench.py --long 30000
+	$(UV) run python benchmarks/pictures.py
 
 scenario: | $(UV_DEP)
 	$(UV) run python scenarios/highway_merge.py -o highway_merge.mcap
