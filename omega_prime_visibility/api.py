@@ -13,17 +13,16 @@ from typing import Any, Literal
 
 import numpy as np
 import polars as pl
-import pyarrow.parquet as pq
 import shapely
 from tqdm.auto import tqdm
 
 from .engines import get_engine
-from .output import atomic_write, check_output_path
+from .output import PartWriter, atomic_directory, check_output_path
 from .pipeline import ContainmentLog, chunks, run
 from .scene import ObjectTable, OnInvalid, as_lazy, load_objects
 from .sensors import Sensor, resolve_sensors
 from .statics import load_static_occluders
-from .table import empty_table, to_polars
+from .table import STATUSES, empty_table, to_polars
 
 EgoSpec = int | Sequence[int] | Literal["all"]
 SensorSpec = str | os.PathLike | Sensor | Sequence[Sensor] | None
@@ -120,10 +119,12 @@ def get_visibility_df(
         Processes over which chunks of frames are spread; by default all cores for long jobs (at least
         ``PARALLEL_MIN_WORK`` frame-observer pairs), else 1. The result does not depend on it.
     output : path, optional
-        Stream the table to this ``.parquet`` file chunk by chunk (memory stays bounded). The path is checked
-        before anything is computed (see :func:`check_output_path`); other suffixes are refused: for CSV, call
-        ``write_csv`` on the returned table. The file is written under a temporary name in the same folder and
-        renamed when complete, so a failed run leaves no partial file.
+        Stream the table to this ``.parquet`` path chunk by chunk (memory stays bounded): a directory of parquet
+        parts, one per chunk, each written by the worker that computed it, which ``polars.scan_parquet`` (and
+        pandas, pyarrow) read as one table. The path is checked before anything is computed (see
+        :func:`check_output_path`; a file there, or a dataset from an earlier run, is replaced); other suffixes are
+        refused: for CSV, call ``write_csv`` on the returned table. The parts are written in a temporary
+        directory beside it, renamed when complete, so a failed or killed run leaves no partial result.
     chunk_frames : int
         Frames per chunk of work.
     hide_progress : bool, optional
@@ -135,7 +136,7 @@ def get_visibility_df(
 
     Returns
     -------
-    polars.DataFrame, or polars.LazyFrame scanning the written parquet file when ``output`` is given
+    polars.DataFrame, or polars.LazyFrame scanning the written parquet dataset when ``output`` is given
         One row per (frame, observer, target): ``frame, total_nanos, [idx_ego], idx, occluder_idxs,
         static_occluder_idxs, visibility`` where ``visibility`` in [0, 1] is the fraction of the target's
         angular extent along which it is the first thing hit, and the occluder lists hold, ascending, the
@@ -172,37 +173,34 @@ def get_visibility_df(
     get_engine(engine)  # unknown names fail here, not in a worker
     if chunk_frames < 1:
         raise ValueError(f"chunk_frames must be at least 1, not {chunk_frames}")
-    n_chunks = len(chunks(objects.n_frames, chunk_frames))
     n_workers = auto_workers(objects.n_frames * len(egos)) if workers is None else max(1, int(workers))
-    n_workers = min(n_workers, n_chunks)
+    n_workers = min(n_workers, len(chunks(objects.n_frames, chunk_frames, n_workers)))
     show = objects.n_frames >= PROGRESS_MIN_FRAMES if progress is None else progress
     bar = tqdm(total=objects.n_frames, disable=not show, desc="visibility", unit="frame")
     containment = ContainmentLog()
     tables: list[pl.DataFrame] = []
-    writer = None
-    with atomic_write(output) if output is not None else nullcontext() as temp:
+    with atomic_directory(output) if output is not None else nullcontext() as temp:
+        # workers write their own parts: only row counts and containment logs come back here
+        names = None if sensor_set is None else [s.name for s in sensor_set]
+        labels = {} if names is None else {"sensor": names, "status": STATUSES}
+        schema = empty_table(with_ego, names is not None).to_arrow().schema
+        sink = PartWriter(temp, schema, labels) if temp is not None else None
         try:
             with _executor(n_workers) as pool:
-                frames = run(
-                    objects, statics, egos, engine, chunk_frames=chunk_frames, executor=pool, sensors=sensor_set
-                )
-                names = None if sensor_set is None else [s.name for s in sensor_set]
-                for n_frames, columns, log in frames:
+                spread = {"executor": pool, "workers": n_workers, "sink": sink}
+                frames = run(objects, statics, egos, engine, chunk_frames=chunk_frames, sensors=sensor_set, **spread)
+                written = 0
+                for n_frames, result, log in frames:
                     containment.merge(log)
-                    table = to_polars(columns, with_ego, names)
-                    if temp is not None:
-                        arrow = table.to_arrow()
-                        writer = writer or pq.ParquetWriter(str(temp), arrow.schema)
-                        writer.write_table(arrow)
+                    if sink is not None:
+                        written += result
                     else:
-                        tables.append(table)
+                        tables.append(to_polars(result, with_ego, names))
                     bar.update(n_frames)
         finally:
             bar.close()
-            if writer is not None:
-                writer.close()
-        if temp is not None and writer is None:
-            empty_table(with_ego, sensor_set is not None).write_parquet(temp)
+        if sink is not None and not written:
+            sink.write_empty()
     containment.warn(stacklevel=3)
     if output is not None:
         return pl.scan_parquet(output)
@@ -226,7 +224,11 @@ def _executor(n_workers: int) -> Iterator[ProcessPoolExecutor | None]:
     # VisiLibity only (never polars, whose thread pool does not survive a fork)
     method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
     with ProcessPoolExecutor(n_workers, mp_context=multiprocessing.get_context(method)) as pool:
-        yield pool
+        try:
+            yield pool
+        except BaseException:
+            pool.shutdown(cancel_futures=True)  # on an error or Ctrl-C, do not compute the chunks still queued
+            raise
 
 
 def get_visibility_df_for_frame(

@@ -45,15 +45,19 @@ class StaticOccluders:
     def n_sources(self) -> int:
         return len(self.geometries)
 
-    def containing(self, point: np.ndarray) -> np.ndarray:
-        """Whether each occluder contains or touches ``point`` (metres), shape (n_sources,) bool; only those whose
-        bounding box holds the point are tested exactly, so a large map costs little."""
-        x, y = float(point[0]), float(point[1])
-        b = self.bounds
-        inside = np.zeros(self.n_sources, dtype=bool)
-        candidates = np.flatnonzero((b[:, 0] <= x) & (x <= b[:, 2]) & (b[:, 1] <= y) & (y <= b[:, 3]))
-        if len(candidates):
-            inside[candidates] = shapely.intersects(self.geometries[candidates], shapely.Point(x, y))
+    def containing(self, points: np.ndarray) -> np.ndarray:
+        """Whether each occluder contains or touches each of ``points`` (shape (k, 2), metres), shape
+        (k, n_sources) bool; only occluders whose bounding box holds a point are tested exactly (the boxes are
+        closed), so a large map costs little."""
+        points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+        inside = np.zeros((len(points), self.n_sources), dtype=bool)
+        if self.n_sources:
+            x0, y0, x1, y1 = self.bounds.T[:, :, None]
+            px, py = points[:, 0], points[:, 1]
+            near = (x0 <= px) & (px <= x1) & (y0 <= py) & (py <= y1)
+            if near.any():
+                s, v = np.nonzero(near)
+                inside[v, s] = shapely.intersects(self.geometries[s], shapely.points(points[v]))
         return inside
 
     def source_edges(self) -> tuple[np.ndarray, np.ndarray]:

@@ -19,13 +19,13 @@ Angles are radians counter-clockwise from +x, distances metres, everything relat
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 import numba
 import numpy as np
 
 from .geometry import Rings, angular_extent, next_vertex
-from .kernels import TWO_PI, reserve, wrap_positive
+from .kernels import TWO_PI, reserve, segment_distance2, wrap_positive
 from .occlusion import occludes_within
 
 if TYPE_CHECKING:
@@ -204,34 +204,59 @@ def _view_intervals(coords, offsets, targets, start, width, wedge_start, fov, ma
     out_hi = np.empty(2 * n + 2)
     in_fov = np.zeros(n)
     in_view = np.zeros(n)
+    fov_lo = np.empty(2)
+    fov_hi = np.empty(2)
+    limited_range = math.isfinite(max_range)
+    r2 = max_range * max_range
     k = 0
     for t in range(n):
-        if targets[t]:
-            w = width[t]
-            if math.isfinite(max_range):
-                lo, hi = _in_range_intervals(coords, offsets[t], offsets[t + 1], start[t], w, max_range)
-            else:
-                lo, hi = np.zeros(1), np.full(1, w)
-            count = len(lo)
-            fov_lo = np.zeros(2)
-            fov_hi = np.full(2, w)
-            fov_count = 1
-            if fov < TWO_PI:
-                lo = np.concatenate((lo, lo))
-                hi = np.concatenate((hi, hi))
-                count = clip_circular(lo, hi, count, wedge_start - start[t], fov)
-                fov_count = clip_circular(fov_lo, fov_hi, 1, wedge_start - start[t], fov)
+        off[t] = k
+        if not targets[t]:
+            continue
+        w = width[t]
+        fov_lo[0] = 0.0
+        fov_hi[0] = w
+        fov_count = 1
+        if fov < TWO_PI:
+            fov_count = clip_circular(fov_lo, fov_hi, 1, wedge_start - start[t], fov)
+        for i in range(fov_count):
+            in_fov[t] += fov_hi[i] - fov_lo[i]
+        if fov_count == 0:
+            continue
+        whole = True  # the whole extent within range
+        if limited_range:
+            near2 = np.inf
+            far2 = 0.0
+            first, last = offsets[t], offsets[t + 1]
+            for i in range(first, last):
+                j = i + 1 if i + 1 < last else first
+                near2 = min(near2, segment_distance2(coords[i, 0], coords[i, 1], coords[j, 0], coords[j, 1]))
+                far2 = max(far2, coords[i, 0] * coords[i, 0] + coords[i, 1] * coords[i, 1])
+            if near2 > r2:
+                continue
+            whole = far2 <= r2
+        if whole:
+            out_lo = reserve(out_lo, k, k + fov_count)
+            out_hi = reserve(out_hi, k, k + fov_count)
             for i in range(fov_count):
-                in_fov[t] += fov_hi[i] - fov_lo[i]
-            lo, hi = _union(lo[:count], hi[:count], w)
-            out_lo = reserve(out_lo, k, k + len(lo))
-            out_hi = reserve(out_hi, k, k + len(lo))
-            for i in range(len(lo)):
-                out_lo[k] = lo[i]
-                out_hi[k] = hi[i]
-                in_view[t] += hi[i] - lo[i]
+                out_lo[k] = fov_lo[i]
+                out_hi[k] = fov_hi[i]
+                in_view[t] += fov_hi[i] - fov_lo[i]
                 k += 1
-        off[t + 1] = k
+            continue
+        lo, hi = _in_range_intervals(coords, offsets[t], offsets[t + 1], start[t], w, max_range)
+        out_lo = reserve(out_lo, k, k + 2 * len(lo))
+        out_hi = reserve(out_hi, k, k + 2 * len(lo))
+        for f in range(fov_count):  # both lists are sorted and disjoint; the fov's intervals are apart
+            for i in range(len(lo)):
+                a = max(lo[i], fov_lo[f])
+                b = min(hi[i], fov_hi[f])
+                if b > a:
+                    out_lo[k] = a
+                    out_hi[k] = b
+                    in_view[t] += b - a
+                    k += 1
+    off[n] = k
     return off, out_lo[:k], out_hi[:k], in_fov, in_view
 
 
@@ -350,17 +375,66 @@ def _filtered(offsets, values, keep):
     return out, values[keep]
 
 
+class ObjectsInView(NamedTuple):
+    """What of a frame's objects lies in a viewpoint's view (see :func:`objects_in_view`)."""
+
+    start: np.ndarray
+    """Angular extents' starts, radians, shape (n,)."""
+    width: np.ndarray
+    """Angular extents' widths, radians, shape (n,)."""
+    offsets: np.ndarray
+    """CSR offsets (n + 1,) of each object's in-view intervals."""
+    lo: np.ndarray
+    """In-view intervals' starts, radians relative to the object's ``start``."""
+    hi: np.ndarray
+    """In-view intervals' ends, likewise."""
+    in_fov: np.ndarray
+    """Radians of each extent inside the field of view, shape (n,)."""
+    in_view: np.ndarray
+    """Radians of in-view directions, shape (n,); 0 for objects that cannot matter to this viewpoint."""
+
+    def out_of_view(self, transparent: np.ndarray) -> np.ndarray:
+        """Objects (not ``transparent``) hit within range along no direction of the field of view: they can be
+        neither seen nor in front of anything that is, so engines may leave them out (shape (n,) bool)."""
+        return ~np.asarray(transparent, dtype=bool) & (self.in_view <= 0.0)
+
+
+def objects_in_view(rings: Rings, viewpoint: Viewpoint) -> ObjectsInView:
+    """The in-view directions (:func:`view_intervals`) of a frame's objects (world-frame ``rings``) for one
+    viewpoint; transparent objects get none."""
+    o = np.asarray(viewpoint.position, dtype=np.float64)
+    start, width, _ = angular_extent(o, rings)
+    offsets, lo, hi, in_fov, in_view = view_intervals(
+        rings.coords - o,
+        rings.offsets,
+        ~np.asarray(viewpoint.transparent, dtype=bool),
+        start,
+        width,
+        viewpoint.heading - 0.5 * viewpoint.fov,
+        viewpoint.fov,
+        viewpoint.range,
+    )
+    return ObjectsInView(start, width, offsets, lo, hi, in_fov, in_view)
+
+
 def restrict_observation(
-    observation: Observation, rings: Rings, static_edges: np.ndarray, static_offsets: np.ndarray, viewpoint: Viewpoint
+    observation: Observation,
+    seen: ObjectsInView,
+    rings: Rings,
+    static_edges: np.ndarray,
+    static_offsets: np.ndarray,
+    viewpoint: Viewpoint,
 ) -> Observation:
     """An engine's observation for a limited viewpoint, with in-view angles and the occluders restricted to bodies
     hit before the target along an in-view direction; its ``visible_angle`` (already limited by the engine) is
-    kept, capped at the in-view angle.
+    kept, capped at the in-view angle, and its reason codes follow from the restricted lists.
 
     Parameters
     ----------
     observation : Observation
-        The engine's result, occluders found over the whole extent.
+        The engine's result, occluders found over the whole extent (objects out of view may have been left out).
+    seen : ObjectsInView
+        :func:`objects_in_view` for this viewpoint.
     rings : Rings
         The frame's object rings, metres (world frame).
     static_edges, static_offsets : ndarray
@@ -370,14 +444,8 @@ def restrict_observation(
     from .engines import Observation
 
     o = np.asarray(viewpoint.position, dtype=np.float64)
-    transparent = np.asarray(viewpoint.transparent, dtype=bool)
     coords = rings.coords - o
     segments = np.ascontiguousarray(np.stack([coords, coords[next_vertex(rings.offsets)]], axis=1))
-    start, width, _ = angular_extent(o, rings)
-    wedge_start = viewpoint.heading - 0.5 * viewpoint.fov
-    view_off, lo, hi, in_fov, in_view = view_intervals(
-        coords, rings.offsets, ~transparent, start, width, wedge_start, viewpoint.fov, viewpoint.range
-    )
     keep_occ, keep_st = _keep_in_view(
         segments,
         np.asarray(rings.offsets, dtype=np.int64),
@@ -389,14 +457,22 @@ def restrict_observation(
         observation.occluders,
         observation.static_offsets,
         observation.static_occluders,
-        start,
-        view_off,
-        lo,
-        hi,
+        seen.start,
+        seen.offsets,
+        seen.lo,
+        seen.hi,
     )
     occ_offsets, occ = _filtered(observation.occluder_offsets, observation.occluders, keep_occ)
     st_offsets, st = _filtered(observation.static_offsets, observation.static_occluders, keep_st)
-    visible = np.minimum(observation.visible_angle, in_view)
+    visible = np.minimum(observation.visible_angle, seen.in_view)
     return Observation.from_parts(
-        visible, observation.angular_extent, occ_offsets, occ, st_offsets, st, transparent, in_view, in_fov
+        visible,
+        observation.angular_extent,
+        occ_offsets,
+        occ,
+        st_offsets,
+        st,
+        viewpoint.transparent,
+        seen.in_view,
+        seen.in_fov,
     )

@@ -57,7 +57,12 @@ def test_cli_writes_parquet_with_engine_and_several_egos(tmp_path) -> None:
     table = pl.read_parquet(out_path)
     assert table.columns[:3] == ["frame", "total_nanos", "idx_ego"]
     assert set(table["idx_ego"].unique()) == {0, 1}
-    assert files_under(tmp_path) == {Path("vis.parquet")}  # no temporary file left beside it
+    # a dataset of parts (one here), no temporary file left beside it
+    assert files_under(tmp_path) == {Path("vis.parquet"), Path("vis.parquet/part-000000.parquet")}
+    again = cli(MCAP, "--ego", "0", "--engine", "sweep", "--no-progress", "-o", out_path)  # replaces it
+    assert again.returncode == 0, again.stderr
+    assert "idx_ego" not in pl.read_parquet(out_path).columns
+    assert files_under(tmp_path) == {Path("vis.parquet"), Path("vis.parquet/part-000000.parquet")}
 
 
 def test_cli_writes_csv_with_joined_lists(tmp_path) -> None:

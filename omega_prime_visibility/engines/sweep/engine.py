@@ -12,10 +12,12 @@ from ...kernels import ring_index
 from ...scene import FrameObjects
 from ...sensors import TWO_PI
 from ...statics import StaticOccluders
-from ...view import restrict_observation
-from .. import Observation, Viewpoint
+from ...view import objects_in_view, restrict_observation
+from .. import Observation, Reason, Viewpoint
 from .crossings import build_static_grid, prepare_frame, static_crossings
 from .observe import observe_frame, outline_one
+
+_IN_VIEW, _OCCLUDED, _CONTAINS_OBSERVER = int(Reason.IN_VIEW), int(Reason.OCCLUDED), int(Reason.CONTAINS_OBSERVER)
 
 
 class SweepEngine:
@@ -50,16 +52,21 @@ class SweepEngine:
         """One :class:`Observation` per viewpoint; the frame's edge crossings are found once for all of them."""
         if not viewpoints:
             return []
+        transparent = np.array([v.transparent for v in viewpoints], dtype=bool).reshape(len(viewpoints), -1)
+        seen = {k: objects_in_view(objects.rings, v) for k, v in enumerate(viewpoints) if v.limited}
+        swept = transparent.copy()
+        for k, one in seen.items():  # objects out of a sensor's view need not be swept for it
+            swept[k] |= one.out_of_view(transparent[k])
         observations = self._observe_arrays(
             objects,
             np.array([v.position for v in viewpoints], dtype=np.float64).reshape(-1, 2),
-            np.array([v.transparent for v in viewpoints], dtype=bool).reshape(len(viewpoints), -1),
+            swept,
             np.array([v.static_transparent for v in viewpoints], dtype=bool).reshape(len(viewpoints), -1),
             np.array([(v.heading - 0.5 * v.fov, v.fov, v.range) for v in viewpoints], dtype=np.float64),
         )
-        for k, view in enumerate(viewpoints):
-            if view.limited:
-                observations[k] = restrict_observation(observations[k], objects.rings, *self._source_edges, view)
+        for k, one in seen.items():
+            view = viewpoints[k]
+            observations[k] = restrict_observation(observations[k], one, objects.rings, *self._source_edges, view)
         return observations
 
     def _frame_inputs(self, objects: FrameObjects, observers: np.ndarray) -> tuple:
@@ -95,15 +102,19 @@ class SweepEngine:
             np.ascontiguousarray(limits, dtype=np.float64).reshape(len(observers), 3),
         )
         visible, width, occ_off, occ, occ_cut, st_off, st, st_cut = out
+        # the reason codes of all observers at once, as Observation.from_parts gives them one by one
+        occluded = (np.diff(occ_off, axis=1) > 0) | (np.diff(st_off, axis=1) > 0)
+        reason = np.where(transparent, _CONTAINS_OBSERVER, np.where(occluded, _OCCLUDED, _IN_VIEW)).astype(np.int8)
+        occ_cut, st_cut = occ_cut.tolist(), st_cut.tolist()
         return [
-            Observation.from_parts(
+            Observation(
                 visible[k],
                 width[k],
+                reason[k],
                 occ_off[k],
                 occ[occ_cut[k] : occ_cut[k + 1]],
                 st_off[k],
                 st[st_cut[k] : st_cut[k + 1]],
-                transparent[k],
             )
             for k in range(len(observers))
         ]

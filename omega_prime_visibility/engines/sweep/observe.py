@@ -54,6 +54,7 @@ def observe_one(ox, oy, frame, statics, ang, object_transparent, static_transpar
     seg = shifted_object_edges(frame.coords, frame.following, ox, oy)
     start, width = object_extents(offsets, ang)
     near, far, reach2 = object_distances(seg, offsets, object_transparent)
+    reach2 = min(reach2, max_range * max_range * (1.0 + 1e-9))  # static edges beyond range hide nothing in it
 
     # 1. front-facing edges; 2. their bearing records cut into pieces
     kept, record_edge, records = front_facing_edges(

@@ -13,7 +13,7 @@ from ...geometry import Rings, angular_extent, edges, ring_ids
 from ...occlusion import occluding_pairs
 from ...scene import FrameObjects
 from ...statics import StaticOccluders, polygonal_and_lineal_parts
-from ...view import restrict_observation
+from ...view import objects_in_view, restrict_observation
 from .. import Observation, Viewpoint, group_pairs
 from .attribution import attribute_visible_angles
 from .conversion import box_overlaps, components, exterior_cw, polygon_coords, vis_polygon
@@ -144,6 +144,9 @@ class VisiLibityEngine:
     def _observe_one(self, objects: FrameObjects, viewpoint: Viewpoint) -> Observation:
         observer = np.asarray(viewpoint.position, dtype=np.float64)
         transparent, static_transparent = viewpoint.transparent, viewpoint.static_transparent
+        seen = objects_in_view(objects.rings, viewpoint) if viewpoint.limited else None
+        if seen is not None:  # objects out of the sensor's view change nothing for it
+            transparent = transparent | seen.out_of_view(transparent)
         origin = self._use_origin(observer)
         n = len(objects)
         o = observer - origin
@@ -171,7 +174,7 @@ class VisiLibityEngine:
         if viewpoint.limited:
             if self._source_edges is None:
                 self._source_edges = self.statics.source_edges()
-            observation = restrict_observation(observation, objects.rings, *self._source_edges, viewpoint)
+            observation = restrict_observation(observation, seen, objects.rings, *self._source_edges, viewpoint)
         return observation
 
     def _checked_points(
