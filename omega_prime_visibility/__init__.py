@@ -20,14 +20,21 @@ __all__ = [
     "Sensor",
     "Viewpoint",
     "VisibilityInputWarning",
+    "animate",
     "get_visibility_df",
     "get_visibility_df_for_frame",
     "metrics",
+    "plot_frame",
     "run_batch",
+    "save_timeline",
     "seen_by_any",
+    "timeline_chart",
     "visibility",
     "visible_intervals",
+    "write_report",
 ]
+
+PLOTTING = ("animate", "plot_frame", "save_timeline", "timeline_chart", "write_report")
 
 
 def __getattr__(name: str):
@@ -36,4 +43,9 @@ def __getattr__(name: str):
         from . import metric
 
         return getattr(metric, name)
+    # the pictures need matplotlib/altair (the 'plot' extra): load them only when asked for
+    if name in PLOTTING:
+        from . import plot
+
+        return getattr(plot, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -1,5 +1,6 @@
 """Command line: ``omega-prime-visibility run RECORDING --ego 0`` prints or writes the visibility table of one
-recording; ``omega-prime-visibility batch INPUTS... -o OUTDIR`` computes many, locally or on a dask cluster."""
+recording; ``batch INPUTS... -o OUTDIR`` computes many, locally or on a dask cluster; ``animate`` renders a GIF
+or MP4, ``report`` an interactive HTML page."""
 
 from __future__ import annotations
 
@@ -152,6 +153,119 @@ def run(
         summary = summary.join(occluders, on=by)
         with pl.Config(tbl_rows=-1, fmt_table_cell_list_len=8):
             typer.echo(summary.sort(by))
+
+
+def parse_frames(frames: str) -> slice | None:
+    """``--frames START:STOP[:STEP]`` (frame numbers, stop excluded, either end may be left out) as a slice."""
+    if not frames:
+        return None
+    parts = frames.split(":")
+    try:
+        if len(parts) not in (2, 3):
+            raise ValueError
+        values = [int(p) if p.strip() else None for p in parts]
+    except ValueError:
+        raise fail(
+            f"--frames takes START:STOP or START:STOP:STEP (frame numbers, stop excluded), not {frames!r}"
+        ) from None
+    if len(values) == 3 and values[2] is not None and values[2] <= 0:
+        raise fail(f"--frames: the step must be a positive number of frames, not {values[2]}")
+    return slice(*values)
+
+
+def single_ego(ego: str) -> int | None:
+    """``--ego`` for a picture: one idx, or None for the recording's host vehicle."""
+    if not ego:
+        return None
+    value = parse_ego(ego)
+    if not isinstance(value, int):
+        raise fail(f"--ego takes one idx for a picture, not {ego!r}")
+    return value
+
+
+def host_or(ego_idx: int | None, recording) -> int:
+    """``ego_idx``, or the recording's host vehicle when it is None."""
+    if ego_idx is not None:
+        return ego_idx
+    if recording.host_vehicle_idx is None:
+        raise fail("the recording names no host vehicle: pass --ego IDX")
+    return int(recording.host_vehicle_idx)
+
+
+FramesOption = Annotated[str, typer.Option(help="START:STOP[:STEP] frame numbers (stop excluded); default all")]
+EgoOption = Annotated[str, typer.Option(help="observer idx; default: host vehicle")]
+MapOption = Annotated[Path | None, typer.Option("--map", help="OpenDRIVE map for OSI traces")]
+
+
+@app.command()
+def animate(
+    recording: Annotated[Path, typer.Argument(help="omega-prime MCAP (or OSI trace with --map)")],
+    output: Annotated[Path, typer.Option("-o", "--output", help="write a .gif or .mp4 here")],
+    ego: EgoOption = "",
+    frames: FramesOption = "",
+    fps: Annotated[float, typer.Option(help="frames per second")] = 10.0,
+    follow: Annotated[bool, typer.Option(help="keep the ego in the middle (--no-follow: one fixed view)")] = True,
+    view_range: Annotated[float, typer.Option(help="metres shown each side of the ego")] = 60.0,
+    target: Annotated[int | None, typer.Option(help="outline this idx and its occluders")] = None,
+    sensors: Annotated[str | None, typer.Option(help="sensor layout (roof, typical) or JSON file to draw")] = None,
+    engine: Annotated[str, typer.Option(help=f"one of {sorted(ENGINES)}")] = "visilibity",
+    map_path: MapOption = None,
+    progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
+) -> None:
+    """Render the scene seen from the ego, frame by frame, to an animated GIF or an MP4 video."""
+    from .output import check_output_path
+    from .plot import animate as render
+
+    if engine not in ENGINES:
+        raise fail(f"unknown engine {engine!r}; available: {sorted(ENGINES)}")
+    try:
+        check_output_path(output, (".gif", ".mp4"))
+    except ValueError as e:
+        raise fail(str(e)) from None
+    span, ego_idx = parse_frames(frames), single_ego(ego)
+    r = load_recording(recording, map_path)
+    ego_idx = host_or(ego_idx, r)
+    try:
+        render(r, ego_idx, output, frames=span, fps=fps, follow=follow, view_range=view_range, target=target,
+               sensors=sensors, engine=engine, progress=progress)  # fmt: skip
+    except (ValueError, ImportError) as e:
+        raise fail(str(e)) from None
+    typer.echo(f"wrote {output}")
+
+
+@app.command()
+def report(
+    recording: Annotated[Path, typer.Argument(help="omega-prime MCAP (or OSI trace with --map)")],
+    output: Annotated[Path, typer.Option("-o", "--output", help="write the .html report here")],
+    ego: EgoOption = "",
+    frames: FramesOption = "",
+    view_range: Annotated[float, typer.Option(help="metres shown each side of the ego")] = 60.0,
+    sensors: Annotated[
+        str | None, typer.Option(help="timeline and summary through sensors: 'roof', 'typical' or a .json file")
+    ] = None,
+    engine: Annotated[str, typer.Option(help=f"one of {sorted(ENGINES)}")] = "visilibity",
+    map_path: MapOption = None,
+    progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
+) -> None:
+    """Write an interactive HTML report (frame slider, timeline, per-target summary) that works offline."""
+    from .output import check_output_path
+    from .plot import write_report
+
+    if engine not in ENGINES:
+        raise fail(f"unknown engine {engine!r}; available: {sorted(ENGINES)}")
+    try:
+        check_output_path(output, (".html",))
+    except ValueError as e:
+        raise fail(str(e)) from None
+    span, ego_idx, sensor_set = parse_frames(frames), single_ego(ego), parse_sensors(sensors)
+    r = load_recording(recording, map_path)
+    ego_idx = host_or(ego_idx, r)
+    try:
+        write_report(r, ego_idx, output, frames=span, view_range=view_range, engine=engine, progress=progress,
+                     title=recording.name, sensors=sensor_set)  # fmt: skip
+    except (ValueError, ImportError) as e:
+        raise fail(str(e)) from None
+    typer.echo(f"wrote {output}")
 
 
 @app.command()

@@ -15,18 +15,30 @@ from omega_prime_visibility import get_visibility_df
 COLUMNS = ("idx", "occluder_idxs", "static_occluder_idxs", "visibility")
 
 
-def test_readme_example_runs() -> None:
-    text = (REPO / "README.md").read_text()
-    code = re.search(r"```python\n(.*?)```", text, re.S).group(1)
+def python_blocks() -> list[str]:
+    return re.findall(r"```python\n(.*?)```", (REPO / "README.md").read_text(), re.S)
+
+
+def run_block(code: str, namespace: dict, folder) -> None:
     cwd = os.getcwd()
-    os.chdir(REPO)
+    os.chdir(folder)
     try:
-        namespace: dict = {}
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             exec(compile(code, "README.md", "exec"), namespace)
     finally:
         os.chdir(cwd)
+
+
+@pytest.fixture(scope="module")
+def namespace() -> dict:
+    """What the README's first example (ten lines) leaves behind."""
+    out: dict = {}
+    run_block(python_blocks()[0], out, REPO)
+    return out
+
+
+def test_readme_example_runs(namespace) -> None:
     df, everyone = namespace["df"], namespace["everyone"]
     # the Metric's table (no wall) is get_visibility_df's
     assert namespace["properties"]["visibility"].equals(get_visibility_df(namespace["r"], 0, progress=False))
@@ -44,3 +56,15 @@ def test_readme_example_runs() -> None:
         assert rows[1] == rows[4] == rows[5] == ([], [], 1.0)
     hidden = df.group_by("idx").agg((pl.col("visibility") == 0).mean()).sort("idx")["visibility"].to_list()
     assert hidden == pytest.approx([0.0, 45 / 201, 96 / 201, 0.0, 0.0, 0.0], abs=1e-12)
+
+
+def test_readme_pictures_example_runs(namespace, tmp_path) -> None:
+    from PIL import Image
+
+    pictures = next(block for block in python_blocks() if "plot_frame(" in block)
+    run_block(pictures, dict(namespace), tmp_path)
+    with Image.open(tmp_path / "merge.gif") as gif:
+        assert gif.n_frames == 100  # every second of frames 0 to 199
+    with Image.open(tmp_path / "timeline.png") as png:
+        assert png.size[0] > 600
+    assert "window.vegaEmbed=" in (tmp_path / "report.html").read_text()
