@@ -1,6 +1,6 @@
 """Make every picture of the README from the bundled recording with the package's own plotting functions:
 ``uv run python scripts/make_pictures.py`` (or ``make pictures``) writes docs/frame.png, docs/merge.gif (at most
-2 MB) and docs/timeline.png.
+2 MB), docs/timeline.png, and for the sensors docs/sensors.png and docs/sensors_timeline.png.
 
 The scene is the README's example: ``highway_merge.mcap`` seen from idx 0, with the guard rail as a static occluder.
 """
@@ -14,6 +14,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+import polars as pl
 import shapely
 
 from omega_prime_visibility import animate, get_visibility_df, plot_frame, save_timeline, timeline_chart
@@ -44,7 +45,17 @@ def main() -> None:
     table = get_visibility_df(r, 0, rail, progress=False)
     chart = timeline_chart(table, title="visibility from ego 0 in highway_merge.mcap (guard rail included)")
     save_timeline(chart, DOCS / "timeline.png", scale=1.5)
-    print(f"wrote {DOCS / 'frame.png'}, {gif} ({size / 1e6:.2f} MB), {DOCS / 'timeline.png'}")
+
+    # the typical sensor set on the ego: fields of view at frame 30, and the status per sensor over time
+    fig, ax = plt.subplots(figsize=(11, 4.6), layout="constrained")
+    plot_frame(r, 0, 30, rail, target=2, sensors="typical", ax=ax, view_range=70)
+    fig.savefig(DOCS / "sensors.png", dpi=110)
+    plt.close(fig)
+    per_sensor = get_visibility_df(r, 0, rail, sensors="typical", progress=False)
+    shown = per_sensor.filter(pl.col("sensor").is_in(["front_camera", "corner_rear_left"]))
+    chart = timeline_chart(shown, title="status per sensor from ego 0: front camera and rear-left corner radar")
+    save_timeline(chart, DOCS / "sensors_timeline.png", scale=1.5)
+    print(f"wrote {DOCS / 'frame.png'}, {gif} ({size / 1e6:.2f} MB), {DOCS / 'timeline.png'}, sensors pictures")
 
 
 if __name__ == "__main__":

@@ -68,3 +68,24 @@ def test_readme_pictures_example_runs(namespace, tmp_path) -> None:
     with Image.open(tmp_path / "timeline.png") as png:
         assert png.size[0] > 600
     assert "window.vegaEmbed=" in (tmp_path / "report.html").read_text()
+
+
+def test_readme_sensors_example_and_its_numbers(namespace) -> None:
+    block = next(block for block in python_blocks() if "sensors=" in block and "seen_by_any" in block)
+    ns = dict(namespace)
+    run_block(block, ns, REPO)
+    per_sensor, best, intervals, seen = ns["per_sensor"], ns["best"], ns["intervals"], ns["seen"]
+    assert per_sensor.height == 6 * 1206 and per_sensor["sensor"].n_unique() == 6
+    at30 = per_sensor.filter(pl.col("frame") == 30)
+    looking = at30.filter(pl.col("idx") == 2, pl.col("in_view") > 0)
+    assert len(looking) and (looking["status"] == "occluded").all()
+    camera6 = at30.filter(pl.col("idx") == 6, pl.col("sensor") == "front_camera").row(0, named=True)
+    assert (camera6["status"], camera6["in_view"], round(camera6["visibility"], 2)) == ("partly_visible", 1.0, 0.58)
+    truck = at30.filter(pl.col("idx") == 1, pl.col("sensor") == "front_camera").row(0, named=True)
+    assert truck["status"] == "partly_visible" and truck["in_view"] < 0.2
+    car2 = intervals.filter(pl.col("idx") == 2).row(0, named=True)
+    assert (car2["start_nanos"], car2["noticed_nanos"]) == (4_500_000_000, 5_000_000_000)
+    car3 = intervals.filter(pl.col("idx") == 3).select("start_frame", "end_frame").rows()
+    assert car3 == [(0, 34), (64, 112), (135, 188)]
+    assert round(seen.area) == 17768
+    assert best.height == 1206
