@@ -30,6 +30,8 @@ __all__ = [
     "seen_by_any",
     "timeline_chart",
     "visibility",
+    "visible_area",
+    "visible_area_over_time",
     "visible_intervals",
     "write_report",
 ]
@@ -48,4 +50,9 @@ def __getattr__(name: str):
         from . import plot
 
         return getattr(plot, name)
+    # the visible area builds on the sweep engine's kernels: load them only when asked for
+    if name in ("visible_area", "visible_area_over_time"):
+        from . import area
+
+        return getattr(area, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -56,3 +56,8 @@ def test_tutorial_runs_top_to_bottom() -> None:
     assert observers == [0, 1, 2, 3, 4, 5, 6]
     # the command line wrote the same table
     assert text_of("import subprocess").split() == ["wrote", "1206", "rows", "to", "out/visibility.parquet", "True"]
+    # sensors: the status column, the merging car noticed at 5.0 s, and the seen area of frame 30
+    assert "out_of_range" in text_of("from omega_prime_visibility import seen_by_any")
+    intervals = text_of("best = seen_by_any")
+    assert re.search(r"│ 2\s+┆ 45\s+┆ 200\s+┆ 15.5\s+┆ 5000000000", intervals)
+    assert "frame 30: the sensors see 17,768 m²" in text_of("seen = visible_area")
