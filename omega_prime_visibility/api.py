@@ -20,7 +20,7 @@ from .engines import get_engine
 from .output import PartWriter, atomic_directory, check_output_path
 from .pipeline import ContainmentLog, chunks, run
 from .scene import ObjectTable, OnInvalid, as_lazy, load_objects
-from .sensors import Sensor, resolve_sensors
+from .sensors import Sensor, fitted_sensors, resolve_sensors
 from .statics import load_static_occluders
 from .table import STATUSES, empty_table, to_polars
 
@@ -130,9 +130,10 @@ def get_visibility_df(
     hide_progress : bool, optional
         0.1.0's name for ``progress=not hide_progress`` (a ValueError if both are given and contradict).
     sensors : "roof", "typical", a .json path, a Sensor or a sequence of Sensors, optional
-        Look through these sensors, mounted on every observer (:mod:`omega_prime_visibility.sensors`; the layouts
-        are those of a 4.6 m x 1.85 m car, call ``typical(length, width)`` for another size). Needs the observers'
-        ``yaw``. None (the default): from the observer's centre, all around, without a range limit.
+        Look through these sensors, mounted on every observer (:mod:`omega_prime_visibility.sensors`). A layout
+        name is fitted to each observer's own length and width (the median extent of its outline along and across
+        its heading), so a truck's bumper radar sits on the truck's bumper. Needs the observers' ``yaw``. None
+        (the default): from the observer's centre, all around, without a range limit.
 
     Returns
     -------
@@ -164,12 +165,13 @@ def get_visibility_df(
     progress = resolve_progress(progress, hide_progress)
     if output is not None:
         output = check_output_path(output)
-    sensor_set = resolve_sensors(sensors)
+    resolve_sensors(sensors)  # a bad layout name or file fails before the table is read
     objects = load_objects(df, on_invalid=on_invalid)
-    if sensor_set is not None and not _has_yaw(df):
+    if sensors is not None and not _has_yaw(df):
         raise ValueError("sensors need the observers' heading: the moving-object table has no 'yaw' column")
     statics = load_static_occluders(static_occluder_polys)
     egos, with_ego = resolve_egos(ego_idx, objects)
+    sensor_set = fitted_sensors(sensors, observer_sizes(objects, egos) if isinstance(sensors, str) else {})
     get_engine(engine)  # unknown names fail here, not in a worker
     if chunk_frames < 1:
         raise ValueError(f"chunk_frames must be at least 1, not {chunk_frames}")
@@ -181,7 +183,7 @@ def get_visibility_df(
     tables: list[pl.DataFrame] = []
     with atomic_directory(output) if output is not None else nullcontext() as temp:
         # workers write their own parts: only row counts and containment logs come back here
-        names = None if sensor_set is None else [s.name for s in sensor_set]
+        names = sensor_names(sensor_set)
         labels = {} if names is None else {"sensor": names, "status": STATUSES}
         schema = empty_table(with_ego, names is not None).to_arrow().schema
         sink = PartWriter(temp, schema, labels) if temp is not None else None
@@ -205,6 +207,32 @@ def get_visibility_df(
     if output is not None:
         return pl.scan_parquet(output)
     return pl.concat(tables, rechunk=True) if tables else empty_table(with_ego, sensor_set is not None)
+
+
+def observer_sizes(objects: ObjectTable, egos: np.ndarray) -> dict[int, tuple[float, float]]:
+    """Each observer's length and width (metres): the median extent of its outline along and across its
+    heading, over the frames where it occurs."""
+    rings = objects.rings
+    heading = np.repeat(objects.yaw, objects.rings.sizes)
+    rel = rings.coords - np.repeat(objects.position, objects.rings.sizes, axis=0)
+    along = rel[:, 0] * np.cos(heading) + rel[:, 1] * np.sin(heading)
+    across = -rel[:, 0] * np.sin(heading) + rel[:, 1] * np.cos(heading)
+    first = rings.offsets[:-1]
+    length = np.maximum.reduceat(along, first) - np.minimum.reduceat(along, first) if len(first) else np.zeros(0)
+    width = np.maximum.reduceat(across, first) - np.minimum.reduceat(across, first) if len(first) else np.zeros(0)
+    sizes = {}
+    for ego in np.asarray(egos).tolist():
+        mine = objects.idx == ego
+        sizes[ego] = (float(np.median(length[mine])), float(np.median(width[mine])))
+    return sizes
+
+
+def sensor_names(sensors: Any) -> list[str] | None:
+    """The sensors' names in order (for one sequence, or the first observer's of a per-observer mapping)."""
+    if sensors is None:
+        return None
+    first = next(iter(sensors.values())) if isinstance(sensors, dict) else sensors
+    return [s.name for s in first]
 
 
 def _has_yaw(df: Any) -> bool:

@@ -18,11 +18,11 @@ import numpy as np
 import polars as pl
 import shapely
 
-from .api import SensorSpec, resolve_egos
+from .api import SensorSpec, observer_sizes, resolve_egos
 from .engines.sweep import SweepEngine
 from .pipeline import observer_rows, viewpoints
 from .scene import FrameObjects, ObjectTable, OnInvalid, load_objects
-from .sensors import Sensor, resolve_sensors
+from .sensors import Sensor, fitted_sensors, resolve_sensors
 from .statics import StaticOccluders, load_static_occluders
 
 ARC_STEP = math.radians(1.0)
@@ -72,10 +72,12 @@ def _regions(
 def _prepare(df: Any, ego_idx: int, sensors: SensorSpec, static_occluder_polys, on_invalid: OnInvalid):
     if isinstance(ego_idx, bool) or not isinstance(ego_idx, int | np.integer):
         raise ValueError(f"ego_idx must be one idx (an int), not {ego_idx!r}")
+    resolve_sensors(sensors)  # a bad layout name or file fails before the table is read
     objects = load_objects(df, on_invalid=on_invalid)
-    resolve_egos(int(ego_idx), objects)
+    egos, _ = resolve_egos(int(ego_idx), objects)
     statics = load_static_occluders(static_occluder_polys)
-    return objects, statics, resolve_sensors(sensors)
+    fitted = fitted_sensors(sensors, observer_sizes(objects, egos) if isinstance(sensors, str) else {})
+    return objects, statics, fitted[int(ego_idx)] if isinstance(fitted, dict) else fitted
 
 
 def visible_area(

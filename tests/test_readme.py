@@ -86,6 +86,6 @@ def test_readme_sensors_example_and_its_numbers(namespace) -> None:
     car2 = intervals.filter(pl.col("idx") == 2).row(0, named=True)
     assert (car2["start_nanos"], car2["noticed_nanos"]) == (4_500_000_000, 5_000_000_000)
     car3 = intervals.filter(pl.col("idx") == 3).select("start_frame", "end_frame").rows()
-    assert car3 == [(0, 34), (64, 112), (135, 188)]
-    assert round(seen.area) == 17768
+    assert car3 == [(0, 34), (65, 113), (135, 188)]
+    assert round(seen.area) == 17771
     assert best.height == 1206

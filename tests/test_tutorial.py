@@ -60,4 +60,4 @@ def test_tutorial_runs_top_to_bottom() -> None:
     assert "out_of_range" in text_of("from omega_prime_visibility import seen_by_any")
     intervals = text_of("best = seen_by_any")
     assert re.search(r"│ 2\s+┆ 45\s+┆ 200\s+┆ 15.5\s+┆ 5000000000", intervals)
-    assert "frame 30: the sensors see 17,768 m²" in text_of("seen = visible_area")
+    assert "frame 30: the sensors see 17,771 m²" in text_of("seen = visible_area")
