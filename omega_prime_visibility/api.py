@@ -21,8 +21,8 @@ from .engines import get_engine
 from .output import atomic_write, check_output_path
 from .pipeline import ContainmentLog, chunks, run
 from .scene import ObjectTable, OnInvalid, as_lazy, load_objects
-from .statics import load_static_occluders
 from .table import empty_table, to_polars
+from .threed import check_mode, load_statics, renumber_statics, resolve_engine, with_can_see
 
 EgoSpec = int | Sequence[int] | Literal["all"]
 PROGRESS_MIN_FRAMES = 200
@@ -84,13 +84,17 @@ def get_visibility_df(
     static_occluder_polys: Sequence[shapely.Geometry] | None = None,
     epsilon: float | None = None,
     *,
-    engine: str = "visilibity",
+    engine: str | None = None,
     progress: bool | None = None,
     on_invalid: OnInvalid = "warn",
     workers: int | None = None,
     output: str | os.PathLike | None = None,
     chunk_frames: int = CHUNK_FRAMES,
     hide_progress: bool | None = None,
+    mode: Literal["2d", "3d"] = "2d",
+    static_occluder_heights: Sequence[float] | float | None = None,
+    static_meshes: Sequence[Any] = (),
+    map_occluders: str | os.PathLike | bool | None = None,
 ) -> pl.DataFrame | pl.LazyFrame:
     """Visibility and occluders of every object, seen from the ego, in every frame where the ego exists.
 
@@ -107,8 +111,10 @@ def get_visibility_df(
     epsilon : float, optional
         Metres; accepted for compatibility with 0.1.0, where it was VisiLibity's snapping distance; the result here
         is exact and does not depend on it. Must be a non-negative finite number or None.
-    engine : str
-        Registered engine name (``"visilibity"``, the default; see ``omega_prime_visibility.ENGINES``).
+    engine : str, optional
+        Registered engine name: in 2D ``"visilibity"`` (the default) or ``"sweep"`` (``ENGINES``); in 3D
+        ``"raycast3d"`` (the default), ``"raycast3d-high"``, ``"raycast3d-fast"`` or ``"silhouette3d"``
+        (exact, box scenes only) (``ENGINES_3D``).
     progress : bool, optional
         Show a progress bar; by default only for long recordings.
     on_invalid : {"warn", "raise"}
@@ -125,6 +131,19 @@ def get_visibility_df(
         Frames per chunk of work.
     hide_progress : bool, optional
         0.1.0's name for ``progress=not hide_progress`` (a ValueError if both are given and contradict).
+    mode : {"2d", "3d"}
+        ``"3d"``: oriented 3D boxes from ``z, length, width, height, roll, pitch, yaw`` seen from the ego's eye
+        (its centre, 1.25 m above the ground under it); ``visibility`` is a solid-angle fraction and the table
+        gains ``can_see`` (see :mod:`omega_prime_visibility.threed`).
+    static_occluder_heights : float or sequence of float, optional
+        z (metres) of the tops of ``static_occluder_polys`` (one for all, or one each); in 2D those lower than the
+        driver's eye height (1.25 m) are left out, in 3D they are walls of that height (none: 100 m).
+    static_meshes : sequence of paths or trimesh.Trimesh, optional
+        3D static occluders (any file trimesh loads), numbered after the footprints; 3D only.
+    map_occluders : path or True, optional
+        An OpenDRIVE map (True: the recording's own) whose road objects (``<object>``) become static occluders
+        with their heights, numbered after ``static_occluder_polys``
+        (:func:`omega_prime_visibility.mapobjects.read_map_objects`).
 
     Returns
     -------
@@ -147,8 +166,12 @@ def get_visibility_df(
     progress = resolve_progress(progress, hide_progress)
     if output is not None:
         output = check_output_path(output)
-    objects = load_objects(df, on_invalid=on_invalid)
-    statics = load_static_occluders(static_occluder_polys)
+    mode = check_mode(mode)
+    engine = resolve_engine(engine, mode)
+    objects = load_objects(df, on_invalid=on_invalid, three_d=mode == "3d")
+    statics, static_positions = load_statics(
+        static_occluder_polys, mode, static_occluder_heights, static_meshes, map_occluders, df
+    )
     egos, with_ego = resolve_egos(ego_idx, objects)
     get_engine(engine)  # unknown names fail here, not in a worker
     if chunk_frames < 1:
@@ -167,7 +190,7 @@ def get_visibility_df(
                 frames = run(objects, statics, egos, engine, chunk_frames=chunk_frames, executor=pool)
                 for n_frames, columns, log in frames:
                     containment.merge(log)
-                    table = to_polars(columns, with_ego)
+                    table = with_can_see(renumber_statics(to_polars(columns, with_ego), static_positions), mode)
                     if temp is not None:
                         arrow = table.to_arrow()
                         writer = writer or pq.ParquetWriter(str(temp), arrow.schema)
@@ -180,11 +203,11 @@ def get_visibility_df(
             if writer is not None:
                 writer.close()
         if temp is not None and writer is None:
-            empty_table(with_ego).write_parquet(temp)
+            with_can_see(empty_table(with_ego), mode).write_parquet(temp)
     containment.warn(stacklevel=3)
     if output is not None:
         return pl.scan_parquet(output)
-    return pl.concat(tables, rechunk=True) if tables else empty_table(with_ego)
+    return pl.concat(tables, rechunk=True) if tables else with_can_see(empty_table(with_ego), mode)
 
 
 @contextmanager
@@ -206,11 +229,12 @@ def get_visibility_df_for_frame(
     static_occluder_polys: Sequence[shapely.Geometry] | None = None,
     epsilon: float | None = None,
     *,
-    engine: str = "visilibity",
+    engine: str | None = None,
     on_invalid: OnInvalid = "warn",
+    **three_d: Any,
 ) -> pl.DataFrame:
     """:func:`get_visibility_df` for a single frame number (same parameters and columns; ``epsilon`` likewise has
-    no effect).
+    no effect; ``mode`` and the 3D keywords are passed on).
 
     Raises
     ------
@@ -224,4 +248,6 @@ def get_visibility_df_for_frame(
     one = lazy.filter(pl.col("frame") == frame).collect()
     if one.height == 0:
         raise ValueError(f"frame {frame} does not occur in the table")
-    return get_visibility_df(one, ego_idx, static_occluder_polys, engine=engine, progress=False, on_invalid=on_invalid)
+    return get_visibility_df(
+        one, ego_idx, static_occluder_polys, engine=engine, progress=False, on_invalid=on_invalid, **three_d
+    )

@@ -30,6 +30,8 @@ class StaticOccluders:
         Position, in the user's list, of the occluder each segment comes from.
     geometries : ndarray of shapely geometries, shape (n_sources,)
         The occluders as given (validated).
+    solids : statics3d.StaticSolids or None
+        Their 3D triangles with heights, and meshes (``mode="3d"``; see :mod:`.statics3d`).
     """
 
     rings: Rings
@@ -37,6 +39,7 @@ class StaticOccluders:
     segments: np.ndarray
     segment_source: np.ndarray
     geometries: np.ndarray
+    solids: Any = None
 
     @property
     def n_sources(self) -> int:
