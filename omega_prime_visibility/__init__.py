@@ -4,12 +4,13 @@
 """
 
 from .api import get_visibility_df, get_visibility_df_for_frame
-from .engines import ENGINES, Observation, Reason, Viewpoint
+from .engines import ENGINES, ENGINES_3D, Observation, Reason, Viewpoint
 from .scene import VisibilityInputWarning
 from .table import SCHEMA
 
 __all__ = [
     "ENGINES",
+    "ENGINES_3D",
     "SCHEMA",
     "Observation",
     "Reason",

@@ -12,7 +12,7 @@ import pyarrow as pa
 import pyarrow.compute as pc
 import typer
 
-from .engines import ENGINES
+from .engines import ENGINES, ENGINES_3D
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, help=__doc__)
 
@@ -49,20 +49,31 @@ def load_recording(path: Path, map_path: Path | None = None):
 def run(
     recording: Annotated[Path, typer.Argument(help="omega-prime MCAP (or OSI trace with --map)")],
     ego: Annotated[str, typer.Option(help="observer idx, comma-separated idx, or 'all'; default: host vehicle")] = "",
-    engine: Annotated[str, typer.Option(help=f"one of {sorted(ENGINES)}")] = "visilibity",
+    engine: Annotated[
+        str | None, typer.Option(help=f"2D: one of {sorted(ENGINES)} (default visilibity); 3D: {sorted(ENGINES_3D)}")
+    ] = None,
     output: Annotated[Path | None, typer.Option("-o", "--output", help="write .parquet or .csv here")] = None,
     map_path: Annotated[Path | None, typer.Option("--map", help="OpenDRIVE map for OSI traces")] = None,
     workers: Annotated[int | None, typer.Option(help="processes (default: all cores for long jobs)")] = None,
     progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
     rows: Annotated[int, typer.Option(help="rows to print when no output is given")] = 20,
+    mode: Annotated[str, typer.Option(help="2d (bird's-eye view, exact) or 3d (boxes with heights, ray cast)")] = "2d",
+    map_occluders: Annotated[
+        bool, typer.Option("--map-occluders", help="road objects of the map (--map, or the recording's) as occluders")
+    ] = False,
 ) -> None:
     """Compute the visibility table of one recording; print it with a per-target summary, or write it."""
     from .api import describe_idx, get_visibility_df
     from .output import atomic_write, check_output_path
 
     # every check that needs no computing comes first, so a typo never costs a long run
-    if engine not in ENGINES:
-        raise fail(f"unknown engine {engine!r}; available: {sorted(ENGINES)}")
+    from .threed import check_mode, resolve_engine
+
+    try:
+        mode = check_mode(mode)
+        engine = resolve_engine(engine, mode)
+    except ValueError as e:
+        raise fail(str(e)) from None
     if output is not None:
         try:
             output = check_output_path(output, (".parquet", ".csv"))
@@ -77,7 +88,16 @@ def run(
         ego_idx = int(r.host_vehicle_idx)
     stream = output if output is not None and output.suffix == ".parquet" else None
     try:
-        table = get_visibility_df(r, ego_idx, engine=engine, progress=progress, workers=workers, output=stream)
+        table = get_visibility_df(
+            r,
+            ego_idx,
+            engine=engine,
+            progress=progress,
+            workers=workers,
+            output=stream,
+            mode=mode,
+            map_occluders=(map_path if map_path is not None else True) if map_occluders else None,
+        )
         if output is not None and stream is None:
             with atomic_write(output) as temp:
                 table.with_columns(
@@ -122,6 +142,8 @@ def engines() -> None:
     """List the available engines."""
     for name in sorted(ENGINES):
         typer.echo(name)
+    for name in sorted(ENGINES_3D):
+        typer.echo(f"{name} (--mode 3d)")
 
 
 def main() -> None:

@@ -4,7 +4,8 @@ Asked for by ``load_objects(..., three_d=True)`` (``mode="3d"``). ``height``, ``
 required (a ``ValueError`` names the missing ones). Defaults, each announced by one
 :class:`~.scene.VisibilityInputWarning`: without ``roll`` and ``pitch`` the boxes are level (0), without ``z``
 they stand on the ground z = 0 (``z = height / 2``). Rows with a NaN or infinite 3D value, or a height <= 0, are
-skipped like rows with a NaN pose.
+skipped like rows with a NaN pose. A table whose heights all equal the widths (as omega-prime 0.3.7 writes MCAP
+files) gets a warning.
 """
 
 from __future__ import annotations
@@ -41,6 +42,14 @@ def read_boxes3d(
             stacklevel=4,
         )
     height = values["height"]
+    same = np.isfinite(height) & (height == values["width"])
+    if len(height) and same.all():
+        warnings.warn(
+            "every row's height equals its width: the heights look like a copy of the widths (omega-prime 0.3.7 "
+            "writes an object's width into the MCAP height field), so the 3D result may be wrong",
+            _warning_category(),
+            stacklevel=4,
+        )
     z = values.get("z", height / 2)
     roll = values.get("roll", np.zeros(len(height)))
     pitch = values.get("pitch", np.zeros(len(height)))

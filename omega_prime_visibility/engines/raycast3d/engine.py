@@ -142,7 +142,9 @@ class RaycastEngine:
         for vi in range(g):
             rel_corners = box_corners[targets] - eyes[vi]
             rel_centres = centres[targets] - eyes[vi]
-            axes, rect, which, hull_offsets, hull_uv = sampling.patches(rel_corners, rel_centres)
+            rel_boxes = boxes[targets].copy()
+            rel_boxes[:, :3] -= eyes[vi]
+            axes, rect, which, hull_offsets, hull_uv = sampling.patches(rel_corners, rel_centres, rel_boxes)
             hull_off_parts.append(hull_offsets[1:] + hull_base)
             hull_parts.append(hull_uv)
             hull_base += len(hull_uv)

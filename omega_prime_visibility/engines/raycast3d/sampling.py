@@ -4,7 +4,7 @@ Every (viewpoint, target) pair is a *slot*. A slot is sampled on one or more *pa
 from the eye (a central projection, so the target's directions form a convex polygon there and straight lines
 stay straight), each with axes ``forward, u, v`` and a rectangle ``[u0, u1] x [v0, v1]`` that holds the target's
 projected corners. A target seen within about 80° of its centre direction has one patch; one that wraps around the
-eye (very near) is sampled on the six faces of a cube around the eye.
+eye (very near) is sampled on the faces of a cube around the eye, each patch around its part on that face.
 
 Each patch starts as a grid of ``n x n`` cells (``(n + 1)^2`` rays, so at least ``n + 1`` rays across the target's
 angular width and height however small or far it is). A ray that hits the target is labelled by what it meets
@@ -20,6 +20,7 @@ import math
 
 import numba
 import numpy as np
+import shapely
 
 from ...boxes3d import _slab
 from ...kernels import reserve
@@ -28,7 +29,7 @@ MISS = -1
 """Label of a ray that misses the target (it matches any label when cells are compared)."""
 
 
-def patches(corners_rel: np.ndarray, centres_rel: np.ndarray) -> tuple[np.ndarray, ...]:
+def patches(corners_rel: np.ndarray, centres_rel: np.ndarray, boxes_rel: np.ndarray) -> tuple[np.ndarray, ...]:
     """Sampling patches of targets seen from the origin.
 
     Parameters
@@ -37,6 +38,8 @@ def patches(corners_rel: np.ndarray, centres_rel: np.ndarray) -> tuple[np.ndarra
         Corners of the targets, relative to the eye, metres.
     centres_rel : ndarray, shape (m, 3)
         Their centres, relative to the eye.
+    boxes_rel : ndarray, shape (m, 9)
+        The targets as boxes (:mod:`...boxes3d`), centres relative to the eye.
 
     Returns
     -------
@@ -47,7 +50,8 @@ def patches(corners_rel: np.ndarray, centres_rel: np.ndarray) -> tuple[np.ndarra
     target : ndarray, shape (p,), int64
         Which of the ``m`` targets each patch samples.
     hull_offsets, hull_uv : ndarray
-        CSR: the target's silhouette on each patch (the convex hull of its projected corners; none on cube faces).
+        CSR: the target's silhouette on each patch (the convex hull of its projected corners, or of its part on a
+        cube face), counter-clockwise.
     """
     dist = np.linalg.norm(centres_rel, axis=1)
     forward = centres_rel / np.where(dist > 0, dist, 1.0)[:, None]
@@ -66,13 +70,28 @@ def patches(corners_rel: np.ndarray, centres_rel: np.ndarray) -> tuple[np.ndarra
     rects = [np.stack([u.min(1), u.max(1), v.min(1), v.max(1)], axis=1)[good]]
     targets = [np.flatnonzero(good)]
     near = np.flatnonzero(~good)
-    if len(near):
-        eye3 = np.eye(3)
-        cube = np.array([[s * eye3[a], eye3[(a + 1) % 3], eye3[(a + 2) % 3]] for a in range(3) for s in (1.0, -1.0)])
-        axes.append(np.tile(cube, (len(near), 1, 1)))
-        rects.append(np.tile([-1.0, 1.0, -1.0, 1.0], (6 * len(near), 1)))
-        targets.append(np.repeat(near, 6))
-        hull_offsets = np.concatenate([hull_offsets, np.full(6 * len(near), hull_offsets[-1])])
+    if len(near):  # wraps around the eye: its silhouette on each face of a cube around the eye
+        from ..silhouette3d import FACES, silhouettes
+
+        faces = silhouettes(corners_rel[near], boxes_rel[near], np.zeros(3))
+        extra_offsets, extra_uv = [], []
+        at = len(hull_uv)
+        for k, target in enumerate(near):
+            for f in range(6):
+                polygon = faces[f][k]
+                if polygon is None:
+                    continue
+                ring = np.asarray(polygon.exterior.coords)[:-1]
+                ring = ring[::-1] if shapely.is_ccw(polygon.exterior) is False else ring
+                u0, v0, u1, v1 = polygon.bounds
+                axes.append(FACES[f][None])
+                rects.append(np.array([[u0, u1, v0, v1]]))
+                targets.append(np.array([target]))
+                extra_uv.append(ring)
+                at += len(ring)
+                extra_offsets.append(at)
+        hull_offsets = np.concatenate([hull_offsets, np.asarray(extra_offsets, dtype=np.int64)])
+        hull_uv = np.concatenate([hull_uv, *extra_uv]) if extra_uv else hull_uv
     return np.concatenate(axes), np.concatenate(rects), np.concatenate(targets).astype(np.int64), hull_offsets, hull_uv
 
 
