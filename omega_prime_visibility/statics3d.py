@@ -79,7 +79,7 @@ def check_heights(heights: Sequence[float] | float | None, n: int) -> np.ndarray
     bad = np.flatnonzero(~np.isfinite(values) | (values <= BASE))
     if len(bad):
         raise ValueError(
-            f"static occluder {int(bad[0])} has height {values[bad[0]]!r}: it must be a finite number > {BASE}"
+            f"static occluder {int(bad[0])} has height {float(values[bad[0]])}: it must be a finite number > {BASE}"
         )
     return values
 
