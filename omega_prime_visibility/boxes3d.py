@@ -95,7 +95,7 @@ def contains(boxes: np.ndarray, point: np.ndarray, tolerance: float = 1e-9) -> n
     return (np.abs(local) <= half + tolerance).all(axis=1)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _slab(origin, direction, centre, rot, half):
     """Entry and exit distances of the ray ``origin + t * direction`` (t >= 0) through a box; (inf, -inf): missed."""
     t0, t1 = 0.0, np.inf

@@ -6,7 +6,22 @@ origins are given relative to that point (relative rounding 6e-8 of the distance
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
+
+_DEVICE: dict[int, object] = {}
+
+
+def device() -> object:
+    """One Embree device per process (made again after a fork: a device's threads do not survive one)."""
+    pid = os.getpid()
+    if pid not in _DEVICE:
+        from embreex import rtcore
+
+        _DEVICE.clear()
+        _DEVICE[pid] = rtcore.EmbreeDevice()
+    return _DEVICE[pid]
 
 
 class FirstHit:
@@ -32,7 +47,7 @@ class FirstHit:
             from embreex import rtcore_scene
             from embreex.mesh_construction import TriangleMesh
 
-            self._scene = rtcore_scene.EmbreeScene()
+            self._scene = rtcore_scene.EmbreeScene(device())
             TriangleMesh(self._scene, np.ascontiguousarray(triangles, dtype=np.float32))
 
     def cast(self, origins: np.ndarray, directions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -177,6 +177,10 @@ def label(dirs, node_slot, eyes, slot_view, slot_target, view, centres, rots, ha
     pair_slot = np.empty(16, np.int64)
     pair_occ = np.empty(16, np.int64)
     k = 0
+    size = n_boxes
+    for o in owner:
+        size = max(size, o + 1)
+    listed = np.full(size, -1, np.int64)  # the slot each occluder was last listed for (slots come in runs)
     for a in range(m):
         s = node_slot[a]
         vi = slot_view[s]
@@ -195,7 +199,8 @@ def label(dirs, node_slot, eyes, slot_view, slot_target, view, centres, rots, ha
             code[a] = t
         if code[a] == t or not (in_fov[a] and in_range[a]):
             continue  # where the target is seen first, nothing lies in front of it
-        if first >= n_boxes and code[a] == first:
+        if first >= n_boxes and code[a] == first and listed[first] != s:
+            listed[first] = s
             pair_slot = reserve(pair_slot, k, k + 1)
             pair_occ = reserve(pair_occ, k, k + 1)
             pair_slot[k] = s
@@ -206,8 +211,11 @@ def label(dirs, node_slot, eyes, slot_view, slot_target, view, centres, rots, ha
             if dirs[a, 0] * cone[0] + dirs[a, 1] * cone[1] + dirs[a, 2] * cone[2] < cone[3]:
                 continue
             b = cand[c]
+            if listed[b] == s:
+                continue
             tb = _slab(eye, dirs[a], centres[b], rots[b], halves[b])[0]
             if tb < tt - 1e-9:
+                listed[b] = s
                 pair_slot = reserve(pair_slot, k, k + 1)
                 pair_occ = reserve(pair_occ, k, k + 1)
                 pair_slot[k] = s
@@ -226,13 +234,9 @@ def _rect_solid_angle(u0, u1, v0, v1):
 
 
 @numba.njit(cache=True)
-def _clipped_solid_angle(box, hull):
-    """Solid angle of the rectangle ``box`` (u0, u1, v0, v1) inside the convex counter-clockwise ``hull``."""
-    cap = 4 + 2 * len(hull)
-    pu = np.empty(cap)
-    pv = np.empty(cap)
-    qu = np.empty(cap)
-    qv = np.empty(cap)
+def _clipped_solid_angle(box, hull, pu, pv, qu, qv):
+    """Solid angle of the rectangle ``box`` (u0, u1, v0, v1) inside the convex counter-clockwise ``hull``
+    (``pu, pv, qu, qv``: scratch space of at least ``4 + len(hull)`` entries)."""
     pu[0], pv[0], pu[1], pv[1] = box[0], box[2], box[1], box[2]
     pu[2], pv[2], pu[3], pv[3] = box[1], box[3], box[0], box[3]
     k = 4
@@ -316,6 +320,10 @@ def refine(cell_patch, cell_box, cell_nodes, code, in_fov, in_range, patch_slot,
     """
     c_n = len(cell_patch)
     todo = np.zeros(c_n, np.bool_)
+    longest = 0
+    for p in range(len(hull_offsets) - 1):
+        longest = max(longest, hull_offsets[p + 1] - hull_offsets[p])
+    pu, pv, qu, qv = np.empty(longest + 8), np.empty(longest + 8), np.empty(longest + 8), np.empty(longest + 8)
     for c in range(c_n):
         s = patch_slot[cell_patch[c]]
         t = slot_target[s]
@@ -343,7 +351,7 @@ def refine(cell_patch, cell_box, cell_nodes, code, in_fov, in_range, patch_slot,
         if hits == 4 or h1 - h0 < 3:
             w = _rect_solid_angle(b[0], b[1], b[2], b[3]) / 4
         else:
-            w = _clipped_solid_angle(b, hull_uv[h0:h1]) / hits
+            w = _clipped_solid_angle(b, hull_uv[h0:h1], pu, pv, qu, qv) / hits
         for corner in range(4):
             a = cell_nodes[c, corner]
             if code[a] == MISS:
@@ -368,20 +376,23 @@ def refine(cell_patch, cell_box, cell_nodes, code, in_fov, in_range, patch_slot,
         u0, u1, v0, v1 = cell_box[c, 0], cell_box[c, 1], cell_box[c, 2], cell_box[c, 3]
         um, vm = (u0 + u1) / 2, (v0 + v1) / 2
         # new nodes: bottom middle, left middle, centre, right middle, top middle
-        uvs = ((um, v0), (u0, vm), (um, vm), (u1, vm), (um, v1))
-        for q in range(5):
-            node_patch[5 * r + q] = cell_patch[c]
-            node_uv[5 * r + q, 0] = uvs[q][0]
-            node_uv[5 * r + q, 1] = uvs[q][1]
+        y = 5 * r
+        node_patch[y : y + 5] = cell_patch[c]
+        node_uv[y, 0], node_uv[y, 1], node_uv[y + 1, 0], node_uv[y + 1, 1] = um, v0, u0, vm
+        node_uv[y + 2, 0], node_uv[y + 2, 1], node_uv[y + 3, 0], node_uv[y + 3, 1] = um, vm, u1, vm
+        node_uv[y + 4, 0], node_uv[y + 4, 1] = um, v1
         first_new = n_nodes + 5 * r
         bm, lm, cc, rm, tm = first_new, first_new + 1, first_new + 2, first_new + 3, first_new + 4
         c00, c10, c01, c11 = cell_nodes[c, 0], cell_nodes[c, 1], cell_nodes[c, 2], cell_nodes[c, 3]
-        boxes = np.array([[u0, um, v0, vm], [um, u1, v0, vm], [u0, um, vm, v1], [um, u1, vm, v1]])
-        corners = np.array([[c00, bm, lm, cc], [bm, c10, cc, rm], [lm, cc, c01, tm], [cc, rm, tm, c11]])
-        for q in range(4):
-            z = 4 * r + q
-            new_patch[z] = cell_patch[c]
-            new_box[z] = boxes[q]
-            new_nodes[z] = corners[q]
+        z = 4 * r
+        new_patch[z : z + 4] = cell_patch[c]
+        new_box[z, 0], new_box[z, 1], new_box[z, 2], new_box[z, 3] = u0, um, v0, vm
+        new_box[z + 1, 0], new_box[z + 1, 1], new_box[z + 1, 2], new_box[z + 1, 3] = um, u1, v0, vm
+        new_box[z + 2, 0], new_box[z + 2, 1], new_box[z + 2, 2], new_box[z + 2, 3] = u0, um, vm, v1
+        new_box[z + 3, 0], new_box[z + 3, 1], new_box[z + 3, 2], new_box[z + 3, 3] = um, u1, vm, v1
+        new_nodes[z, 0], new_nodes[z, 1], new_nodes[z, 2], new_nodes[z, 3] = c00, bm, lm, cc
+        new_nodes[z + 1, 0], new_nodes[z + 1, 1], new_nodes[z + 1, 2], new_nodes[z + 1, 3] = bm, c10, cc, rm
+        new_nodes[z + 2, 0], new_nodes[z + 2, 1], new_nodes[z + 2, 2], new_nodes[z + 2, 3] = lm, cc, c01, tm
+        new_nodes[z + 3, 0], new_nodes[z + 3, 1], new_nodes[z + 3, 2], new_nodes[z + 3, 3] = cc, rm, tm, c11
         r += 1
     return node_patch, node_uv, new_patch, new_box, new_nodes
