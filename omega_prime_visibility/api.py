@@ -13,18 +13,19 @@ from typing import Any, Literal
 
 import numpy as np
 import polars as pl
-import pyarrow.parquet as pq
 import shapely
 from tqdm.auto import tqdm
 
 from .engines import get_engine
-from .output import atomic_write, check_output_path
+from .output import PartWriter, atomic_directory, check_output_path
 from .pipeline import ContainmentLog, chunks, run
 from .scene import ObjectTable, OnInvalid, as_lazy, load_objects
-from .table import empty_table, to_polars
-from .threed import check_mode, load_statics, renumber_statics, resolve_engine, with_can_see
+from .sensors import Sensor, resolve_sensors
+from .table import STATUSES, empty_table, to_polars
+from .threed import Finisher, check_mode, load_statics, resolve_engine, with_can_see
 
 EgoSpec = int | Sequence[int] | Literal["all"]
+SensorSpec = str | os.PathLike | Sensor | Sequence[Sensor] | None
 PROGRESS_MIN_FRAMES = 200
 PARALLEL_MIN_WORK = 5_000  # (frame, observer) pairs from which all cores are used by default
 CHUNK_FRAMES = 500
@@ -91,6 +92,7 @@ def get_visibility_df(
     output: str | os.PathLike | None = None,
     chunk_frames: int = CHUNK_FRAMES,
     hide_progress: bool | None = None,
+    sensors: SensorSpec = None,
     mode: Literal["2d", "3d"] = "2d",
     static_occluder_heights: Sequence[float] | float | None = None,
     static_meshes: Sequence[Any] = (),
@@ -123,14 +125,20 @@ def get_visibility_df(
         Processes over which chunks of frames are spread; by default all cores for long jobs (at least
         ``PARALLEL_MIN_WORK`` frame-observer pairs), else 1. The result does not depend on it.
     output : path, optional
-        Stream the table to this ``.parquet`` file chunk by chunk (memory stays bounded). The path is checked
-        before anything is computed (see :func:`check_output_path`); other suffixes are refused: for CSV, call
-        ``write_csv`` on the returned table. The file is written under a temporary name in the same folder and
-        renamed when complete, so a failed run leaves no partial file.
+        Stream the table to this ``.parquet`` path chunk by chunk (memory stays bounded): a directory of parquet
+        parts, one per chunk, each written by the worker that computed it, which ``polars.scan_parquet`` (and
+        pandas, pyarrow) read as one table. The path is checked before anything is computed (see
+        :func:`check_output_path`; a file there, or a dataset from an earlier run, is replaced); other suffixes are
+        refused: for CSV, call ``write_csv`` on the returned table. The parts are written in a temporary
+        directory beside it, renamed when complete, so a failed or killed run leaves no partial result.
     chunk_frames : int
         Frames per chunk of work.
     hide_progress : bool, optional
         0.1.0's name for ``progress=not hide_progress`` (a ValueError if both are given and contradict).
+    sensors : "roof", "typical", a .json path, a Sensor or a sequence of Sensors, optional
+        Look through these sensors, mounted on every observer (:mod:`omega_prime_visibility.sensors`; the layouts
+        are those of a 4.6 m x 1.85 m car, call ``typical(length, width)`` for another size). Needs the observers'
+        ``yaw``. None (the default): from the observer's centre, all around, without a range limit.
     mode : {"2d", "3d"}
         ``"3d"``: oriented 3D boxes from ``z, length, width, height, roll, pitch, yaw`` seen from the ego's eye
         (its centre, 1.25 m above the ground under it); ``visibility`` is a solid-angle fraction and the table
@@ -147,11 +155,20 @@ def get_visibility_df(
 
     Returns
     -------
-    polars.DataFrame, or polars.LazyFrame scanning the written parquet file when ``output`` is given
-        One row per (frame, observer, target): ``frame, total_nanos, [ego_idx], idx, occluder_idxs,
+    polars.DataFrame, or polars.LazyFrame scanning the written parquet dataset when ``output`` is given
+        One row per (frame, observer, target): ``frame, total_nanos, [idx_ego], idx, occluder_idxs,
         static_occluder_idxs, visibility`` where ``visibility`` in [0, 1] is the fraction of the target's
         angular extent along which it is the first thing hit, and the occluder lists hold, ascending, the
         objects and static occluders hit before the target along at least one direction.
+
+        With sensors, one row per (frame, observer, target, sensor) with a ``sensor`` column (its name) after
+        ``idx``, and two more columns: ``in_view``, the share of the target's angular extent (seen from the
+        sensor) inside the field of view along which the target is hit within range, ignoring occlusion (so
+        ``in_view - visibility`` is the share hidden by occluders and ``1 - in_view`` the share out of view),
+        and ``status`` (see ``omega_prime_visibility.table.STATUSES``). ``visibility`` then counts only
+        directions inside the field of view whose first hit is the target within range, and an occluder is
+        listed only when it is hit before the target along such a direction of the target's (so a body in front
+        of a target that lies beyond range is not listed).
 
     Examples
     --------
@@ -168,7 +185,10 @@ def get_visibility_df(
         output = check_output_path(output)
     mode = check_mode(mode)
     engine = resolve_engine(engine, mode)
+    sensor_set = resolve_sensors(sensors)
     objects = load_objects(df, on_invalid=on_invalid, three_d=mode == "3d")
+    if sensor_set is not None and not _has_yaw(df):
+        raise ValueError("sensors need the observers' heading: the moving-object table has no 'yaw' column")
     statics, static_positions = load_statics(
         static_occluder_polys, mode, static_occluder_heights, static_meshes, map_occluders, df
     )
@@ -176,38 +196,49 @@ def get_visibility_df(
     get_engine(engine)  # unknown names fail here, not in a worker
     if chunk_frames < 1:
         raise ValueError(f"chunk_frames must be at least 1, not {chunk_frames}")
-    n_chunks = len(chunks(objects.n_frames, chunk_frames))
     n_workers = auto_workers(objects.n_frames * len(egos)) if workers is None else max(1, int(workers))
-    n_workers = min(n_workers, n_chunks)
+    n_workers = min(n_workers, len(chunks(objects.n_frames, chunk_frames, n_workers)))
     show = objects.n_frames >= PROGRESS_MIN_FRAMES if progress is None else progress
     bar = tqdm(total=objects.n_frames, disable=not show, desc="visibility", unit="frame")
     containment = ContainmentLog()
     tables: list[pl.DataFrame] = []
-    writer = None
-    with atomic_write(output) if output is not None else nullcontext() as temp:
+    with atomic_directory(output) if output is not None else nullcontext() as temp:
+        # workers write their own parts: only row counts and containment logs come back here
+        names = None if sensor_set is None else [s.name for s in sensor_set]
+        labels = {} if names is None else {"sensor": names, "status": STATUSES}
+        schema = with_can_see(empty_table(with_ego, names is not None), mode).to_arrow().schema
+        finish = Finisher(static_positions, mode == "3d")
+        sink = Finisher(static_positions, mode == "3d", PartWriter(temp, schema, labels)) if temp is not None else None
         try:
             with _executor(n_workers) as pool:
-                frames = run(objects, statics, egos, engine, chunk_frames=chunk_frames, executor=pool)
-                for n_frames, columns, log in frames:
+                spread = {"executor": pool, "workers": n_workers, "sink": sink}
+                frames = run(objects, statics, egos, engine, chunk_frames=chunk_frames, sensors=sensor_set, **spread)
+                written = 0
+                for n_frames, result, log in frames:
                     containment.merge(log)
-                    table = with_can_see(renumber_statics(to_polars(columns, with_ego), static_positions), mode)
-                    if temp is not None:
-                        arrow = table.to_arrow()
-                        writer = writer or pq.ParquetWriter(str(temp), arrow.schema)
-                        writer.write_table(arrow)
+                    if sink is not None:
+                        written += result
                     else:
-                        tables.append(table)
+                        tables.append(with_can_see(to_polars(finish.columns(result), with_ego, names), mode))
                     bar.update(n_frames)
         finally:
             bar.close()
-            if writer is not None:
-                writer.close()
-        if temp is not None and writer is None:
-            with_can_see(empty_table(with_ego), mode).write_parquet(temp)
+        if sink is not None and not written:
+            sink.write_empty()
     containment.warn(stacklevel=3)
     if output is not None:
         return pl.scan_parquet(output)
-    return pl.concat(tables, rechunk=True) if tables else with_can_see(empty_table(with_ego), mode)
+    return (
+        pl.concat(tables, rechunk=True) if tables else with_can_see(empty_table(with_ego, sensor_set is not None), mode)
+    )
+
+
+def _has_yaw(df: Any) -> bool:
+    """Whether the moving-object input has a ``yaw`` column (a Recording always has)."""
+    try:
+        return "yaw" in as_lazy(df).collect_schema().names()
+    except (TypeError, ValueError):
+        return True
 
 
 @contextmanager
@@ -219,7 +250,11 @@ def _executor(n_workers: int) -> Iterator[ProcessPoolExecutor | None]:
     # VisiLibity only (never polars, whose thread pool does not survive a fork)
     method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
     with ProcessPoolExecutor(n_workers, mp_context=multiprocessing.get_context(method)) as pool:
-        yield pool
+        try:
+            yield pool
+        except BaseException:
+            pool.shutdown(cancel_futures=True)  # on an error or Ctrl-C, do not compute the chunks still queued
+            raise
 
 
 def get_visibility_df_for_frame(
@@ -231,6 +266,7 @@ def get_visibility_df_for_frame(
     *,
     engine: str | None = None,
     on_invalid: OnInvalid = "warn",
+    sensors: SensorSpec = None,
     **three_d: Any,
 ) -> pl.DataFrame:
     """:func:`get_visibility_df` for a single frame number (same parameters and columns; ``epsilon`` likewise has
@@ -249,5 +285,12 @@ def get_visibility_df_for_frame(
     if one.height == 0:
         raise ValueError(f"frame {frame} does not occur in the table")
     return get_visibility_df(
-        one, ego_idx, static_occluder_polys, engine=engine, progress=False, on_invalid=on_invalid, **three_d
+        one,
+        ego_idx,
+        static_occluder_polys,
+        engine=engine,
+        progress=False,
+        on_invalid=on_invalid,
+        sensors=sensors,
+        **three_d,
     )

@@ -16,7 +16,7 @@ import polars as pl
 import shapely
 from omega_prime.metrics import metric
 
-from .api import EgoSpec, get_visibility_df
+from .api import EgoSpec, SensorSpec, get_visibility_df
 from .scene import OnInvalid
 
 
@@ -34,6 +34,7 @@ def visibility(
     mode: Literal["2d", "3d"] = "2d",
     static_occluder_heights: Sequence[float] | float | None = None,
     map_occluders: str | None = None,
+    sensors: SensorSpec = None,
 ) -> tuple[pl.LazyFrame, dict[str, pl.LazyFrame]]:
     """Visibility of every object from ``ego_id`` (one idx, a list, or ``"all"``) in every frame.
 
@@ -43,7 +44,8 @@ def visibility(
 
     For 0.1.0 callers, ``ego_idx`` is accepted instead of ``ego_id`` (give exactly one of them), and ``epsilon``
     (metres) is accepted for compatibility with 0.1.0, where it was VisiLibity's snapping distance; the result here
-    is exact and does not depend on it.
+    is exact and does not depend on it. ``sensors`` (a layout name, a JSON file or Sensor objects) looks through
+    sensors, as in :func:`~omega_prime_visibility.get_visibility_df`.
 
     ``mode="3d"`` (with ``static_occluder_heights`` and ``map_occluders``, an OpenDRIVE path) gives the 3D table of
     :func:`omega_prime_visibility.get_visibility_df` (with ``can_see``).
@@ -66,6 +68,7 @@ def visibility(
         mode=mode,
         static_occluder_heights=static_occluder_heights,
         map_occluders=map_occluders,
+        sensors=sensors,
     )
     return df, {"visibility": table.lazy()}
 

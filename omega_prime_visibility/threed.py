@@ -13,8 +13,8 @@ static occluders by their position in the full list (the user's, then the map's,
 from __future__ import annotations
 
 import os
-from collections.abc import Sequence
-from dataclasses import replace
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
 from typing import Any, Literal
 
 import numpy as np
@@ -97,12 +97,32 @@ def map_source(map_path: str | os.PathLike | bool, recording: Any) -> tuple[str 
     return map_path, None
 
 
-def renumber_statics(table: pl.DataFrame, positions: np.ndarray | None) -> pl.DataFrame:
-    """``static_occluder_idxs`` from positions among the kept static occluders to positions in the full list."""
-    if positions is None or table.height == 0:
-        return table
-    old, new = list(range(len(positions))), positions.tolist()
-    return table.with_columns(pl.col("static_occluder_idxs").list.eval(pl.element().replace(old, new)))
+@dataclass(frozen=True)
+class Finisher:
+    """What the 3D mode and the 2D height rule add to the engines' columns, where a chunk ran: static occluder
+    positions in the full list (``positions``: the full position of each static the engines saw, None: same) and
+    the ``can_see`` column (``three_d``). Called like a sink, it passes the columns on to ``inner``."""
+
+    positions: np.ndarray | None
+    three_d: bool
+    inner: Callable[[int, Any], Any] | None = None
+
+    def columns(self, columns: dict | None) -> dict | None:
+        if columns is None:
+            return None
+        out = dict(columns)
+        if self.positions is not None:
+            lengths, values = out["static_occluder_idxs"]
+            out["static_occluder_idxs"] = (lengths, self.positions[values])
+        if self.three_d:
+            out["can_see"] = np.asarray(out["visibility"]) > 0.0
+        return out
+
+    def __call__(self, k: int, columns: dict | None) -> Any:
+        return self.inner(k, self.columns(columns))  # type: ignore[misc]
+
+    def write_empty(self) -> None:
+        self.inner.write_empty()  # type: ignore[union-attr]
 
 
 def with_can_see(table: pl.DataFrame, mode: Mode) -> pl.DataFrame:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -125,15 +126,13 @@ def test_hidden_behind_another_occluder_is_listed() -> None:
 def test_pedestrian_over_a_low_wall_with_a_height() -> None:
     walker = [10.0, 0, 0.9, 0.5, 0.5, 1.8, 0, 0, 0]  # front face at x = 9.75
     wall = load_static_occluders([shapely.LineString([(5, -3), (5, 3)])])
-    low = wall.__class__(*[getattr(wall, f) for f in ("rings", "ring_source", "segments", "segment_source")],
-                         wall.geometries, static_solids(wall, heights=[1.0]))  # fmt: skip
+    low = replace(wall, solids=static_solids(wall, heights=[1.0]))
     cut = 1.25 - 0.25 * 9.75 / 5.0  # the wall's top edge seen on the walker's face
     paper = (1.8 - cut - 0.0) / 1.8  # nearly a rectangle seen face on: shares of height
     obs = observe(HighRaycastEngine, [EGO, walker], statics=low)
     assert share(obs, 1) == pytest.approx(paper, abs=0.02)
     assert obs.static_occluders.tolist() == [0] and obs.occluders.tolist() == []
-    tall = wall.__class__(*[getattr(wall, f) for f in ("rings", "ring_source", "segments", "segment_source")],
-                          wall.geometries, static_solids(wall, heights=[2.5]))  # fmt: skip
+    tall = replace(wall, solids=static_solids(wall, heights=[2.5]))
     assert share(observe(RaycastEngine, [EGO, walker], statics=tall), 1) == 0.0
 
 
@@ -146,9 +145,7 @@ def test_a_mesh_file_blocks_like_the_box_it_holds(tmp_path) -> None:
     blocker.export(path)
     target = [20.0, 0, 0.75, 4.5, 1.8, 1.5, 0, 0, 0]
     statics = load_static_occluders(None)
-    with_mesh = statics.__class__(
-        *[getattr(statics, f) for f in statics.__slots__[:-1]], static_solids(statics, meshes=[path])
-    )
+    with_mesh = replace(statics, solids=static_solids(statics, meshes=[path]))
     by_mesh = observe(HighRaycastEngine, [EGO, target], statics=with_mesh)
     by_box = observe(HighRaycastEngine, [EGO, target, [10.0, 1.5, 1.0, 1.0, 3.0, 2.0, 0, 0, 0]])
     assert 0 < share(by_mesh, 1) < 1

@@ -202,3 +202,19 @@ def test_cli_mode_3d(tmp_path) -> None:
     assert bad.returncode == 2 and bad.stderr.startswith("error: unknown engine 'visilibity' for mode '3d'")
     no_map = run_cli("highway_merge.mcap", "--ego", "0", "--map-occluders")
     assert no_map.returncode == 2 and "OpenDRIVE map" in no_map.stderr
+
+
+def test_sensors_in_3d_honour_height_vertical_view_and_range() -> None:
+    from omega_prime_visibility import Sensor
+
+    # a camera 1.3 m up looking ahead, 60° x 20°, 50 m; a sign 10 m up at 20 m, a car at 30 m, a car at 80 m
+    camera = Sensor("cam", x=1.0, fov=math.radians(60), vertical_fov=math.radians(20), range=50.0, z=1.3)
+    df = table([EGO, (20.0, 0, 1.0, 3.0, 1.0, 10.0), (30.0, 2.0, 4.5, 1.8, 1.5), (80.0, 0, 4.5, 1.8, 1.5)])
+    out = get_visibility_df(df, 0, mode="3d", sensors=[camera]).sort("idx")
+    assert out.columns == ["frame", "total_nanos", "idx", "sensor", "occluder_idxs", "static_occluder_idxs",
+                           "visibility", "in_view", "status", "can_see"]  # fmt: skip
+    assert out["status"].to_list() == ["out_of_fov", "visible", "out_of_range"]
+    assert out["can_see"].to_list() == [False, True, False]
+    tilted = replace(camera, pitch=math.radians(-25))  # looking up 25°: the sign is in view, the cars are not
+    up = get_visibility_df(df, 0, mode="3d", sensors=[tilted]).sort("idx")
+    assert up["status"].to_list()[:2] == ["visible", "out_of_fov"]
