@@ -4,6 +4,7 @@ static heights, and 2D-vs-3D agreement."""
 from __future__ import annotations
 
 import math
+import os
 import subprocess
 import sys
 import warnings
@@ -218,3 +219,32 @@ def test_sensors_in_3d_honour_height_vertical_view_and_range() -> None:
     tilted = replace(camera, pitch=math.radians(-25))  # looking up 25°: the sign is in view, the cars are not
     up = get_visibility_df(df, 0, mode="3d", sensors=[tilted]).sort("idx")
     assert up["status"].to_list()[:2] == ["visible", "out_of_fov"]
+
+
+def test_readme_3d_example_and_picture() -> None:
+    import re
+
+    text = (REPO / "README.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", text, re.S)
+    three_d = next(b for b in blocks if 'mode="3d"' in b)
+    namespace: dict = {}
+    cwd = os.getcwd()
+    os.chdir(REPO)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            exec(compile(blocks[0], "README.md", "exec"), namespace)
+            exec(compile(three_d, "README.md", "exec"), namespace)
+    finally:
+        os.chdir(cwd)
+    solid = namespace["solid"]
+    assert solid.height == 1206 and solid.columns[-1] == "can_see"
+    # the picture's scene: hidden in 2D, 66 % seen in 3D (the README's caption)
+    sys.path.insert(0, str(REPO / "docs"))
+    try:
+        from threed_figure import table as figure_table
+    finally:
+        sys.path.pop(0)
+    df = figure_table()
+    assert vis(get_visibility_df(df, 0), 2) == 0.0
+    assert vis(get_visibility_df(df, 0, mode="3d", engine="silhouette3d"), 2) == pytest.approx(0.658, abs=5e-4)
