@@ -178,3 +178,30 @@ def test_range_and_vertical_view() -> None:
     assert obs.visible_angle[3] == pytest.approx(obs.angular_extent[3])
     pitched = observe(RaycastEngine, [EGO, far, sign, near], vertical_fov=math.radians(20), pitch=math.radians(-20))
     assert pitched.visible_angle[2] > 0 and pitched.visible_angle[3] == 0.0
+
+
+def test_an_overhead_sign_over_the_ego_is_seen_not_transparent() -> None:
+    # its footprint covers the viewpoint (2D would call it transparent), but it hangs 5 m up: the eye is below it
+    sign = [1.0, 0, 5.5, 3.0, 6.0, 1.0, 0, 0, 0]
+    frame = frame_of([EGO, sign])
+    statics = load_static_occluders(None)
+    vp = Viewpoint(frame.position[0], 0.0, 0, np.array([True, True]), np.zeros(0, dtype=bool))
+    obs = RaycastEngine(statics).observe(frame, [vp])[0]
+    assert obs.reason[1] == Reason.IN_VIEW and obs.angular_extent[1] > 0.5
+
+
+def test_pitched_and_rolled_boxes_against_the_exact_engine() -> None:
+    rng = np.random.default_rng(4)
+    errors = []
+    for _ in range(4):
+        boxes = [EGO]
+        while len(boxes) < 9:
+            centre = np.array([rng.uniform(4, 25), rng.uniform(-8, 8), rng.uniform(0.5, 3)])
+            size = rng.uniform([1, 1, 0.5], [5, 3, 3])
+            radius = np.linalg.norm(size) / 2
+            if all(np.linalg.norm(centre - np.asarray(b[:3])) > radius + np.linalg.norm(b[3:6]) / 2 for b in boxes):
+                boxes.append([*centre, *size, *rng.uniform(-0.6, 0.6, 2), rng.uniform(-3, 3)])
+        exact = [exact_share(boxes, k) for k in range(1, len(boxes))]
+        obs = observe(HighRaycastEngine, boxes)
+        errors += [abs(share(obs, k) - exact[k - 1]) for k in range(1, len(boxes))]
+    assert np.mean(errors) < 0.005 and np.max(errors) < 0.05

@@ -19,6 +19,16 @@ def eye_and_view(view: Viewpoint, boxes: np.ndarray) -> tuple[np.ndarray, tuple[
     return eye, view_limits(view.heading, min(view.fov, 2 * math.pi), view.pitch, view.vertical_fov)
 
 
+def own_body(view: Viewpoint, n: int) -> np.ndarray:
+    """The observer's own body as a mask over the frame's ``n`` objects. In 3D only it and the boxes containing
+    the eye (tested in 3D by the engines) are transparent: a box whose footprint covers the viewpoint but not the
+    eye (an overhead sign, a low object under a raised sensor) is seen and blocks."""
+    mask = np.zeros(n, dtype=bool)
+    if 0 <= view.own < n:
+        mask[view.own] = True
+    return mask
+
+
 def limited(view: Viewpoint) -> bool:
     """Whether the horizontal or vertical field of view or the range cut anything off."""
     return view.fov < 2 * math.pi or math.isfinite(view.range) or view.vertical_fov < math.pi or view.pitch != 0.0

@@ -35,7 +35,7 @@ from ..boxes3d import EDGES, contains, corners, farthest_distance, frames, neare
 from ..scene import FrameObjects
 from ..statics import StaticOccluders
 from . import Observation, Viewpoint, group_pairs
-from .observe3d import eye_and_view, observation
+from .observe3d import eye_and_view, observation, own_body
 
 CURVE_POINTS = 2048
 """Vertices of the polygon standing for an elevation limit on one cube face."""
@@ -309,7 +309,7 @@ class SilhouetteEngine:
         for view in viewpoints:
             eye, limits = eye_and_view(view, boxes)
             visible, extent, occ, skip, in_fov = box_visibility(
-                boxes, eye, transparent=view.transparent, view=limits, max_range=view.range
+                boxes, eye, transparent=own_body(view, n), view=limits, max_range=view.range
             )
             key = np.repeat(np.arange(n), [len(o) for o in occ])
             value = np.array([j for o in occ for j in o], dtype=np.int64)

@@ -25,7 +25,7 @@ from ...scene import FrameObjects
 from ...statics import StaticOccluders
 from ...statics3d import static_solids
 from .. import Observation, Viewpoint, group_pairs
-from ..observe3d import eye_and_view, observation
+from ..observe3d import eye_and_view, observation, own_body
 from . import sampling
 from .embree import FirstHit
 
@@ -95,7 +95,7 @@ class RaycastEngine:
         eyes, limits, skips = [], [], []
         for k, view in enumerate(viewpoints):
             eye, lim = eye_and_view(view, boxes)
-            skip = np.asarray(view.transparent, bool) | contains(boxes, eye)
+            skip = own_body(view, n) | contains(boxes, eye)
             static_skip = np.zeros(self.n_static, dtype=bool)
             static_skip[: len(view.static_transparent)] = view.static_transparent
             eyes.append(eye)
