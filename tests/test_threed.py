@@ -248,3 +248,20 @@ def test_readme_3d_example_and_picture() -> None:
     df = figure_table()
     assert vis(get_visibility_df(df, 0), 2) == 0.0
     assert vis(get_visibility_df(df, 0, mode="3d", engine="silhouette3d"), 2) == pytest.approx(0.658, abs=5e-4)
+
+
+def test_real_trace_in_3d(shared_data) -> None:
+    # esmini's highway_merge trace: nothing in front in 2D means nothing in front in 3D; hidden in 3D means hidden in
+    # 2D; the ray engine within its measured error of the exact one
+    from omega_prime_visibility.io import read_recording
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = read_recording(shared_data / "highway_merge.osi", shared_data / "soderleden.xodr")
+        flat = get_visibility_df(r, 0, progress=False)
+        rays = get_visibility_df(r, 0, mode="3d", progress=False)
+        exact = get_visibility_df(r, 0, mode="3d", engine="silhouette3d", progress=False)
+    v2, v3, vx = (t.sort("frame", "idx")["visibility"].to_numpy() for t in (flat, rays, exact))
+    assert len(v2) == len(v3) == len(vx) > 2000
+    assert (vx[v2 == 1] == 1).all() and (v2[vx == 0] == 0).all()
+    assert np.abs(v3 - vx).mean() < 0.01
