@@ -72,9 +72,10 @@ def frames(boxes: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return boxes[:, 0:3], rotations(boxes[:, 6], boxes[:, 7], boxes[:, 8]), boxes[:, 3:6] / 2
 
 
-def corners(boxes: np.ndarray) -> np.ndarray:
-    """The 8 corners of each box, shape (n, 8, 3), metres; corner ``k`` has signs ``_SIGNS[k]`` (x, y, z)."""
-    centre, rot, half = frames(boxes)
+def corners(boxes: np.ndarray, frame: tuple | None = None) -> np.ndarray:
+    """The 8 corners of each box, shape (n, 8, 3), metres; corner ``k`` has signs ``_SIGNS[k]`` (x, y, z).
+    ``frame``: :func:`frames` of ``boxes`` when already known."""
+    centre, rot, half = frames(boxes) if frame is None else frame
     local = _SIGNS[None, :, :] * half[:, None, :]
     return centre[:, None, :] + np.einsum("nij,nkj->nki", rot, local)
 
@@ -84,13 +85,13 @@ def triangles(boxes: np.ndarray) -> np.ndarray:
     return corners(boxes)[:, _TRIANGLES]
 
 
-def contains(boxes: np.ndarray, point: np.ndarray, tolerance: float = 1e-9) -> np.ndarray:
+def contains(boxes: np.ndarray, point: np.ndarray, tolerance: float = 1e-9, frame: tuple | None = None) -> np.ndarray:
     """Which boxes contain (or touch) ``point`` (shape (3,)), shape (n,) bool.
 
     >>> contains(np.array([[0.0, 0, 0.75, 4, 2, 1.5, 0, 0, 0]]), np.array([1.0, 0.5, 1.25])).tolist()
     [True]
     """
-    centre, rot, half = frames(boxes)
+    centre, rot, half = frames(boxes) if frame is None else frame
     local = np.einsum("nji,nj->ni", rot, np.asarray(point, dtype=np.float64)[None, :] - centre)
     return (np.abs(local) <= half + tolerance).all(axis=1)
 

@@ -89,13 +89,14 @@ class RaycastEngine:
         if boxes is None:
             raise ValueError("3D engines need the 3D boxes of the objects: load them with three_d=True (mode='3d')")
         n = len(boxes)
-        box_corners = corners(boxes)
+        frame = frames(boxes)
+        box_corners = corners(boxes, frame)
         box_triangles = box_corners[:, _TRIANGLES].reshape(n, 12, 3, 3)
         groups: dict[tuple[bytes, bytes], list[int]] = {}
         eyes, limits, skips = [], [], []
         for k, view in enumerate(viewpoints):
             eye, lim = eye_and_view(view, boxes)
-            skip = own_body(view, n) | contains(boxes, eye)
+            skip = own_body(view, n) | contains(boxes, eye, frame=frame)
             static_skip = np.zeros(self.n_static, dtype=bool)
             static_skip[: len(view.static_transparent)] = view.static_transparent
             eyes.append(eye)
@@ -114,18 +115,18 @@ class RaycastEngine:
             scene = FirstHit(triangles - origin)
             group_views = [viewpoints[k] for k in members]
             results = self._sample(
-                scene, owner, boxes, box_corners, skip, origin, [eyes[k] for k in members],
+                scene, owner, boxes, frame, box_corners, skip, origin, [eyes[k] for k in members],
                 [limits[k] for k in members], group_views,
             )  # fmt: skip
             for k, obs in zip(members, results, strict=True):
                 out[k] = obs
         return out  # type: ignore[return-value]
 
-    def _sample(self, scene, owner, boxes, box_corners, skip, origin, eyes, limits, views) -> list[Observation]:
+    def _sample(self, scene, owner, boxes, frame, box_corners, skip, origin, eyes, limits, views) -> list[Observation]:
         """Sample every target of the viewpoints of one scene; one Embree call per refinement level."""
         setting = SETTINGS[self.setting]
         n = len(boxes)
-        centres, rots, halves = frames(boxes)
+        centres, rots, halves = frame
         centres_local = centres - origin
         radius = np.linalg.norm(halves, axis=1)
         solid = ~skip
