@@ -4,6 +4,7 @@
 """
 
 from .api import get_visibility_df, get_visibility_df_for_frame
+from .batch import run_batch
 from .combine import seen_by_any
 from .engines import ENGINES, ENGINES_3D, Observation, Reason, Viewpoint
 from .intervals import visible_intervals
@@ -23,6 +24,7 @@ __all__ = [
     "get_visibility_df",
     "get_visibility_df_for_frame",
     "metrics",
+    "run_batch",
     "seen_by_any",
     "visibility",
     "visible_intervals",

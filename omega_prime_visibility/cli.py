@@ -1,4 +1,5 @@
-"""Command line: ``omega-prime-visibility run RECORDING --ego 0`` prints or writes the visibility table."""
+"""Command line: ``omega-prime-visibility run RECORDING --ego 0`` prints or writes the visibility table of one
+recording; ``omega-prime-visibility batch INPUTS... -o OUTDIR`` computes many, locally or on a dask cluster."""
 
 from __future__ import annotations
 
@@ -57,15 +58,32 @@ def load_recording(path: Path, map_path: Path | None = None):
         raise fail(str(e)) from e
 
 
+# options shared by run and batch
+Ego = Annotated[str, typer.Option(help="observer idx, comma-separated idx, or 'all'; default: host vehicle")]
+Engine = Annotated[str, typer.Option(help=f"one of {sorted(ENGINES)}")]
+Static = Annotated[Path | None, typer.Option("--static", help="static occluders: GeoJSON or WKT file (metres)")]
+
+
+def load_static(path: Path | None) -> list | None:
+    """``io.read_static_occluders``, a read error becoming a one-line message and exit status 2."""
+    from .io import RecordingReadError, read_static_occluders
+
+    try:
+        return None if path is None else read_static_occluders(path)
+    except RecordingReadError as e:
+        raise fail(str(e)) from e
+
+
 @app.command()
 def run(
     recording: Annotated[Path, typer.Argument(help="omega-prime MCAP (or OSI trace with --map)")],
-    ego: Annotated[str, typer.Option(help="observer idx, comma-separated idx, or 'all'; default: host vehicle")] = "",
+    ego: Ego = "",
     engine: Annotated[
         str | None, typer.Option(help=f"2D: one of {sorted(ENGINES)} (default visilibity); 3D: {sorted(ENGINES_3D)}")
     ] = None,
     output: Annotated[Path | None, typer.Option("-o", "--output", help="write .parquet or .csv here")] = None,
     map_path: Annotated[Path | None, typer.Option("--map", help="OpenDRIVE map for OSI traces")] = None,
+    static: Static = None,
     workers: Annotated[int | None, typer.Option(help="processes (default: all cores for long jobs)")] = None,
     progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
     rows: Annotated[int, typer.Option(help="rows to print when no output is given")] = 20,
@@ -96,6 +114,7 @@ def run(
             raise fail(str(e)) from None
     ego_idx = parse_ego(ego) if ego else None
     sensor_set = parse_sensors(sensors)
+    statics = load_static(static)
     r = load_recording(recording, map_path)
     if ego_idx is None and r.host_vehicle_idx is None:
         present = np.unique(r._df["idx"].to_numpy())
@@ -107,6 +126,7 @@ def run(
         table = get_visibility_df(
             r,
             ego_idx,
+            statics,
             engine=engine,
             progress=progress,
             workers=workers,
@@ -152,6 +172,63 @@ def run(
         summary = summary.join(occluders, on=by)
         with pl.Config(tbl_rows=-1, fmt_table_cell_list_len=8):
             typer.echo(summary.sort(by))
+
+
+@app.command()
+def batch(
+    inputs: Annotated[list[str], typer.Argument(help="recordings, folders (searched recursively) and glob patterns")],
+    output: Annotated[Path, typer.Option("-o", "--output", help="folder for the results and the summary")],
+    ego: Ego = "",
+    engine: Engine = "visilibity",
+    static: Static = None,
+    map_path: Annotated[
+        Path | None, typer.Option("--map", help="OpenDRIVE map for the OSI traces, or a JSON list of [trace, map]")
+    ] = None,
+    workers: Annotated[int | None, typer.Option(help="local processes over files (default: the cores)")] = None,
+    scheduler: Annotated[str | None, typer.Option(help="dask scheduler address, e.g. tcp://host:8786")] = None,
+    scheduler_file: Annotated[Path | None, typer.Option(help="dask scheduler file (dask scheduler --help)")] = None,
+    overwrite: Annotated[bool, typer.Option(help="recompute results that are current")] = False,
+    progress: Annotated[bool, typer.Option(help="show a progress bar over files")] = True,
+) -> None:
+    """Compute one parquet result per recording into OUTPUT, resumably, and print a summary of every file.
+
+    Exit status: 0 when every file is done or skipped, 1 when some failed, 2 for bad options, 130 when interrupted.
+    """
+    from .batch import SUMMARY_NAME, BatchInterrupted, run_batch
+
+    options = {"ego": parse_ego(ego) if ego else None, "engine": engine, "static": static, "map": map_path}
+    try:
+        summary = run_batch(
+            inputs,
+            output,
+            workers=workers,
+            scheduler=scheduler,
+            scheduler_file=scheduler_file,
+            overwrite=overwrite,
+            progress=progress,
+            **options,
+        )
+    except BatchInterrupted as e:
+        print_summary(e.summary, output / SUMMARY_NAME)
+        typer.echo("interrupted: run the same command again to continue where it stopped", err=True)
+        raise typer.Exit(130) from None
+    except ValueError as e:
+        raise fail(str(e)) from None
+    print_summary(summary, output / SUMMARY_NAME)
+    if (summary["status"] == "failed").any():
+        raise typer.Exit(1)
+
+
+def print_summary(summary: pl.DataFrame, path: Path) -> None:
+    """The summary table (failures first), one line per failure with its message, and one line of counts."""
+    order = pl.col("status").replace_strict({"failed": 0, "interrupted": 1}, default=2, return_dtype=pl.Int8)
+    shown = summary.sort(order, maintain_order=True).select("result", "status", "rows", "seconds")
+    with pl.Config(tbl_rows=30, tbl_cols=-1, tbl_hide_dataframe_shape=True, fmt_str_lengths=120):
+        typer.echo(shown)
+    for recording, error in summary.filter(pl.col("status") == "failed").select("recording", "error").iter_rows():
+        typer.echo(f"failed: {recording}: {error}")
+    counts = ", ".join(f"{n} {status}" for status, n in summary["status"].value_counts(sort=True).iter_rows())
+    typer.echo(f"{summary.height} recordings: {counts}; {summary['seconds'].sum():.1f} s of work; summary in {path}")
 
 
 @app.command()
