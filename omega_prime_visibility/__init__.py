@@ -6,7 +6,7 @@
 from .api import get_visibility_df, get_visibility_df_for_frame
 from .batch import run_batch
 from .combine import seen_by_any
-from .engines import ENGINES, Observation, Reason, Viewpoint
+from .engines import ENGINES, ENGINES_3D, Observation, Reason, Viewpoint
 from .intervals import visible_intervals
 from .scene import VisibilityInputWarning
 from .sensors import Sensor
@@ -14,6 +14,7 @@ from .table import SCHEMA
 
 __all__ = [
     "ENGINES",
+    "ENGINES_3D",
     "SCHEMA",
     "Observation",
     "Reason",

@@ -21,8 +21,8 @@ from .output import PartWriter, atomic_directory, check_output_path
 from .pipeline import ContainmentLog, chunks, run
 from .scene import ObjectTable, OnInvalid, as_lazy, load_objects
 from .sensors import Sensor, fitted_sensors, resolve_sensors
-from .statics import load_static_occluders
 from .table import STATUSES, empty_table, to_polars
+from .threed import Finisher, check_mode, load_statics, resolve_engine, with_can_see
 
 EgoSpec = int | Sequence[int] | Literal["all"]
 SensorSpec = str | os.PathLike | Sensor | Sequence[Sensor] | None
@@ -85,7 +85,7 @@ def get_visibility_df(
     static_occluder_polys: Sequence[shapely.Geometry] | None = None,
     epsilon: float | None = None,
     *,
-    engine: str = "visilibity",
+    engine: str | None = None,
     progress: bool | None = None,
     on_invalid: OnInvalid = "warn",
     workers: int | None = None,
@@ -93,6 +93,10 @@ def get_visibility_df(
     chunk_frames: int = CHUNK_FRAMES,
     hide_progress: bool | None = None,
     sensors: SensorSpec = None,
+    mode: Literal["2d", "3d"] = "2d",
+    static_occluder_heights: Sequence[float] | float | None = None,
+    static_meshes: Sequence[Any] = (),
+    map_occluders: str | os.PathLike | bool | None = None,
 ) -> pl.DataFrame | pl.LazyFrame:
     """Visibility and occluders of every object, seen from the ego, in every frame where the ego exists.
 
@@ -109,8 +113,10 @@ def get_visibility_df(
     epsilon : float, optional
         Metres; accepted for compatibility with 0.1.0, where it was VisiLibity's snapping distance; the result here
         is exact and does not depend on it. Must be a non-negative finite number or None.
-    engine : str
-        Registered engine name (``"visilibity"``, the default; see ``omega_prime_visibility.ENGINES``).
+    engine : str, optional
+        Registered engine name: in 2D ``"visilibity"`` (the default) or ``"sweep"`` (``ENGINES``); in 3D
+        ``"raycast3d"`` (the default), ``"raycast3d-high"``, ``"raycast3d-fast"`` or ``"silhouette3d"``
+        (exact, box scenes only) (``ENGINES_3D``).
     progress : bool, optional
         Show a progress bar; by default only for long recordings.
     on_invalid : {"warn", "raise"}
@@ -134,6 +140,19 @@ def get_visibility_df(
         name is fitted to each observer's own length and width (the median extent of its outline along and across
         its heading), so a truck's bumper radar sits on the truck's bumper. Needs the observers' ``yaw``. None
         (the default): from the observer's centre, all around, without a range limit.
+    mode : {"2d", "3d"}
+        ``"3d"``: oriented 3D boxes from ``z, length, width, height, roll, pitch, yaw`` seen from the ego's eye
+        (its centre, 1.25 m above the ground under it); ``visibility`` is a solid-angle fraction and the table
+        gains ``can_see`` (see :mod:`omega_prime_visibility.threed`).
+    static_occluder_heights : float or sequence of float, optional
+        z (metres) of the tops of ``static_occluder_polys`` (one for all, or one each); in 2D those lower than the
+        driver's eye height (1.25 m) are left out, in 3D they are walls of that height (none: 100 m).
+    static_meshes : sequence of paths or trimesh.Trimesh, optional
+        3D static occluders (any file trimesh loads), numbered after the footprints; 3D only.
+    map_occluders : path or True, optional
+        An OpenDRIVE map (True: the recording's own) whose road objects (``<object>``) become static occluders
+        with their heights, numbered after ``static_occluder_polys``
+        (:func:`omega_prime_visibility.mapobjects.read_map_objects`).
 
     Returns
     -------
@@ -165,11 +184,15 @@ def get_visibility_df(
     progress = resolve_progress(progress, hide_progress)
     if output is not None:
         output = check_output_path(output)
+    mode = check_mode(mode)
+    engine = resolve_engine(engine, mode)
     resolve_sensors(sensors)  # a bad layout name or file fails before the table is read
-    objects = load_objects(df, on_invalid=on_invalid)
+    objects = load_objects(df, on_invalid=on_invalid, three_d=mode == "3d")
     if sensors is not None and not _has_yaw(df):
         raise ValueError("sensors need the observers' heading: the moving-object table has no 'yaw' column")
-    statics = load_static_occluders(static_occluder_polys)
+    statics, static_positions = load_statics(
+        static_occluder_polys, mode, static_occluder_heights, static_meshes, map_occluders, df
+    )
     egos, with_ego = resolve_egos(ego_idx, objects)
     sensor_set = fitted_sensors(sensors, observer_sizes(objects, egos) if isinstance(sensors, str) else {})
     get_engine(engine)  # unknown names fail here, not in a worker
@@ -185,8 +208,9 @@ def get_visibility_df(
         # workers write their own parts: only row counts and containment logs come back here
         names = sensor_names(sensor_set)
         labels = {} if names is None else {"sensor": names, "status": STATUSES}
-        schema = empty_table(with_ego, names is not None).to_arrow().schema
-        sink = PartWriter(temp, schema, labels) if temp is not None else None
+        schema = with_can_see(empty_table(with_ego, names is not None), mode).to_arrow().schema
+        finish = Finisher(static_positions, mode == "3d")
+        sink = Finisher(static_positions, mode == "3d", PartWriter(temp, schema, labels)) if temp is not None else None
         try:
             with _executor(n_workers) as pool:
                 spread = {"executor": pool, "workers": n_workers, "sink": sink}
@@ -197,7 +221,7 @@ def get_visibility_df(
                     if sink is not None:
                         written += result
                     else:
-                        tables.append(to_polars(result, with_ego, names))
+                        tables.append(with_can_see(to_polars(finish.columns(result), with_ego, names), mode))
                     bar.update(n_frames)
         finally:
             bar.close()
@@ -206,7 +230,9 @@ def get_visibility_df(
     containment.warn(stacklevel=3)
     if output is not None:
         return pl.scan_parquet(output)
-    return pl.concat(tables, rechunk=True) if tables else empty_table(with_ego, sensor_set is not None)
+    return (
+        pl.concat(tables, rechunk=True) if tables else with_can_see(empty_table(with_ego, sensor_set is not None), mode)
+    )
 
 
 def observer_sizes(objects: ObjectTable, egos: np.ndarray) -> dict[int, tuple[float, float]]:
@@ -266,12 +292,13 @@ def get_visibility_df_for_frame(
     static_occluder_polys: Sequence[shapely.Geometry] | None = None,
     epsilon: float | None = None,
     *,
-    engine: str = "visilibity",
+    engine: str | None = None,
     on_invalid: OnInvalid = "warn",
     sensors: SensorSpec = None,
+    **three_d: Any,
 ) -> pl.DataFrame:
     """:func:`get_visibility_df` for a single frame number (same parameters and columns; ``epsilon`` likewise has
-    no effect).
+    no effect; ``mode`` and the 3D keywords are passed on).
 
     Raises
     ------
@@ -286,5 +313,12 @@ def get_visibility_df_for_frame(
     if one.height == 0:
         raise ValueError(f"frame {frame} does not occur in the table")
     return get_visibility_df(
-        one, ego_idx, static_occluder_polys, engine=engine, progress=False, on_invalid=on_invalid, sensors=sensors
+        one,
+        ego_idx,
+        static_occluder_polys,
+        engine=engine,
+        progress=False,
+        on_invalid=on_invalid,
+        sensors=sensors,
+        **three_d,
     )

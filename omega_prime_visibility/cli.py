@@ -14,7 +14,7 @@ import pyarrow as pa
 import pyarrow.compute as pc
 import typer
 
-from .engines import ENGINES
+from .engines import ENGINES, ENGINES_3D
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, help=__doc__)
 
@@ -79,7 +79,9 @@ def load_static(path: Path | None) -> list | None:
 def run(
     recording: Annotated[Path, typer.Argument(help="omega-prime MCAP (or OSI trace with --map)")],
     ego: Ego = "",
-    engine: Engine = "visilibity",
+    engine: Annotated[
+        str | None, typer.Option(help=f"2D: one of {sorted(ENGINES)} (default visilibity); 3D: {sorted(ENGINES_3D)}")
+    ] = None,
     output: Annotated[Path | None, typer.Option("-o", "--output", help="write .parquet or .csv here")] = None,
     map_path: Annotated[Path | None, typer.Option("--map", help="OpenDRIVE map for OSI traces")] = None,
     static: Static = None,
@@ -89,14 +91,23 @@ def run(
     sensors: Annotated[
         str | None, typer.Option(help="look through sensors: 'roof', 'typical' or a sensors .json file")
     ] = None,
+    mode: Annotated[str, typer.Option(help="2d (bird's-eye view, exact) or 3d (boxes with heights, ray cast)")] = "2d",
+    map_occluders: Annotated[
+        bool, typer.Option("--map-occluders", help="road objects of the map (--map, or the recording's) as occluders")
+    ] = False,
 ) -> None:
     """Compute the visibility table of one recording; print it with a per-target summary, or write it."""
     from .api import describe_idx, get_visibility_df
     from .output import atomic_write, check_output_path
 
     # every check that needs no computing comes first, so a typo never costs a long run
-    if engine not in ENGINES:
-        raise fail(f"unknown engine {engine!r}; available: {sorted(ENGINES)}")
+    from .threed import check_mode, resolve_engine
+
+    try:
+        mode = check_mode(mode)
+        engine = resolve_engine(engine, mode)
+    except ValueError as e:
+        raise fail(str(e)) from None
     if output is not None:
         try:
             output = check_output_path(output, (".parquet", ".csv"))
@@ -114,7 +125,16 @@ def run(
     stream = output if output is not None and output.suffix == ".parquet" else None
     try:
         table = get_visibility_df(
-            r, ego_idx, statics, engine=engine, progress=progress, workers=workers, output=stream, sensors=sensor_set
+            r,
+            ego_idx,
+            statics,
+            engine=engine,
+            progress=progress,
+            workers=workers,
+            output=stream,
+            sensors=sensor_set,
+            mode=mode,
+            map_occluders=(map_path if map_path is not None else True) if map_occluders else None,
         )
         if output is not None and stream is None:
             with atomic_write(output) as temp:
@@ -330,6 +350,8 @@ def engines() -> None:
     """List the available engines."""
     for name in sorted(ENGINES):
         typer.echo(name)
+    for name in sorted(ENGINES_3D):
+        typer.echo(f"{name} (--mode 3d)")
 
 
 def main() -> None:

@@ -32,6 +32,8 @@ class StaticOccluders:
         The occluders as given (validated).
     bounds : ndarray, shape (n_sources, 4)
         ``xmin, ymin, xmax, ymax`` of each occluder, metres.
+    solids : statics3d.StaticSolids or None
+        Their 3D triangles with heights, and meshes (``mode="3d"``; see :mod:`.statics3d`).
     """
 
     rings: Rings
@@ -40,6 +42,7 @@ class StaticOccluders:
     segment_source: np.ndarray
     geometries: np.ndarray
     bounds: np.ndarray
+    solids: Any = None
 
     @property
     def n_sources(self) -> int:
