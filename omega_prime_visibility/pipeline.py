@@ -19,7 +19,7 @@ import numpy as np
 import shapely
 
 from .engines import Engine, Viewpoint, get_engine
-from .geometry import covers_points
+from .geometry import covers_points, points_in_boxes
 from .scene import FrameObjects, ObjectTable, VisibilityInputWarning
 from .statics import StaticOccluders
 from .table import Columns, TableBuilder, frame_rows
@@ -71,11 +71,9 @@ def viewpoints(objects: FrameObjects, rows: np.ndarray, statics: StaticOccluders
     static_transparent = np.zeros((len(rows), statics.n_sources), dtype=bool)
     if statics.n_sources:
         # only sources whose bounding box holds a viewpoint can contain it (exact: the boxes are closed)
-        x0, y0, x1, y1 = shapely.bounds(statics.geometries).T[:, :, None]
-        px, py = positions[:, 0], positions[:, 1]
-        near = (x0 <= px) & (px <= x1) & (y0 <= py) & (py <= y1)
+        near = points_in_boxes(positions, shapely.bounds(statics.geometries))
         if near.any():
-            s, v = np.nonzero(near)
+            v, s = np.nonzero(near)
             static_transparent[v, s] = shapely.intersects(statics.geometries[s], shapely.points(positions[v]))
     yaw = objects.yaw[rows].tolist()
     return [
@@ -107,11 +105,13 @@ def observe_frame(
         return
     views = viewpoints(objects, rows, statics)
     observations = engine.observe(objects, views)
-    inside = np.array([view.transparent for view in views], dtype=bool).reshape(len(views), -1)
-    inside[np.arange(len(views)), [view.own for view in views]] = False
-    for k in np.flatnonzero(inside.any(axis=1)).tolist():
-        containment.add(int(objects.idx[views[k].own]), objects.idx[inside[k]], objects.frame)
-    columns = frame_rows(observations, np.array([view.own for view in views], dtype=np.int64), objects.idx)
+    owns = [view.own for view in views]
+    for view in views:
+        if np.count_nonzero(view.transparent) > 1:  # more than its own body: it is inside some object
+            inside = view.transparent.copy()
+            inside[view.own] = False
+            containment.add(int(objects.idx[view.own]), objects.idx[inside], objects.frame)
+    columns = frame_rows(observations, np.array(owns, dtype=np.int64), objects.idx)
     builder.add(columns, frame=objects.frame, total_nanos=objects.total_nanos)
 
 

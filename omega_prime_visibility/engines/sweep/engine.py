@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+import numba
 import numpy as np
 
 from ...geometry import edges, ring_ids
@@ -16,6 +17,23 @@ from .crossings import build_static_grid, prepare_frame, static_crossings
 from .observe import observe_frame
 
 _IN_VIEW, _OCCLUDED, _CONTAINS_OBSERVER = int(Reason.IN_VIEW), int(Reason.OCCLUDED), int(Reason.CONTAINS_OBSERVER)
+
+
+@numba.njit(cache=True)
+def _reason_codes_stacked(occ_offsets, static_offsets, transparent):
+    """The :class:`..Reason` code of every (observer, object), as :meth:`..Observation.from_parts` gives them one
+    observer at a time: offsets shape (k, n + 1), ``transparent`` (k, n); shape (k, n), int8."""
+    k, n = transparent.shape
+    reason = np.empty((k, n), dtype=np.int8)
+    for o in range(k):
+        for i in range(n):
+            if transparent[o, i]:
+                reason[o, i] = _CONTAINS_OBSERVER
+            elif occ_offsets[o, i + 1] > occ_offsets[o, i] or static_offsets[o, i + 1] > static_offsets[o, i]:
+                reason[o, i] = _OCCLUDED
+            else:
+                reason[o, i] = _IN_VIEW
+    return reason
 
 
 class SweepEngine:
@@ -80,9 +98,7 @@ class SweepEngine:
             np.ascontiguousarray(static_transparent, dtype=bool).reshape(len(observers), -1),
         )
         visible, width, occ_off, occ, occ_cut, st_off, st, st_cut = out
-        # the reason codes of all observers at once, as Observation.from_parts gives them one by one
-        occluded = (np.diff(occ_off, axis=1) > 0) | (np.diff(st_off, axis=1) > 0)
-        reason = np.where(transparent, _CONTAINS_OBSERVER, np.where(occluded, _OCCLUDED, _IN_VIEW)).astype(np.int8)
+        reason = _reason_codes_stacked(occ_off, st_off, transparent)
         occ_cut, st_cut = occ_cut.tolist(), st_cut.tolist()
         return [
             Observation(
