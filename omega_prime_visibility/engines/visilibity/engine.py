@@ -232,8 +232,7 @@ class VisiLibityEngine:
             return self._enclosed_environment(rings, obj_blocking, static_blocking, o)
 
     def _polygon_points(self, env: vis.Environment, o: np.ndarray) -> np.ndarray:
-        vp = vis.Visibility_Polygon(vis.Point(float(o[0]), float(o[1])), env, self.epsilon)
-        return np.array([(vp[i].x(), vp[i].y()) for i in range(vp.n())], dtype=np.float64).reshape(-1, 2)
+        return polygon_coords(vis.Visibility_Polygon(vis.Point(float(o[0]), float(o[1])), env, self.epsilon))
 
     def environment(self, objects: FrameObjects, viewpoint: Viewpoint) -> tuple[vis.Environment, np.ndarray]:
         """The VisiLibity environment used for this viewpoint, and the origin its coordinates are relative to."""
