@@ -14,6 +14,7 @@ from ...kernels import MIN_CAPACITY, push_pair
 # SWIG's flat functions, called directly: the proxy classes' Python wrappers cost more than the C++ calls (a
 # vis.Point(x, y) is three Python calls); the vector typemaps take the flat functions' objects as they are
 _new_point = _visilibity.new_Point
+_new_polygon = _visilibity.new_Polygon
 _vertex = _visilibity.Polygon___getitem__
 _n_vertices = _visilibity.Polygon_n
 _x = _visilibity.Point_x
@@ -60,8 +61,17 @@ def components(n, first, second):
 
 
 def vis_polygon(coords: np.ndarray) -> vis.Polygon:
-    """A VisiLibity polygon with the vertices ``coords`` (shape (m, 2), metres), in order."""
-    return vis.Polygon([_new_point(x, y) for x, y in coords.tolist()])
+    """A VisiLibity polygon with the vertices ``coords`` (shape (m, 2), metres), in order (the SWIG object itself,
+    which ``vis.Environment`` and :func:`polygon_coords` take, without the Python proxy around it)."""
+    return _new_polygon([_new_point(x, y) for x, y in coords.tolist()])
+
+
+def vis_polygons_reversed(coords: np.ndarray, offsets: np.ndarray, which: np.ndarray) -> list[vis.Polygon]:
+    """:func:`vis_polygon` of the ragged rings ``which`` (``coords`` (m, 2), ``offsets`` (n + 1,)), each with its
+    vertices in reverse order, from one conversion of the coordinates to Python floats."""
+    points = coords.tolist()
+    bounds = offsets.tolist()
+    return [_new_polygon([_new_point(x, y) for x, y in reversed(points[bounds[k] : bounds[k + 1]])]) for k in which]
 
 
 def polygon_coords(polygon: vis.Polygon) -> np.ndarray:
