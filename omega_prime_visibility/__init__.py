@@ -4,8 +4,11 @@
 """
 
 from .api import get_visibility_df, get_visibility_df_for_frame
+from .combine import seen_by_any
 from .engines import ENGINES, Observation, Reason, Viewpoint
+from .intervals import visible_intervals
 from .scene import VisibilityInputWarning
+from .sensors import Sensor
 from .table import SCHEMA
 
 __all__ = [
@@ -13,12 +16,15 @@ __all__ = [
     "SCHEMA",
     "Observation",
     "Reason",
+    "Sensor",
     "Viewpoint",
     "VisibilityInputWarning",
     "get_visibility_df",
     "get_visibility_df_for_frame",
     "metrics",
+    "seen_by_any",
     "visibility",
+    "visible_intervals",
 ]
 
 

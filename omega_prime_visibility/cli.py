@@ -29,6 +29,18 @@ def parse_ego(ego: str) -> int | list[int] | str:
     return values[0] if len(values) == 1 else values
 
 
+def parse_sensors(spec: str | None):
+    """``--sensors`` as the API's ``sensors`` (checked before any computing); a bad value exits with one line."""
+    if spec is None:
+        return None
+    from .sensors import resolve_sensors
+
+    try:
+        return resolve_sensors(spec)
+    except ValueError as e:
+        raise fail(str(e)) from None
+
+
 def fail(message: str) -> typer.Exit:
     """Print ``error: message`` to stderr; return the exit to raise (status 2)."""
     typer.echo(f"error: {message}", err=True)
@@ -55,6 +67,9 @@ def run(
     workers: Annotated[int | None, typer.Option(help="processes (default: all cores for long jobs)")] = None,
     progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
     rows: Annotated[int, typer.Option(help="rows to print when no output is given")] = 20,
+    sensors: Annotated[
+        str | None, typer.Option(help="look through sensors: 'roof', 'typical' or a sensors .json file")
+    ] = None,
 ) -> None:
     """Compute the visibility table of one recording; print it with a per-target summary, or write it."""
     from .api import describe_idx, get_visibility_df
@@ -69,6 +84,7 @@ def run(
         except ValueError as e:
             raise fail(str(e)) from None
     ego_idx = parse_ego(ego) if ego else None
+    sensor_set = parse_sensors(sensors)
     r = load_recording(recording, map_path)
     if ego_idx is None and r.host_vehicle_idx is None:
         present = np.unique(r._df["idx"].to_numpy())
@@ -77,7 +93,9 @@ def run(
         ego_idx = int(r.host_vehicle_idx)
     stream = output if output is not None and output.suffix == ".parquet" else None
     try:
-        table = get_visibility_df(r, ego_idx, engine=engine, progress=progress, workers=workers, output=stream)
+        table = get_visibility_df(
+            r, ego_idx, engine=engine, progress=progress, workers=workers, output=stream, sensors=sensor_set
+        )
         if output is not None and stream is None:
             with atomic_write(output) as temp:
                 table.with_columns(
@@ -96,7 +114,7 @@ def run(
     else:
         with pl.Config(tbl_rows=rows, tbl_cols=-1, fmt_table_cell_list_len=8):
             typer.echo(table)
-        by = ["idx_ego", "idx"] if "idx_ego" in table.columns else ["idx"]
+        by = [c for c in ("idx_ego", "idx", "sensor") if c in table.columns]
         summary = table.group_by(by).agg(
             pl.col("visibility").mean().alias("mean_visibility"),
             (pl.col("visibility") == 0.0).mean().alias("hidden_share"),

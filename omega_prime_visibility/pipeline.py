@@ -11,16 +11,16 @@ from __future__ import annotations
 
 import warnings
 from collections import Counter
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Executor
 from typing import Any
 
 import numpy as np
-import shapely
 
 from .engines import Engine, Viewpoint, get_engine
-from .geometry import covers_points, points_in_boxes
+from .geometry import covers_points
 from .scene import FrameObjects, ObjectTable, VisibilityInputWarning
+from .sensors import Sensor, sensor_poses
 from .statics import StaticOccluders
 from .table import Columns, TableBuilder, frame_rows
 
@@ -58,27 +58,39 @@ class ContainmentLog:
         )
 
 
-def viewpoints(objects: FrameObjects, rows: np.ndarray, statics: StaticOccluders) -> list[Viewpoint]:
-    """Viewpoints at the bounding-box centres of the objects at row numbers ``rows`` of this frame.
+def viewpoints(
+    objects: FrameObjects, rows: np.ndarray, statics: StaticOccluders, sensors: Sequence[Sensor] | None = None
+) -> list[Viewpoint]:
+    """Viewpoints of the objects at row numbers ``rows`` of this frame: at each bounding-box centre seeing all
+    around, or, with ``sensors``, one per (observer, sensor) in that order, at the sensor's pose with its field
+    of view and range.
 
     Transparent to each: its own object and every object containing or touching the viewpoint, and the static
     occluders containing it.
     """
     rows = np.asarray(rows, dtype=np.int64)
-    positions = objects.position[rows]
+    if sensors is None:
+        owners = rows
+        positions = objects.position[rows]
+        headings = objects.yaw[rows]
+    else:
+        owners = np.repeat(rows, len(sensors))
+        poses = [sensor_poses(s, objects.position[rows], objects.yaw[rows]) for s in sensors]
+        positions = np.stack([p for p, _ in poses], axis=1).reshape(-1, 2)
+        headings = np.stack([h for _, h in poses], axis=1).reshape(-1)
     transparent = covers_points(positions, objects.rings)
-    transparent[np.arange(len(rows)), rows] = True
-    static_transparent = np.zeros((len(rows), statics.n_sources), dtype=bool)
-    if statics.n_sources:
-        # only sources whose bounding box holds a viewpoint can contain it (exact: the boxes are closed)
-        near = points_in_boxes(positions, shapely.bounds(statics.geometries))
-        if near.any():
-            v, s = np.nonzero(near)
-            static_transparent[v, s] = shapely.intersects(statics.geometries[s], shapely.points(positions[v]))
-    yaw = objects.yaw[rows].tolist()
+    transparent[np.arange(len(owners)), owners] = True
+    static_transparent = statics.containing(positions)
+    headings = headings.tolist()
+    if sensors is None:
+        return [
+            Viewpoint(positions[k], headings[k], row, transparent[k], static_transparent[k])
+            for k, row in enumerate(owners.tolist())
+        ]
+    limits = [(s.fov, s.range, s.z, s.vertical_fov, s.pitch) for s in sensors]
     return [
-        Viewpoint(positions[k], yaw[k], row, transparent[k], static_transparent[k])
-        for k, row in enumerate(rows.tolist())
+        Viewpoint(positions[k], headings[k], row, transparent[k], static_transparent[k], *limits[k % len(sensors)])
+        for k, row in enumerate(owners.tolist())
     ]
 
 
@@ -98,32 +110,38 @@ def observe_frame(
     egos: np.ndarray,
     builder: TableBuilder,
     containment: ContainmentLog,
+    sensors: Sequence[Sensor] | None = None,
 ) -> None:
-    """Run the engine for every observer present in this frame and add the rows to ``builder``."""
+    """Run the engine for every observer (and sensor) present in this frame and add the rows to ``builder``."""
     rows = observer_rows(objects, egos)
     if len(rows) == 0:
         return
-    views = viewpoints(objects, rows, statics)
+    views = viewpoints(objects, rows, statics, sensors)
     observations = engine.observe(objects, views)
-    owns = [view.own for view in views]
+    owns = np.array([view.own for view in views], dtype=np.int64)
     for view in views:
         if np.count_nonzero(view.transparent) > 1:  # more than its own body: it is inside some object
             inside = view.transparent.copy()
             inside[view.own] = False
             containment.add(int(objects.idx[view.own]), objects.idx[inside], objects.frame)
-    columns = frame_rows(observations, np.array(owns, dtype=np.int64), objects.idx)
+    sensor_codes = None if sensors is None else np.tile(np.arange(len(sensors)), len(rows))
+    columns = frame_rows(observations, owns, objects.idx, sensor_codes)
     builder.add(columns, frame=objects.frame, total_nanos=objects.total_nanos)
 
 
 def run_chunk(
-    objects: ObjectTable, statics: StaticOccluders, egos: np.ndarray, engine: str
+    objects: ObjectTable,
+    statics: StaticOccluders,
+    egos: np.ndarray,
+    engine: str,
+    sensors: Sequence[Sensor] | None = None,
 ) -> tuple[Columns | None, ContainmentLog]:
     """All frames of ``objects`` with a fresh engine; plain arrays by column name, and the containment log."""
     eng = get_engine(engine)(statics)
     builder = TableBuilder()
     containment = ContainmentLog()
     for k in range(objects.n_frames):
-        observe_frame(eng, statics, objects.frame_objects(k), egos, builder, containment)
+        observe_frame(eng, statics, objects.frame_objects(k), egos, builder, containment, sensors)
     return builder.arrays(), containment
 
 
@@ -165,6 +183,7 @@ def run(
     executor: Executor | None = None,
     workers: int = 1,
     sink: Callable[[int, Columns | None], Any] | None = None,
+    sensors: Sequence[Sensor] | None = None,
 ) -> Iterator[tuple[int, Any, ContainmentLog]]:
     """Observe every frame, chunk by chunk, in order; yields ``(frames in the chunk, columns, containment log)``.
 
@@ -186,9 +205,12 @@ def run(
         Called where the chunk ran (in the worker) as ``sink(k, columns)`` for the ``k``-th chunk (0-based); what
         it returns is yielded instead of the columns (e.g. it writes them to disk and returns a row count, so
         the columns never travel back to this process).
+    sensors : sequence of Sensor, optional
+        Observe through these sensors (rows gain a ``sensor`` code, their position in this sequence, and the
+        ``in_view`` and ``status`` columns); None: from each observer's centre, all around.
     """
     bounds = chunks(objects.n_frames, chunk_frames, workers)
-    tasks = ((objects.frame_range(a, b), statics, egos, engine, sink, k) for k, (a, b) in enumerate(bounds))
+    tasks = ((objects.frame_range(a, b), statics, egos, engine, sensors, sink, k) for k, (a, b) in enumerate(bounds))
     results = executor.map(_run_chunk_star, tasks) if executor is not None else map(_run_chunk_star, tasks)
     for (a, b), (columns, log) in zip(bounds, results, strict=True):
         yield b - a, columns, log

@@ -167,3 +167,26 @@ def test_cli_osi_trace_with_text_map(shared_data, tmp_path) -> None:
     (tmp_path / "map.txt").write_text("not a map")
     out = cli(shared_data / "pedestrian.osi", "--map", tmp_path / "map.txt", "--ego", "0", "--no-progress")
     assert_error(out, f"cannot read map {tmp_path / 'map.txt'}")
+
+
+def test_cli_sensors_layout_and_file(tmp_path) -> None:
+    out_path = tmp_path / "s.parquet"
+    out = cli(MCAP, "--ego", "0", "--engine", "sweep", "--sensors", "typical", "--no-progress", "-o", out_path)
+    assert out.returncode == 0, out.stderr
+    table = pl.read_parquet(out_path)
+    assert table.columns[3:5] == ["sensor", "occluder_idxs"] and table.columns[-2:] == ["in_view", "status"]
+    assert table["sensor"].n_unique() == 6
+    sensors = tmp_path / "one.json"
+    sensors.write_text('[{"name": "front", "fov": 1.0, "range": 50}]')
+    printed = cli(MCAP, "--ego", "0", "--engine", "sweep", "--sensors", sensors, "--no-progress")
+    assert printed.returncode == 0, printed.stderr
+    assert "front" in printed.stdout and "status" in printed.stdout
+
+
+def test_cli_bad_sensors(tmp_path) -> None:
+    assert_error(cli(MCAP, "--sensors", "lidar"), "unknown sensor layout 'lidar'")
+    bad = tmp_path / "bad.json"
+    bad.write_text('[{"name": "a", "fov": 9}]')
+    assert_error(cli(MCAP, "--sensors", bad), "bad.json", "fov must be in")
+    bad.write_text("{")
+    assert_error(cli(MCAP, "--sensors", bad), "not valid JSON")
