@@ -72,15 +72,18 @@ class SweepEngine:
             return []
         transparent = np.array([v.transparent for v in viewpoints], dtype=bool).reshape(len(viewpoints), -1)
         seen = {k: objects_in_view(objects.rings, v) for k, v in enumerate(viewpoints) if v.limited}
-        swept = transparent.copy()
-        for k, one in seen.items():  # objects out of a sensor's view need not be swept for it
-            swept[k] |= one.out_of_view(transparent[k])
+        swept, limits = transparent, None  # None: all see all around, without limit
+        if seen:
+            swept = transparent.copy()
+            for k, one in seen.items():  # objects out of a sensor's view need not be swept for it
+                swept[k] |= one.out_of_view(transparent[k])
+            limits = np.array([(v.heading - 0.5 * v.fov, v.fov, v.range) for v in viewpoints], dtype=np.float64)
         observations = self._observe_arrays(
             objects,
             np.array([v.position for v in viewpoints], dtype=np.float64).reshape(-1, 2),
             swept,
             np.array([v.static_transparent for v in viewpoints], dtype=bool).reshape(len(viewpoints), -1),
-            np.array([(v.heading - 0.5 * v.fov, v.fov, v.range) for v in viewpoints], dtype=np.float64),
+            limits,
         )
         for k, one in seen.items():
             view = viewpoints[k]
@@ -108,7 +111,8 @@ class SweepEngine:
     ) -> list[Observation]:
         observers = np.ascontiguousarray(observers, dtype=np.float64).reshape(-1, 2)
         if limits is None:  # every observer sees all around, without limit
-            limits = np.tile([0.0, TWO_PI, np.inf], (len(observers), 1))
+            limits = np.empty((len(observers), 3))
+            limits[:] = (0.0, TWO_PI, np.inf)
         frame_arrays, ang = self._frame_inputs(objects, observers)
         out = observe_frame(
             observers,
