@@ -193,7 +193,7 @@ class MemorySampler:
     counted once); ``rss`` sums the resident set sizes (shared pages counted in every process that maps them).
     """
 
-    def __init__(self, interval: float = 0.5) -> None:
+    def __init__(self, interval: float = 2.0) -> None:
         import threading
 
         self.interval, self.pss, self.rss = interval, 0.0, 0.0
