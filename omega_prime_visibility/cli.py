@@ -1,4 +1,6 @@
-"""Command line: ``omega-prime-visibility run RECORDING --ego 0`` prints or writes the visibility table."""
+"""Command line: ``omega-prime-visibility run RECORDING --ego 0`` prints or writes the visibility table of one
+recording; ``batch INPUTS... -o OUTDIR`` computes many, locally or on a dask cluster; ``animate`` renders a GIF
+or MP4, ``report`` an interactive HTML page."""
 
 from __future__ import annotations
 
@@ -57,13 +59,30 @@ def load_recording(path: Path, map_path: Path | None = None):
         raise fail(str(e)) from e
 
 
+# options shared by run and batch
+Ego = Annotated[str, typer.Option(help="observer idx, comma-separated idx, or 'all'; default: host vehicle")]
+Engine = Annotated[str, typer.Option(help=f"one of {sorted(ENGINES)}")]
+Static = Annotated[Path | None, typer.Option("--static", help="static occluders: GeoJSON or WKT file (metres)")]
+
+
+def load_static(path: Path | None) -> list | None:
+    """``io.read_static_occluders``, a read error becoming a one-line message and exit status 2."""
+    from .io import RecordingReadError, read_static_occluders
+
+    try:
+        return None if path is None else read_static_occluders(path)
+    except RecordingReadError as e:
+        raise fail(str(e)) from e
+
+
 @app.command()
 def run(
     recording: Annotated[Path, typer.Argument(help="omega-prime MCAP (or OSI trace with --map)")],
-    ego: Annotated[str, typer.Option(help="observer idx, comma-separated idx, or 'all'; default: host vehicle")] = "",
-    engine: Annotated[str, typer.Option(help=f"one of {sorted(ENGINES)}")] = "visilibity",
+    ego: Ego = "",
+    engine: Engine = "visilibity",
     output: Annotated[Path | None, typer.Option("-o", "--output", help="write .parquet or .csv here")] = None,
     map_path: Annotated[Path | None, typer.Option("--map", help="OpenDRIVE map for OSI traces")] = None,
+    static: Static = None,
     workers: Annotated[int | None, typer.Option(help="processes (default: all cores for long jobs)")] = None,
     progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
     rows: Annotated[int, typer.Option(help="rows to print when no output is given")] = 20,
@@ -85,6 +104,7 @@ def run(
             raise fail(str(e)) from None
     ego_idx = parse_ego(ego) if ego else None
     sensor_set = parse_sensors(sensors)
+    statics = load_static(static)
     r = load_recording(recording, map_path)
     if ego_idx is None and r.host_vehicle_idx is None:
         present = np.unique(r._df["idx"].to_numpy())
@@ -94,7 +114,7 @@ def run(
     stream = output if output is not None and output.suffix == ".parquet" else None
     try:
         table = get_visibility_df(
-            r, ego_idx, engine=engine, progress=progress, workers=workers, output=stream, sensors=sensor_set
+            r, ego_idx, statics, engine=engine, progress=progress, workers=workers, output=stream, sensors=sensor_set
         )
         if output is not None and stream is None:
             with atomic_write(output) as temp:
@@ -133,6 +153,176 @@ def run(
         summary = summary.join(occluders, on=by)
         with pl.Config(tbl_rows=-1, fmt_table_cell_list_len=8):
             typer.echo(summary.sort(by))
+
+
+def parse_frames(frames: str) -> slice | None:
+    """``--frames START:STOP[:STEP]`` (frame numbers, stop excluded, either end may be left out) as a slice."""
+    if not frames:
+        return None
+    parts = frames.split(":")
+    try:
+        if len(parts) not in (2, 3):
+            raise ValueError
+        values = [int(p) if p.strip() else None for p in parts]
+    except ValueError:
+        raise fail(
+            f"--frames takes START:STOP or START:STOP:STEP (frame numbers, stop excluded), not {frames!r}"
+        ) from None
+    if len(values) == 3 and values[2] is not None and values[2] <= 0:
+        raise fail(f"--frames: the step must be a positive number of frames, not {values[2]}")
+    return slice(*values)
+
+
+def single_ego(ego: str) -> int | None:
+    """``--ego`` for a picture: one idx, or None for the recording's host vehicle."""
+    if not ego:
+        return None
+    value = parse_ego(ego)
+    if not isinstance(value, int):
+        raise fail(f"--ego takes one idx for a picture, not {ego!r}")
+    return value
+
+
+def host_or(ego_idx: int | None, recording) -> int:
+    """``ego_idx``, or the recording's host vehicle when it is None."""
+    if ego_idx is not None:
+        return ego_idx
+    if recording.host_vehicle_idx is None:
+        raise fail("the recording names no host vehicle: pass --ego IDX")
+    return int(recording.host_vehicle_idx)
+
+
+FramesOption = Annotated[str, typer.Option(help="START:STOP[:STEP] frame numbers (stop excluded); default all")]
+EgoOption = Annotated[str, typer.Option(help="observer idx; default: host vehicle")]
+MapOption = Annotated[Path | None, typer.Option("--map", help="OpenDRIVE map for OSI traces")]
+
+
+@app.command()
+def animate(
+    recording: Annotated[Path, typer.Argument(help="omega-prime MCAP (or OSI trace with --map)")],
+    output: Annotated[Path, typer.Option("-o", "--output", help="write a .gif or .mp4 here")],
+    ego: EgoOption = "",
+    frames: FramesOption = "",
+    fps: Annotated[float, typer.Option(help="frames per second")] = 10.0,
+    follow: Annotated[bool, typer.Option(help="keep the ego in the middle (--no-follow: one fixed view)")] = True,
+    view_range: Annotated[float, typer.Option(help="metres shown each side of the ego")] = 60.0,
+    target: Annotated[int | None, typer.Option(help="outline this idx and its occluders")] = None,
+    sensors: Annotated[str | None, typer.Option(help="sensor layout (roof, typical) or JSON file to draw")] = None,
+    engine: Annotated[str, typer.Option(help=f"one of {sorted(ENGINES)}")] = "visilibity",
+    map_path: MapOption = None,
+    progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
+) -> None:
+    """Render the scene seen from the ego, frame by frame, to an animated GIF or an MP4 video."""
+    from .output import check_output_path
+    from .plot import animate as render
+
+    if engine not in ENGINES:
+        raise fail(f"unknown engine {engine!r}; available: {sorted(ENGINES)}")
+    try:
+        check_output_path(output, (".gif", ".mp4"))
+    except ValueError as e:
+        raise fail(str(e)) from None
+    span, ego_idx = parse_frames(frames), single_ego(ego)
+    r = load_recording(recording, map_path)
+    ego_idx = host_or(ego_idx, r)
+    try:
+        render(r, ego_idx, output, frames=span, fps=fps, follow=follow, view_range=view_range, target=target,
+               sensors=sensors, engine=engine, progress=progress)  # fmt: skip
+    except (ValueError, ImportError) as e:
+        raise fail(str(e)) from None
+    typer.echo(f"wrote {output}")
+
+
+@app.command()
+def report(
+    recording: Annotated[Path, typer.Argument(help="omega-prime MCAP (or OSI trace with --map)")],
+    output: Annotated[Path, typer.Option("-o", "--output", help="write the .html report here")],
+    ego: EgoOption = "",
+    frames: FramesOption = "",
+    view_range: Annotated[float, typer.Option(help="metres shown each side of the ego")] = 60.0,
+    sensors: Annotated[
+        str | None, typer.Option(help="timeline and summary through sensors: 'roof', 'typical' or a .json file")
+    ] = None,
+    engine: Annotated[str, typer.Option(help=f"one of {sorted(ENGINES)}")] = "visilibity",
+    map_path: MapOption = None,
+    progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
+) -> None:
+    """Write an interactive HTML report (frame slider, timeline, per-target summary) that works offline."""
+    from .output import check_output_path
+    from .plot import write_report
+
+    if engine not in ENGINES:
+        raise fail(f"unknown engine {engine!r}; available: {sorted(ENGINES)}")
+    try:
+        check_output_path(output, (".html",))
+    except ValueError as e:
+        raise fail(str(e)) from None
+    span, ego_idx, sensor_set = parse_frames(frames), single_ego(ego), parse_sensors(sensors)
+    r = load_recording(recording, map_path)
+    ego_idx = host_or(ego_idx, r)
+    try:
+        write_report(r, ego_idx, output, frames=span, view_range=view_range, engine=engine, progress=progress,
+                     title=recording.name, sensors=sensor_set)  # fmt: skip
+    except (ValueError, ImportError) as e:
+        raise fail(str(e)) from None
+    typer.echo(f"wrote {output}")
+
+
+@app.command()
+def batch(
+    inputs: Annotated[list[str], typer.Argument(help="recordings, folders (searched recursively) and glob patterns")],
+    output: Annotated[Path, typer.Option("-o", "--output", help="folder for the results and the summary")],
+    ego: Ego = "",
+    engine: Engine = "visilibity",
+    static: Static = None,
+    map_path: Annotated[
+        Path | None, typer.Option("--map", help="OpenDRIVE map for the OSI traces, or a JSON list of [trace, map]")
+    ] = None,
+    workers: Annotated[int | None, typer.Option(help="local processes over files (default: the cores)")] = None,
+    scheduler: Annotated[str | None, typer.Option(help="dask scheduler address, e.g. tcp://host:8786")] = None,
+    scheduler_file: Annotated[Path | None, typer.Option(help="dask scheduler file (dask scheduler --help)")] = None,
+    overwrite: Annotated[bool, typer.Option(help="recompute results that are current")] = False,
+    progress: Annotated[bool, typer.Option(help="show a progress bar over files")] = True,
+) -> None:
+    """Compute one parquet result per recording into OUTPUT, resumably, and print a summary of every file.
+
+    Exit status: 0 when every file is done or skipped, 1 when some failed, 2 for bad options, 130 when interrupted.
+    """
+    from .batch import SUMMARY_NAME, BatchInterrupted, run_batch
+
+    options = {"ego": parse_ego(ego) if ego else None, "engine": engine, "static": static, "map": map_path}
+    try:
+        summary = run_batch(
+            inputs,
+            output,
+            workers=workers,
+            scheduler=scheduler,
+            scheduler_file=scheduler_file,
+            overwrite=overwrite,
+            progress=progress,
+            **options,
+        )
+    except BatchInterrupted as e:
+        print_summary(e.summary, output / SUMMARY_NAME)
+        typer.echo("interrupted: run the same command again to continue where it stopped", err=True)
+        raise typer.Exit(130) from None
+    except ValueError as e:
+        raise fail(str(e)) from None
+    print_summary(summary, output / SUMMARY_NAME)
+    if (summary["status"] == "failed").any():
+        raise typer.Exit(1)
+
+
+def print_summary(summary: pl.DataFrame, path: Path) -> None:
+    """The summary table (failures first), one line per failure with its message, and one line of counts."""
+    order = pl.col("status").replace_strict({"failed": 0, "interrupted": 1}, default=2, return_dtype=pl.Int8)
+    shown = summary.sort(order, maintain_order=True).select("result", "status", "rows", "seconds")
+    with pl.Config(tbl_rows=30, tbl_cols=-1, tbl_hide_dataframe_shape=True, fmt_str_lengths=120):
+        typer.echo(shown)
+    for recording, error in summary.filter(pl.col("status") == "failed").select("recording", "error").iter_rows():
+        typer.echo(f"failed: {recording}: {error}")
+    counts = ", ".join(f"{n} {status}" for status, n in summary["status"].value_counts(sort=True).iter_rows())
+    typer.echo(f"{summary.height} recordings: {counts}; {summary['seconds'].sum():.1f} s of work; summary in {path}")
 
 
 @app.command()

@@ -1,0 +1,287 @@
+"""Visibility over many recordings: one parquet result per recording, computed by local processes or a dask
+cluster, written atomically, skipped on a rerun when current, and a summary of every file.
+
+The work for one file is :func:`process_file`, a top-level function of a picklable :class:`FileTask`, so the same
+call runs in this process, in a spawn- or forkserver-started process pool, and on dask workers.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+import warnings
+from dataclasses import dataclass, fields
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+import polars as pl
+
+from .batch_files import OPTIONS_KEY, RECORDING_KEY, find_recordings, is_current, prepare_output_dir, remove_leftovers
+from .batch_options import FileOptions, is_int
+
+SUMMARY_NAME = "_batch_summary.parquet"
+SUMMARY_SCHEMA = {
+    "recording": pl.String,
+    "result": pl.String,
+    "status": pl.String,  # done, skipped, failed (interrupted when the run was stopped before the file)
+    "rows": pl.Int64,
+    "seconds": pl.Float64,
+    "error": pl.String,
+    "warnings": pl.String,
+}
+
+
+@dataclass(frozen=True)
+class FileTask:
+    """One recording to compute: paths are absolute, so a dask worker sharing the file system finds them."""
+
+    recording: str
+    result: str
+    options: FileOptions
+    fingerprint: str
+    workers: int = 1  # processes for this file's frames (more than 1 only when it is the batch's only file)
+
+
+@dataclass(frozen=True)
+class FileResult:
+    """A summary row: see ``SUMMARY_SCHEMA``."""
+
+    recording: str
+    result: str
+    status: str
+    rows: int | None = None
+    seconds: float = 0.0
+    error: str | None = None
+    warnings: str | None = None
+
+
+BUSY = False  # whether this process is inside process_file (a pool worker's SIGTERM handler asks)
+
+
+class WorkerTerminated(BaseException):
+    """Raised in a pool worker by SIGTERM, so a result being written is removed before the process ends."""
+
+
+def process_file(task: FileTask) -> FileResult:
+    """Compute one recording's visibility table and write it atomically to ``task.result`` with the options in its
+    parquet metadata; every error becomes a failed :class:`FileResult` with a one-line message."""
+    global BUSY
+    start = time.perf_counter()
+    caught: list[warnings.WarningMessage] = []
+    try:
+        BUSY = True
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            rows = _compute_and_write(task)
+    except WorkerTerminated:
+        os._exit(143)  # atomic_write has removed the temporary file on the way here
+    except Exception as e:
+        message = str(e) if isinstance(e, ValueError) else f"{type(e).__name__}: {e}"
+        return FileResult(task.recording, task.result, "failed", None, time.perf_counter() - start, _one_line(message))
+    finally:
+        BUSY = False
+    notes = sorted({_one_line(str(w.message)) for w in caught if not issubclass(w.category, DeprecationWarning)})
+    return FileResult(
+        task.recording, task.result, "done", rows, time.perf_counter() - start, None, " | ".join(notes) or None
+    )
+
+
+def _one_line(message: str, limit: int = 500) -> str:
+    message = " ".join(message.split())
+    return message if len(message) <= limit else message[: limit - 3] + "..."
+
+
+def _compute_and_write(task: FileTask) -> int:
+    from importlib.metadata import version
+
+    import numpy as np
+    import pyarrow.parquet as pq
+
+    from .api import describe_idx, get_visibility_df
+    from .io import read_recording
+    from .output import atomic_write
+
+    options = task.options
+    recording = read_recording(task.recording, options.map_for(Path(task.recording)))
+    ego = options.ego
+    if ego is None:
+        if recording.host_vehicle_idx is None:
+            present = np.unique(recording._df["idx"].to_numpy())
+            raise ValueError(
+                f"{Path(task.recording).name} names no host vehicle: give an ego (--ego IDX or --ego all; "
+                f"idx present: {describe_idx(present)})"
+            )
+        ego = int(recording.host_vehicle_idx)
+    statics = _static_occluders(options.static) if options.static is not None else None
+    ego_idx = list(ego) if isinstance(ego, tuple) else ego
+    table = get_visibility_df(recording, ego_idx, statics, workers=task.workers, progress=False, **options.api_kwargs())
+    arrow = table.to_arrow()
+    metadata = {
+        **(arrow.schema.metadata or {}),
+        OPTIONS_KEY: task.fingerprint.encode(),
+        RECORDING_KEY: task.recording.encode(),
+        b"omega_prime_visibility.version": version("omega-prime-visibility").encode(),
+    }
+    Path(task.result).parent.mkdir(parents=True, exist_ok=True)
+    with atomic_write(task.result) as temp:
+        pq.write_table(arrow.replace_schema_metadata(metadata), temp)
+    return table.height
+
+
+@lru_cache(maxsize=4)
+def _static_occluders(path: str) -> list:
+    """Read once per process (a worker computes many files with the same occluders)."""
+    from .io import read_static_occluders
+
+    return read_static_occluders(path)
+
+
+class BatchInterrupted(KeyboardInterrupt):
+    """The batch was stopped (Ctrl-C, SIGTERM); ``summary`` marks the files not finished as ``interrupted``."""
+
+    def __init__(self, summary: pl.DataFrame):
+        super().__init__("batch interrupted; run it again to continue where it stopped")
+        self.summary = summary
+
+
+def run_batch(
+    inputs: str | os.PathLike | list[str | os.PathLike],
+    output_dir: str | os.PathLike,
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    scheduler_file: str | os.PathLike | None = None,
+    client: Any = None,
+    overwrite: bool = False,
+    progress: bool = True,
+    **options: Any,
+) -> pl.DataFrame:
+    """Visibility tables of many recordings, one parquet file each in ``output_dir``, and their summary.
+
+    Each result is written under a temporary name and renamed when complete, with the options in its parquet
+    metadata; a rerun skips recordings whose result is complete, newer than the recording and made with the same
+    options (``overwrite=True`` recomputes all). A file that cannot be computed is reported and the others go on.
+
+    Parameters
+    ----------
+    inputs : path, glob pattern or a list of them
+        Recordings (any name), folders (searched recursively for ``.mcap`` and ``.osi``) and glob patterns.
+    output_dir : path
+        Created if missing. Results keep the recordings' paths below the folder they were found in, plus
+        ``.parquet``; the summary is written to ``_batch_summary.parquet``.
+    workers : int, optional
+        Local processes over files (default: the cores available); a batch of one file spreads its frames instead.
+    scheduler, scheduler_file : str, optional
+        Address (``tcp://host:8786``) or scheduler file of an existing dask cluster to compute on instead; its
+        workers must see the inputs and ``output_dir`` under the same paths.
+    client : dask.distributed.Client, optional
+        An existing client to compute through (for notebooks).
+    overwrite : bool
+        Recompute even current results.
+    progress : bool
+        Show a progress bar over files.
+    **options
+        The fields of :class:`FileOptions`: ``ego`` (default: each recording's host vehicle), ``engine``,
+        ``static`` (GeoJSON or WKT file), ``map``.
+
+    Returns
+    -------
+    polars.DataFrame
+        One row per recording, in input order: ``recording`` (absolute path), ``result`` (relative to
+        ``output_dir``), ``status`` (done, skipped or failed), ``rows``, ``seconds``, ``error`` (one line, for
+        failures), ``warnings``.
+
+    Raises
+    ------
+    ValueError
+        For bad options or inputs (before anything is computed).
+    BatchInterrupted
+        When stopped by Ctrl-C or SIGTERM; the summary written so far is attached and saved.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as out:
+    ...     summary = run_batch("highway_merge.mcap", out, engine="sweep", progress=False)
+    ...     again = run_batch("highway_merge.mcap", out, engine="sweep", progress=False)
+    >>> summary.select("result", "status", "rows").row(0), again["status"][0]
+    (('highway_merge.mcap.parquet', 'done', 1206), 'skipped')
+    """
+    from tqdm.auto import tqdm
+
+    from . import batch_exec
+    from .output import atomic_write
+
+    try:
+        file_options = FileOptions(**options)
+    except TypeError:
+        unknown = sorted(set(options) - {f.name for f in fields(FileOptions)})
+        raise ValueError(f"unknown option(s) {unknown}; options are {[f.name for f in fields(FileOptions)]}") from None
+    if workers is not None and (not is_int(workers) or workers < 1):
+        raise ValueError(f"workers must be a whole number of at least 1, not {workers!r}")
+    remote = [k for k, v in (("scheduler", scheduler), ("scheduler_file", scheduler_file), ("client", client)) if v]
+    if len(remote) > 1:
+        raise ValueError(f"give one of scheduler, scheduler_file and client, not {' and '.join(remote)}")
+    if remote and workers is not None:
+        raise ValueError("workers counts local processes: on a dask cluster its own workers do the work")
+    file_options.check()
+    if Path(output_dir).is_file():
+        raise ValueError(f"the output folder {output_dir} is a file")
+    # recordings first: a typo in the inputs leaves no empty output folder behind
+    pairs = find_recordings([inputs] if isinstance(inputs, str | os.PathLike) else list(inputs), Path("."))
+    output_dir = prepare_output_dir(output_dir).resolve()
+    pairs = [(recording, output_dir / result) for recording, result in pairs]
+    if any(result == output_dir / SUMMARY_NAME for _, result in pairs):
+        raise ValueError(f"a recording's result would overwrite the summary {output_dir / SUMMARY_NAME}")
+    fingerprint = file_options.fingerprint()
+    results: dict[str, FileResult] = {}
+    tasks = []
+    for recording, result in pairs:
+        remove_leftovers(result)
+        rows = None if overwrite else is_current(result, recording, fingerprint)
+        if rows is not None:
+            results[str(result)] = FileResult(str(recording), str(result), "skipped", rows)
+        else:
+            tasks.append(FileTask(str(recording), str(result), file_options, fingerprint))
+    n_workers = workers or batch_exec.available_cores()
+    bar = tqdm(total=len(pairs), initial=len(results), desc="recordings", unit="file", disable=not progress)
+
+    def report(result: FileResult) -> None:
+        results[result.result] = result
+        bar.update(1)
+
+    interrupted = False
+    own_client = None
+    try:
+        with batch_exec.sigterm_as_interrupt():
+            if remote:
+                client = client or (own_client := batch_exec.connect(scheduler, scheduler_file))
+                batch_exec.run_dask(tasks, client, report)
+            elif len(tasks) == 1:  # one file: its frames over the cores, as get_visibility_df does
+                batch_exec.run_here([FileTask(**{**asdict_shallow(tasks[0]), "workers": n_workers})], report)
+            elif n_workers == 1:
+                batch_exec.run_here(tasks, report)
+            else:
+                batch_exec.run_local(tasks, n_workers, report)
+    except KeyboardInterrupt:
+        interrupted = True
+    finally:
+        bar.close()
+        if own_client is not None:
+            own_client.close()
+    rows = []
+    for recording, result in pairs:
+        done = results.get(str(result)) or FileResult(str(recording), str(result), "interrupted")
+        rows.append({**asdict_shallow(done), "result": result.relative_to(output_dir).as_posix()})
+    summary = pl.DataFrame(rows, schema=SUMMARY_SCHEMA)
+    with atomic_write(output_dir / SUMMARY_NAME) as temp:
+        summary.write_parquet(temp)
+    if interrupted:
+        raise BatchInterrupted(summary)
+    return summary
+
+
+def asdict_shallow(instance: Any) -> dict[str, Any]:
+    """A dataclass's fields as a dict, values not copied (``dataclasses.asdict`` would copy nested options)."""
+    return {f.name: getattr(instance, f.name) for f in fields(instance)}

@@ -1,0 +1,171 @@
+"""Where a batch's files are computed: in this process, in a local process pool, or on a dask cluster. Each backend
+calls ``report`` with one :class:`FileResult` per task, in completion order; an interruption (KeyboardInterrupt)
+stops the workers, whose unfinished results are removed, and propagates."""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import signal
+import threading
+import time
+from collections import Counter
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures.process import BrokenProcessPool
+from contextlib import contextmanager
+from pathlib import Path
+
+from . import batch
+from .batch import FileResult, FileTask, process_file
+from .batch_files import remove_leftovers
+
+Report = Callable[[FileResult], None]
+PRELOAD = ["omega_prime", "omega_prime_visibility.api", "omega_prime_visibility.io", "omega_prime_visibility.batch"]
+MAX_ATTEMPTS = 2  # a file whose worker process dies this often is reported failed (the others go on)
+
+
+def available_cores() -> int:
+    """The cores this process may run on (its CPU affinity where the system tells, else all)."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else max(1, os.cpu_count() or 1)
+
+
+def run_here(tasks: Sequence[FileTask], report: Report) -> None:
+    """Compute the tasks one after the other in this process."""
+    for task in tasks:
+        report(process_file(task))
+
+
+def run_local(tasks: Sequence[FileTask], n_workers: int, report: Report) -> None:
+    """Compute the tasks over ``n_workers`` local processes (forkserver where available, else spawn: workers use
+    polars, whose thread pool does not survive a plain fork of a process that used it). A task whose worker dies
+    (killed, out of memory) is tried again in a fresh pool; one that dies ``MAX_ATTEMPTS`` times is reported
+    failed."""
+    if "forkserver" in multiprocessing.get_all_start_methods():
+        context = multiprocessing.get_context("forkserver")
+        # imported once in the fork server, not in every worker (halves a 2-worker batch of small files here);
+        # safe: importing starts none of polars' worker threads, and no polars work runs in the fork server
+        context.set_forkserver_preload(PRELOAD)
+    else:
+        context = multiprocessing.get_context("spawn")
+    attempts: Counter[str] = Counter()
+    pending = list(tasks)
+    while pending:
+        broken: list[FileTask] = []
+        pool = ProcessPoolExecutor(
+            min(n_workers, len(pending)), mp_context=context, initializer=_init_worker, initargs=(os.getpid(),)
+        )
+        try:
+            futures = {pool.submit(process_file, task): task for task in pending}
+            for future in as_completed(futures):
+                task = futures[future]
+                try:
+                    report(future.result())
+                except BrokenProcessPool:
+                    broken.append(task)
+        except BaseException:
+            _stop(pool)
+            raise
+        pool.shutdown()
+        pending = []
+        for task in broken:
+            remove_leftovers(Path(task.result))  # a worker killed while writing could not clean up
+            attempts[task.result] += 1
+            if attempts[task.result] < MAX_ATTEMPTS:
+                pending.append(task)
+            else:
+                message = f"the worker process died {MAX_ATTEMPTS} times while computing or holding this file"
+                report(FileResult(task.recording, task.result, "failed", error=f"{message} (killed, out of memory?)"))
+
+
+def _stop(pool: ProcessPoolExecutor) -> None:
+    """Stop the workers now: SIGTERM makes each remove the result it is writing and exit."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    for process in processes:
+        process.terminate()
+    for process in processes:
+        process.join(timeout=10)
+    pool.shutdown(wait=False, cancel_futures=True)
+
+
+def _init_worker(parent_pid: int) -> None:
+    # Ctrl-C reaches the whole process group: the parent decides and stops the workers with SIGTERM
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, _terminate)
+    threading.Thread(target=_watch_parent, args=(parent_pid,), daemon=True).start()
+
+
+def _terminate(signum, frame) -> None:
+    if batch.BUSY:
+        raise batch.WorkerTerminated  # unwinds through atomic_write, which removes the temporary file
+    os._exit(143)
+
+
+def _watch_parent(parent_pid: int) -> None:
+    """End this worker when the batch process is gone (killed with SIGKILL, it cannot stop its workers)."""
+    while True:
+        time.sleep(1.0)
+        try:
+            os.kill(parent_pid, 0)
+        except ProcessLookupError:
+            os._exit(1)
+        except PermissionError:
+            pass
+
+
+@contextmanager
+def sigterm_as_interrupt() -> Iterator[None]:
+    """Within the block, SIGTERM to this process stops the batch like Ctrl-C (main thread only)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def interrupt(signum, frame):
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGTERM, interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def connect(scheduler: str | None, scheduler_file: str | os.PathLike | None):
+    """A ``dask.distributed.Client`` for an existing cluster, by address or scheduler file.
+
+    Raises
+    ------
+    ValueError
+        If the scheduler cannot be reached or the file cannot be read.
+    """
+    from distributed import Client
+
+    where = scheduler if scheduler is not None else f"the scheduler file {scheduler_file}"
+    if scheduler_file is not None and not os.path.isfile(scheduler_file):
+        raise ValueError(f"the scheduler file {scheduler_file} does not exist")
+    try:
+        if scheduler is not None:
+            return Client(scheduler, timeout="15s")
+        return Client(scheduler_file=str(scheduler_file), timeout="15s")
+    except (OSError, TimeoutError, ValueError) as e:
+        raise ValueError(f"cannot reach the dask scheduler at {where} ({type(e).__name__}: {e})") from None
+
+
+def run_dask(tasks: Sequence[FileTask], client, report: Report) -> None:
+    """Compute the tasks on the workers of a dask cluster (which must see the input and output paths); a task
+    dask gives up on (its workers died) is reported failed. Interrupted, the tasks not started are cancelled."""
+    from distributed import as_completed as dask_completed
+
+    futures = [client.submit(process_file, task, pure=False) for task in tasks]
+    by_key = {future.key: task for future, task in zip(futures, tasks, strict=True)}
+    try:
+        for future in dask_completed(futures):
+            task = by_key[future.key]
+            try:
+                report(future.result())
+            except Exception as e:  # KilledWorker, lost connection, the package missing on a worker, ...
+                message = " ".join(f"dask: {type(e).__name__}: {e}".split())
+                report(FileResult(task.recording, task.result, "failed", error=message))
+    except BaseException:
+        client.cancel(futures)
+        raise

@@ -1,0 +1,128 @@
+"""The options every recording of a batch is computed with, stored as JSON in each result."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import numbers
+from dataclasses import asdict, dataclass, field, fields
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+
+@dataclass(frozen=True)
+class FileOptions:
+    """What every recording of a batch is computed with; stored in each result, so other options recompute it.
+
+    Adding an option: a field here (``metadata={"file": True}`` for a path whose content matters), its keyword in
+    :meth:`api_kwargs`, and the matching ``batch`` command-line option.
+
+    Attributes
+    ----------
+    ego : int, tuple of int, "all" or None
+        Observer idx; None takes each recording's host vehicle (a file without one fails, asking for an ego).
+    engine : str
+        Engine name (see ``omega_prime_visibility.ENGINES``).
+    static : str, optional
+        GeoJSON or WKT file of static occluders (metres, recording frame), see :func:`io.read_static_occluders`.
+    map : str, optional
+        OpenDRIVE map for OSI traces (MCAP files carry their own), or a JSON list of ``[trace name, map]`` pairs
+        (map paths relative to the JSON file) when traces use different maps.
+
+    Examples
+    --------
+    >>> FileOptions(ego=[1, 0], engine="sweep").ego
+    (0, 1)
+    >>> FileOptions(ego="ALL")
+    Traceback (most recent call last):
+    ...
+    ValueError: ego must be an idx, a list of idx, 'all' or None (the host vehicle), not 'ALL'
+    """
+
+    ego: int | tuple[int, ...] | str | None = None
+    engine: str = "visilibity"
+    static: str | None = field(default=None, metadata={"file": True})
+    map: str | None = field(default=None, metadata={"file": True})
+
+    def __post_init__(self) -> None:
+        from .engines import ENGINES
+
+        ego = self.ego
+        if isinstance(ego, list | tuple) and ego and all(is_int(v) for v in ego):
+            object.__setattr__(self, "ego", tuple(sorted({int(v) for v in ego})))
+        elif is_int(ego):
+            object.__setattr__(self, "ego", int(ego))
+        elif ego is not None and ego != "all":
+            raise ValueError(f"ego must be an idx, a list of idx, 'all' or None (the host vehicle), not {ego!r}")
+        if self.engine not in ENGINES:
+            raise ValueError(f"unknown engine {self.engine!r}; available: {sorted(ENGINES)}")
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.metadata.get("file") and value is not None:
+                path = Path(value)
+                if not path.is_file():
+                    what = "is not a file" if path.exists() else "does not exist"
+                    raise ValueError(f"the {f.name} file {path} {what}")
+                object.__setattr__(self, f.name, str(path.resolve()))
+
+    def api_kwargs(self) -> dict[str, Any]:
+        """Keywords for ``get_visibility_df`` besides the recording, the ego and the static occluders."""
+        return {"engine": self.engine}
+
+    def fingerprint(self) -> str:
+        """JSON of the options, with the SHA-256 of every file option's content (an edited file recomputes)."""
+        values = asdict(self)
+        for f in fields(self):
+            if f.metadata.get("file") and values[f.name] is not None:
+                values[f.name] = {"path": values[f.name], "sha256": _sha256(values[f.name])}
+        return json.dumps(values, sort_keys=True)
+
+    def check(self) -> None:
+        """Read the option files once before any work, so a bad file fails the run instead of every recording."""
+        from .io import RecordingReadError, read_static_occluders
+        from .statics import load_static_occluders
+
+        try:
+            if self.static is not None:
+                load_static_occluders(read_static_occluders(self.static))
+            if self.map is not None and Path(self.map).suffix == ".json":
+                _map_table(self.map)
+        except RecordingReadError as e:
+            raise ValueError(str(e)) from None
+
+    def map_for(self, recording: Path) -> str | None:
+        """The map to read ``recording`` with: None for MCAP files (their map is inside) and unlisted traces."""
+        if self.map is None or recording.suffix == ".mcap":
+            return None
+        if Path(self.map).suffix == ".json":
+            return _map_table(self.map).get(recording.name)
+        return self.map
+
+
+def is_int(value: object) -> bool:
+    """Whether ``value`` is a whole number (Python or numpy integer, not a bool)."""
+    return isinstance(value, numbers.Integral) and not isinstance(value, bool)
+
+
+def _sha256(path: str) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+@lru_cache
+def _map_table(path: str) -> dict[str, str]:
+    """``{trace file name: absolute map path}`` from a JSON list of pairs or object (paths relative to the JSON)."""
+    try:
+        pairs = json.loads(Path(path).read_text(encoding="utf-8"))
+        pairs = pairs.items() if isinstance(pairs, dict) else pairs
+        table = {str(trace): str((Path(path).parent / m).resolve()) for trace, m in pairs}
+    except (OSError, ValueError, TypeError) as e:
+        raise ValueError(f"cannot read the map list {path}: expected a JSON list of [trace, map] pairs ({e})") from None
+    missing = sorted({m for m in table.values() if not Path(m).is_file()})
+    if missing:
+        raise ValueError(f"the map list {path} names maps that do not exist: {', '.join(missing[:5])}")
+    return table

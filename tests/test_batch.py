@@ -1,0 +1,342 @@
+"""``omega-prime-visibility batch`` and ``run_batch``: called as a user would (console script in a subprocess), on
+folders mixing good, corrupt and mistaken files; results compared with ``get_visibility_df`` on the same files;
+interrupted by a real signal and resumed; on a real two-process dask cluster."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import polars as pl
+import pyarrow.parquet as pq
+import pytest
+import shapely
+from conftest import REPO, SHARED_DATA
+from polars.testing import assert_frame_equal
+
+from omega_prime_visibility import get_visibility_df, run_batch
+from omega_prime_visibility.batch_files import OPTIONS_KEY, find_recordings
+from omega_prime_visibility.io import RecordingReadError, read_recording, read_static_occluders
+
+MCAP = REPO / "highway_merge.mcap"
+SCRIPT = Path(sys.executable).parent / "omega-prime-visibility"
+SUMMARY = "_batch_summary.parquet"
+
+
+def batch_cli(*args: str | Path, **popen) -> subprocess.CompletedProcess:
+    return subprocess.run([str(SCRIPT), "batch", *map(str, args)], capture_output=True, text=True, **popen)
+
+
+@pytest.fixture(scope="module")
+def expected() -> pl.DataFrame:
+    """The bundled recording's table from the API, ego 0 (what every batch result of a copy must equal)."""
+    return get_visibility_df(read_recording(MCAP), 0, workers=1, progress=False)
+
+
+def copies(folder: Path, n: int, prefix: str = "copy") -> list[Path]:
+    folder.mkdir(parents=True, exist_ok=True)
+    paths = [folder / f"{prefix}{k}.mcap" for k in range(n)]
+    for p in paths:
+        shutil.copyfile(MCAP, p)
+    return paths
+
+
+def leftovers(folder: Path) -> list[Path]:
+    return [p for p in folder.rglob("*") if p.name.endswith(".tmp")]
+
+
+def test_end_to_end_folder_with_bad_files(tmp_path, expected) -> None:
+    data = tmp_path / "data"
+    copies(data, 2)
+    (data / "sub").mkdir()
+    shutil.copyfile(MCAP, data / "highway_merge.mcap")
+    shutil.copyfile(MCAP, data / "sub" / "highway_merge.mcap")  # same name, other folder: its own result
+    (data / "truncated.mcap").write_bytes(MCAP.read_bytes()[: MCAP.stat().st_size // 2])
+    (data / "notes.mcap").write_text("these are my notes, not a recording\n")
+    (data / "README.txt").write_text("ignored: not a recording suffix")
+    osi = (SHARED_DATA / "pedestrian.osi").exists()
+    if osi:  # an OSI trace with its map, when the real recordings are here
+        shutil.copyfile(SHARED_DATA / "pedestrian.osi", data / "pedestrian.osi")
+        shutil.copyfile(SHARED_DATA / "fabriksgatan.xodr", data / "fabriksgatan.xodr")
+    out = tmp_path / "results"
+    run = batch_cli(
+        data, "-o", out, "--ego", "0", "--map", data / "fabriksgatan.xodr", "--workers", "2", "--no-progress"
+    )
+    assert run.returncode == 1, run.stderr
+    summary = pl.read_parquet(out / SUMMARY)
+    failed = summary.filter(pl.col("status") == "failed")
+    assert sorted(failed["result"]) == ["notes.mcap.parquet", "truncated.mcap.parquet"]
+    for name, message in failed.select("result", "error").iter_rows():
+        assert f"cannot read {data / name.removesuffix('.parquet')} as an omega-prime recording" in message
+        assert "\n" not in message and f"failed: {data / name.removesuffix('.parquet')}: {message}\n" in run.stdout
+    done = summary.filter(pl.col("status") == "done")
+    names = ["copy0.mcap.parquet", "copy1.mcap.parquet", "highway_merge.mcap.parquet", "sub/highway_merge.mcap.parquet"]
+    assert sorted(done["result"]) == sorted([*names, *(["pedestrian.osi.parquet"] if osi else [])])
+    assert done["rows"].to_list().count(1206) == 4
+    for name in names:
+        assert_frame_equal(pl.read_parquet(out / name), expected)
+    if osi:
+        trace = read_recording(data / "pedestrian.osi", data / "fabriksgatan.xodr")
+        assert_frame_equal(pl.read_parquet(out / "pedestrian.osi.parquet"), get_visibility_df(trace, 0, progress=False))
+    assert not leftovers(out)
+    assert "7 recordings: 5 done, 2 failed" in run.stdout or "6 recordings: 4 done, 2 failed" in run.stdout
+
+
+def test_python_function_resumes_and_recomputes_on_new_options(tmp_path, expected) -> None:
+    a, b = copies(tmp_path / "in", 2)
+    out = tmp_path / "out"
+    first = run_batch(tmp_path / "in", out, ego=0, workers=1, progress=False)
+    assert first.select("result", "status", "rows").rows() == [
+        ("copy0.mcap.parquet", "done", 1206),
+        ("copy1.mcap.parquet", "done", 1206),
+    ]
+    stamp = {p: p.stat().st_mtime_ns for p in out.glob("*.mcap.parquet")}
+    again = run_batch(str(tmp_path / "in" / "*.mcap"), out, ego=0, workers=1, progress=False)
+    assert again["status"].to_list() == ["skipped", "skipped"] and again["rows"].to_list() == [1206, 1206]
+    assert stamp == {p: p.stat().st_mtime_ns for p in stamp}  # nothing rewritten
+    # a newer recording is recomputed, the other stays
+    os.utime(b, ns=(time.time_ns() + 10**9, time.time_ns() + 10**9))
+    assert run_batch([a, b], out, ego=0, workers=1, progress=False)["status"].to_list() == ["skipped", "done"]
+    # other options: recomputed, and recorded in the result
+    other = run_batch([a, b], out, ego=0, engine="sweep", workers=1, progress=False)
+    assert other["status"].to_list() == ["done", "done"]
+    assert b'"engine": "sweep"' in pq.read_metadata(out / "copy0.mcap.parquet").metadata[OPTIONS_KEY]
+    assert_frame_equal(pl.read_parquet(out / "copy0.mcap.parquet"), expected, abs_tol=1e-6)
+    assert run_batch([a], out, ego=0, engine="sweep", overwrite=True, progress=False)["status"].to_list() == ["done"]
+
+
+def test_static_occluders_file_and_its_edits(tmp_path) -> None:
+    wall = shapely.LineString([(60, -5.4), (140, -5.4)])
+    walls = tmp_path / "walls.wkt"
+    walls.write_text(f"# guard rail\n{wall.wkt}\n")
+    out = tmp_path / "out"
+    assert run_batch(MCAP, out, ego=0, static=walls, engine="sweep", progress=False)["status"][0] == "done"
+    reference = get_visibility_df(read_recording(MCAP), 0, [wall], engine="sweep", progress=False)
+    assert reference["static_occluder_idxs"].list.len().sum() > 0  # the wall does hide something
+    assert_frame_equal(pl.read_parquet(out / "highway_merge.mcap.parquet"), reference)
+    assert run_batch(MCAP, out, ego=0, static=walls, engine="sweep", progress=False)["status"][0] == "skipped"
+    walls.write_text(f"{wall.wkt}\nLINESTRING (0 20, 10 20)\n")  # same path, new content: recomputed
+    assert run_batch(MCAP, out, ego=0, static=walls, engine="sweep", progress=False)["status"][0] == "done"
+
+
+def test_static_occluder_files(tmp_path) -> None:
+    geojson = tmp_path / "city.geojson"
+    geojson.write_text(
+        '{"type": "FeatureCollection", "features": ['
+        '{"type": "Feature", "properties": {}, "geometry": {"type": "Polygon", '
+        '"coordinates": [[[0, 0], [4, 0], [4, 3], [0, 0]]]}},'
+        '{"type": "Feature", "properties": {}, "geometry": {"type": "LineString", "coordinates": [[0, 5], [9, 5]]}}]}'
+    )
+    parsed = read_static_occluders(geojson)
+    assert [g.geom_type for g in parsed] == ["Polygon", "LineString"] and parsed[0].area == 6.0
+    (tmp_path / "bad.wkt").write_text("LINESTRING (0 0, 1 1)\nPOLYGON ((0 0, 1\n")
+    with pytest.raises(RecordingReadError, match=r"bad\.wkt, line 2, as WKT"):
+        read_static_occluders(tmp_path / "bad.wkt")
+    (tmp_path / "nogeom.geojson").write_text('{"type": "FeatureCollection", "features": [{"type": "Feature"}]}')
+    with pytest.raises(RecordingReadError, match="feature 0 is no GeoJSON geometry"):
+        read_static_occluders(tmp_path / "nogeom.geojson")
+
+
+def test_per_file_failures_for_ego(tmp_path) -> None:
+    summary = run_batch(MCAP, tmp_path, ego=99, progress=False)
+    assert summary["status"][0] == "failed" and "ego idx [99] never occurs" in summary["error"][0]
+    assert not (tmp_path / "highway_merge.mcap.parquet").exists()
+
+
+def test_osi_trace_without_host_vehicle_asks_for_ego(tmp_path, shared_data) -> None:
+    summary = run_batch(shared_data / "pedestrian.osi", tmp_path, map=shared_data / "fabriksgatan.xodr", progress=False)
+    assert summary["status"][0] == "failed"
+    assert (
+        summary["error"][0]
+        == "pedestrian.osi names no host vehicle: give an ego (--ego IDX or --ego all; idx present: [0, 1])"
+    )
+
+
+def test_result_names_never_collide(tmp_path) -> None:
+    for name in ("a/x.mcap", "b/x.mcap", "b/deeper/x.osi", "b/.hidden/y.mcap", "c/x.mcap"):
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / name).touch()
+    pairs = find_recordings([tmp_path / "a" / "x.mcap", tmp_path / "b", tmp_path / "c" / "x.mcap"], Path("out"))
+    assert [str(result) for _, result in pairs] == [
+        "out/a/x.mcap.parquet",
+        "out/b/x.mcap.parquet",  # three x.mcap: each below the folder all three share
+        "out/deeper/x.osi.parquet",
+        "out/c/x.mcap.parquet",
+    ]
+
+
+def test_interrupted_by_a_signal_then_resumed(tmp_path, expected) -> None:
+    copies(tmp_path / "in", 8)
+    out = tmp_path / "out"
+    args = [str(SCRIPT), "batch", str(tmp_path / "in"), "-o", str(out), "--workers", "2", "--no-progress"]
+    process = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    deadline = time.monotonic() + 120
+    while len(list(out.glob("*.mcap.parquet"))) < 2 and process.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.05)
+    os.killpg(process.pid, signal.SIGINT)  # Ctrl-C: the whole process group
+    _, stderr = process.communicate(timeout=60)
+    assert process.returncode == 130, stderr
+    assert "interrupted: run the same command again" in stderr
+    assert not leftovers(out)
+    before = {p.name: p.stat().st_mtime_ns for p in out.glob("*.mcap.parquet")}
+    assert 2 <= len(before) < 8
+    stopped = pl.read_parquet(out / SUMMARY)
+    assert set(stopped["status"]) <= {"done", "interrupted"} and (stopped["status"] == "interrupted").any()
+    rerun = batch_cli(tmp_path / "in", "-o", out, "--workers", "2", "--no-progress")
+    assert rerun.returncode == 0, rerun.stderr
+    summary = pl.read_parquet(out / SUMMARY)
+    status = dict(zip(summary["result"], summary["status"], strict=True))
+    assert {name for name, s in status.items() if s == "skipped"} == set(before)
+    assert {name for name, s in status.items() if s == "done"} == {f"copy{k}.mcap.parquet" for k in range(8)} - set(
+        before
+    )
+    assert before == {name: (out / name).stat().st_mtime_ns for name in before}  # not recomputed
+    for name in status:
+        assert_frame_equal(pl.read_parquet(out / name), expected)
+    assert not leftovers(out)
+
+
+def descendants(pid: int, depth: int) -> list[int]:
+    """Processes ``depth`` generations below ``pid`` (from /proc): the pool's workers sit below its forkserver."""
+    parents = {}
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                parents[int(entry.name)] = int((entry / "stat").read_text().rsplit(")", 1)[1].split()[1])
+            except (OSError, IndexError):
+                pass
+    level = [pid]
+    for _ in range(depth):
+        level = [child for child, parent in parents.items() if parent in level]
+    return level
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="finds the workers through /proc")
+def test_killed_worker_loses_nothing(tmp_path, expected) -> None:
+    copies(tmp_path / "in", 10)
+    out = tmp_path / "out"
+    args = [str(SCRIPT), "batch", str(tmp_path / "in"), "-o", str(out), "--workers", "2", "--no-progress"]
+    process = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while not list(out.glob("*.mcap.parquet")) and process.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.02)
+    workers = descendants(process.pid, 2)
+    assert workers, "no pool workers found"
+    os.kill(workers[0], signal.SIGKILL)
+    stdout, stderr = process.communicate(timeout=120)
+    assert process.returncode == 0, stdout + stderr
+    summary = pl.read_parquet(out / SUMMARY)
+    assert summary["status"].to_list() == ["done"] * 10  # the files the dead worker held were computed again
+    for name in summary["result"]:
+        assert_frame_equal(pl.read_parquet(out / name), expected)
+    assert not leftovers(out)
+
+
+def test_dask_local_cluster_gives_the_local_results(tmp_path, expected) -> None:
+    from distributed import LocalCluster
+
+    copies(tmp_path / "in", 3)
+    (tmp_path / "in" / "broken.mcap").write_bytes(b"\x89MCAP0\r\n")
+    local = run_batch(tmp_path / "in", tmp_path / "local", workers=1, progress=False)
+    with LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None
+    ) as cluster:
+        remote = batch_cli(tmp_path / "in", "-o", tmp_path / "dask", "--scheduler", cluster.scheduler_address)
+    assert remote.returncode == 1, remote.stderr
+    assert "failed: " in remote.stdout and "broken.mcap" in remote.stdout
+    columns = ["recording", "result", "status", "rows", "error"]
+    assert_frame_equal(pl.read_parquet(tmp_path / "dask" / SUMMARY).select(columns), local.select(columns))
+    assert local["status"].to_list() == ["failed", "done", "done", "done"]
+    for k in range(3):
+        assert_frame_equal(pl.read_parquet(tmp_path / "dask" / f"copy{k}.mcap.parquet"), expected)
+    assert not leftovers(tmp_path / "dask")
+
+
+def assert_cli_error(run: subprocess.CompletedProcess, *fragments: str) -> None:
+    assert run.returncode == 2, run.stderr
+    lines = run.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: "), run.stderr
+    for fragment in fragments:
+        assert fragment in lines[0]
+
+
+def test_bad_options(tmp_path) -> None:
+    (tmp_path / "file.txt").write_text("a file")
+    out = tmp_path / "out"
+    assert_cli_error(batch_cli(MCAP, "-o", out, "--workers", "0"), "workers must be", "not 0")
+    assert_cli_error(
+        batch_cli(MCAP, "-o", tmp_path / "file.txt"), f"the output folder {tmp_path / 'file.txt'} is a file"
+    )
+    assert_cli_error(batch_cli(tmp_path / "nowhere", "-o", out), f"input {tmp_path / 'nowhere'} does not exist")
+    # the same checks behind the command, called directly
+    for kwargs, message in [
+        ({"engine": "nope"}, "unknown engine 'nope'"),
+        ({"static": tmp_path / "file.txt"}, "file.txt, line 1, as WKT"),
+        ({"static": tmp_path / "none.wkt"}, "the static file .*none.wkt does not exist"),
+        ({"workers": 2, "scheduler": "tcp://127.0.0.1:1"}, "workers counts local processes"),
+        ({"scheduler": "tcp://127.0.0.1:1", "scheduler_file": "s.json"}, "give one of"),
+        ({"ego": "everyone"}, "ego must be an idx"),
+        ({"sensor": "roof"}, r"unknown option\(s\) \['sensor'\]"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            run_batch(MCAP, out, progress=False, **kwargs)
+    with pytest.raises(ValueError, match=r"no recordings \(.mcap, .osi\) found"):
+        run_batch(tmp_path, out, progress=False)
+    assert not out.exists()
+
+
+def test_unreadable_input_folder(tmp_path, monkeypatch) -> None:
+    def walk(folder, onerror):
+        onerror(PermissionError(13, "Permission denied", str(folder)))
+        return iter(())
+
+    monkeypatch.setattr(os, "walk", walk)
+    with pytest.raises(ValueError, match=rf"cannot read input folder {tmp_path} \(Permission denied\)"):
+        run_batch(tmp_path, tmp_path / "out", progress=False)
+
+
+@pytest.mark.skipif(os.name != "posix" or os.geteuid() == 0, reason="root reads any folder")
+def test_unreadable_input_folder_cli(tmp_path) -> None:
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    locked.chmod(0)
+    try:
+        assert_cli_error(batch_cli(locked, "-o", tmp_path / "out"), f"cannot read input folder {locked}")
+    finally:
+        locked.chmod(0o755)
+
+
+def test_module_entry_point() -> None:
+    run = subprocess.run([sys.executable, "-m", "omega_prime_visibility", "--help"], capture_output=True, text=True)
+    assert run.returncode == 0 and "batch" in run.stdout and "run" in run.stdout
+
+
+def test_readme_batch_examples(tmp_path) -> None:
+    """The README's batch section: its first command and its Python example, run in a folder holding the bundled
+    recording (as on a fresh clone)."""
+    import re
+
+    section = (REPO / "README.md").read_text().split("## Many recordings: `batch`")[1].split("\n## ")[0]
+    command = re.search(r"```bash\n(omega-prime-visibility batch [^#\n]*)", section).group(1).split()
+    code = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    shutil.copyfile(MCAP, tmp_path / "highway_merge.mcap")
+    run = subprocess.run([str(SCRIPT), *command[1:], "--no-progress"], capture_output=True, text=True, cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    assert "1 recordings: 1 done" in run.stdout
+    assert pl.read_parquet(tmp_path / "results" / "highway_merge.mcap.parquet").height == 1206
+    cwd = os.getcwd()
+    os.chdir(tmp_path)
+    try:
+        namespace: dict = {}
+        exec(compile(code, "README.md", "exec"), namespace)
+    finally:
+        os.chdir(cwd)
+    # other options than the command's (engine): recomputed, not skipped
+    assert namespace["summary"].select("result", "status", "rows").rows() == [
+        ("highway_merge.mcap.parquet", "done", 1206)
+    ]
