@@ -29,6 +29,25 @@ SensorSpec = str | os.PathLike | Sensor | Sequence[Sensor] | None
 PROGRESS_MIN_FRAMES = 200
 PARALLEL_MIN_WORK = 5_000  # (frame, observer) pairs from which all cores are used by default
 CHUNK_FRAMES = 500
+CHUNK_ROWS = 250_000  # output rows a chunk aims at, at most: bounds each worker's memory when every object observes
+
+
+def chunk_size(objects: ObjectTable, n_egos: int, chunk_frames: int, n_sensors: int = 1) -> int:
+    """Frames per chunk: ``chunk_frames`` at most, fewer when frames yield many rows (many observers), so that a
+    chunk's table stays near :data:`CHUNK_ROWS` rows (about 20 MiB of arrays in the worker).
+
+    Examples
+    --------
+    >>> import polars as pl
+    >>> frames = pl.DataFrame({"frame": [0, 0, 1, 1], "total_nanos": [0, 0, 1, 1], "idx": [0, 1, 0, 1],
+    ...     "x": [0.0, 9, 0, 9], "y": [0.0] * 4, "length": [4.0] * 4, "width": [2.0] * 4, "yaw": [0.0] * 4})
+    >>> objects = load_objects(frames)
+    >>> chunk_size(objects, 2, 500), chunk_size(objects, 2, 500, n_sensors=200_000)
+    (500, 1)
+    """
+    per_frame = len(objects.idx) / max(objects.n_frames, 1)
+    rows = per_frame * min(n_egos, per_frame) * n_sensors
+    return max(1, min(chunk_frames, int(CHUNK_ROWS // max(rows, 1.0))))
 
 
 def describe_idx(present: np.ndarray) -> str:
@@ -132,7 +151,7 @@ def get_visibility_df(
         refused: for CSV, call ``write_csv`` on the returned table. The parts are written in a temporary
         directory beside it, renamed when complete, so a failed or killed run leaves no partial result.
     chunk_frames : int
-        Frames per chunk of work.
+        Frames per chunk of work, at most (fewer when frames yield many rows, see :func:`chunk_size`).
     hide_progress : bool, optional
         0.1.0's name for ``progress=not hide_progress`` (a ValueError if both are given and contradict).
     sensors : "roof", "typical", a .json path, a Sensor or a sequence of Sensors, optional
@@ -199,6 +218,7 @@ def get_visibility_df(
     if chunk_frames < 1:
         raise ValueError(f"chunk_frames must be at least 1, not {chunk_frames}")
     n_workers = auto_workers(objects.n_frames * len(egos)) if workers is None else max(1, int(workers))
+    chunk_frames = chunk_size(objects, len(egos), chunk_frames, 1 if sensor_set is None else len(sensor_set))
     n_workers = min(n_workers, len(chunks(objects.n_frames, chunk_frames, n_workers)))
     show = objects.n_frames >= PROGRESS_MIN_FRAMES if progress is None else progress
     bar = tqdm(total=objects.n_frames, disable=not show, desc="visibility", unit="frame")

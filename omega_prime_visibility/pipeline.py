@@ -124,15 +124,15 @@ def observe_frame(
         return
     views = viewpoints(objects, rows, statics, sensors)
     observations = engine.observe(objects, views)
-    inside = np.array([view.transparent for view in views], dtype=bool).reshape(len(views), -1)
-    inside[np.arange(len(views)), [view.own for view in views]] = False
-    for k in np.flatnonzero(inside.any(axis=1)).tolist():
-        containment.add(int(objects.idx[views[k].own]), objects.idx[inside[k]], objects.frame)
+    owns = np.array([view.own for view in views], dtype=np.int64)
+    for view in views:
+        if np.count_nonzero(view.transparent) > 1:  # more than its own body: it is inside some object
+            inside = view.transparent.copy()
+            inside[view.own] = False
+            containment.add(int(objects.idx[view.own]), objects.idx[inside], objects.frame)
     per_observer = 0 if sensors is None else len(next(iter(sensors.values())) if isinstance(sensors, dict) else sensors)
     sensor_codes = None if sensors is None else np.tile(np.arange(per_observer), len(rows))
-    columns = frame_rows(
-        observations, np.array([view.own for view in views], dtype=np.int64), objects.idx, sensor_codes
-    )
+    columns = frame_rows(observations, owns, objects.idx, sensor_codes)
     builder.add(columns, frame=objects.frame, total_nanos=objects.total_nanos)
 
 
