@@ -1,12 +1,14 @@
 """Make every picture of the README from the bundled recording with the package's own plotting functions:
 ``uv run python scripts/make_pictures.py`` (or ``make pictures``) writes docs/frame.png, docs/merge.gif (at most
-2 MB), docs/timeline.png, and for the sensors docs/sensors.png and docs/sensors_timeline.png.
+2 MB), docs/timeline.png, for the sensors docs/sensors.png and docs/sensors_timeline.png, and docs/threed.png
+(:mod:`threed_picture`, a made-up scene where 2D and 3D disagree).
 
 The scene is the README's example: ``highway_merge.mcap`` seen from idx 0, with the guard rail as a static occluder.
 """
 
 from __future__ import annotations
 
+import sys
 import warnings
 from pathlib import Path
 
@@ -19,6 +21,9 @@ import shapely
 
 from omega_prime_visibility import animate, get_visibility_df, plot_frame, save_timeline, timeline_chart
 from omega_prime_visibility.io import read_recording
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import threed_picture
 
 REPO = Path(__file__).resolve().parent.parent
 DOCS = REPO / "docs"
@@ -55,7 +60,8 @@ def main() -> None:
     shown = per_sensor.filter(pl.col("sensor").is_in(["front_camera", "corner_rear_left"]))
     chart = timeline_chart(shown, title="status per sensor from ego 0: front camera and rear-left corner radar")
     save_timeline(chart, DOCS / "sensors_timeline.png", scale=1.5)
-    print(f"wrote {DOCS / 'frame.png'}, {gif} ({size / 1e6:.2f} MB), {DOCS / 'timeline.png'}, sensors pictures")
+    threed_picture.main(DOCS / "threed.png")
+    print(f"wrote {DOCS / 'frame.png'}, {gif} ({size / 1e6:.2f} MB), {DOCS / 'timeline.png'}, sensors and 3D pictures")
 
 
 if __name__ == "__main__":

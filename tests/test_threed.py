@@ -240,9 +240,9 @@ def test_readme_3d_example_and_picture() -> None:
     solid = namespace["solid"]
     assert solid.height == 1206 and solid.columns[-1] == "can_see"
     # the picture's scene: hidden in 2D, 66 % seen in 3D (the README's caption)
-    sys.path.insert(0, str(REPO / "docs"))
+    sys.path.insert(0, str(REPO / "scripts"))
     try:
-        from threed_figure import table as figure_table
+        from threed_picture import table as figure_table
     finally:
         sys.path.pop(0)
     df = figure_table()

@@ -36,7 +36,7 @@ def test_tutorial_runs_top_to_bottom() -> None:
     outputs = [o for cell in code for o in cell.outputs]
     assert not [o for o in outputs if o.output_type == "error"]
     assert not [o for o in outputs if o.get("name") == "stderr"]  # no warnings, no progress bars
-    assert sum("image/png" in o.get("data", {}) for o in outputs) == 3  # frame, timeline, sensors
+    assert sum("image/png" in o.get("data", {}) for o in outputs) == 4  # frame, timeline, sensors, 3D
     assert sum("image/gif" in o.get("data", {}) for o in outputs) == 1  # the animation
 
     def text_of(prefix: str) -> str:
@@ -61,3 +61,6 @@ def test_tutorial_runs_top_to_bottom() -> None:
     intervals = text_of("best = seen_by_any")
     assert re.search(r"│ 2\s+┆ 45\s+┆ 200\s+┆ 15.5\s+┆ 5000000000", intervals)
     assert "frame 30: the sensors see 17,771 m²" in text_of("seen = visible_area")
+    # 3D: the truck hidden in 2D is seen over the low car from the driver's eye
+    three_d = text_of("boxes = ")
+    assert re.search(r"│ 2\s+┆ 0.0\s+┆ 0.65\d*\s+┆ true", three_d)

@@ -1,5 +1,5 @@
 """Draws docs/threed.png: a scene where 2D and 3D disagree (a truck behind a low car), from above and from the
-driver's eye. Run: ``uv run python docs/threed_figure.py``."""
+driver's eye. ``scripts/make_pictures.py`` (``make pictures``) runs it with the README's other pictures."""
 
 from __future__ import annotations
 
@@ -33,7 +33,7 @@ def table() -> pl.DataFrame:
     )
 
 
-OUT = Path(__file__).with_name("threed.png")
+OUT = Path(__file__).resolve().parent.parent / "docs" / "threed.png"
 
 
 def main(out: Path = OUT) -> None:
