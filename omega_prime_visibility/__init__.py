@@ -5,8 +5,11 @@
 
 from .api import get_visibility_df, get_visibility_df_for_frame
 from .batch import run_batch
+from .combine import seen_by_any
 from .engines import ENGINES, Observation, Reason, Viewpoint
+from .intervals import visible_intervals
 from .scene import VisibilityInputWarning
+from .sensors import Sensor
 from .table import SCHEMA
 
 __all__ = [
@@ -14,13 +17,16 @@ __all__ = [
     "SCHEMA",
     "Observation",
     "Reason",
+    "Sensor",
     "Viewpoint",
     "VisibilityInputWarning",
     "get_visibility_df",
     "get_visibility_df_for_frame",
     "metrics",
     "run_batch",
+    "seen_by_any",
     "visibility",
+    "visible_intervals",
 ]
 
 

@@ -13,18 +13,19 @@ from typing import Any, Literal
 
 import numpy as np
 import polars as pl
-import pyarrow.parquet as pq
 import shapely
 from tqdm.auto import tqdm
 
 from .engines import get_engine
-from .output import atomic_write, check_output_path
+from .output import PartWriter, atomic_directory, check_output_path
 from .pipeline import ContainmentLog, chunks, run
 from .scene import ObjectTable, OnInvalid, as_lazy, load_objects
+from .sensors import Sensor, resolve_sensors
 from .statics import load_static_occluders
-from .table import empty_table, to_polars
+from .table import STATUSES, empty_table, to_polars
 
 EgoSpec = int | Sequence[int] | Literal["all"]
+SensorSpec = str | os.PathLike | Sensor | Sequence[Sensor] | None
 PROGRESS_MIN_FRAMES = 200
 PARALLEL_MIN_WORK = 5_000  # (frame, observer) pairs from which all cores are used by default
 CHUNK_FRAMES = 500
@@ -91,6 +92,7 @@ def get_visibility_df(
     output: str | os.PathLike | None = None,
     chunk_frames: int = CHUNK_FRAMES,
     hide_progress: bool | None = None,
+    sensors: SensorSpec = None,
 ) -> pl.DataFrame | pl.LazyFrame:
     """Visibility and occluders of every object, seen from the ego, in every frame where the ego exists.
 
@@ -117,22 +119,37 @@ def get_visibility_df(
         Processes over which chunks of frames are spread; by default all cores for long jobs (at least
         ``PARALLEL_MIN_WORK`` frame-observer pairs), else 1. The result does not depend on it.
     output : path, optional
-        Stream the table to this ``.parquet`` file chunk by chunk (memory stays bounded). The path is checked
-        before anything is computed (see :func:`check_output_path`); other suffixes are refused: for CSV, call
-        ``write_csv`` on the returned table. The file is written under a temporary name in the same folder and
-        renamed when complete, so a failed run leaves no partial file.
+        Stream the table to this ``.parquet`` path chunk by chunk (memory stays bounded): a directory of parquet
+        parts, one per chunk, each written by the worker that computed it, which ``polars.scan_parquet`` (and
+        pandas, pyarrow) read as one table. The path is checked before anything is computed (see
+        :func:`check_output_path`; a file there, or a dataset from an earlier run, is replaced); other suffixes are
+        refused: for CSV, call ``write_csv`` on the returned table. The parts are written in a temporary
+        directory beside it, renamed when complete, so a failed or killed run leaves no partial result.
     chunk_frames : int
         Frames per chunk of work.
     hide_progress : bool, optional
         0.1.0's name for ``progress=not hide_progress`` (a ValueError if both are given and contradict).
+    sensors : "roof", "typical", a .json path, a Sensor or a sequence of Sensors, optional
+        Look through these sensors, mounted on every observer (:mod:`omega_prime_visibility.sensors`; the layouts
+        are those of a 4.6 m x 1.85 m car, call ``typical(length, width)`` for another size). Needs the observers'
+        ``yaw``. None (the default): from the observer's centre, all around, without a range limit.
 
     Returns
     -------
-    polars.DataFrame, or polars.LazyFrame scanning the written parquet file when ``output`` is given
-        One row per (frame, observer, target): ``frame, total_nanos, [ego_idx], idx, occluder_idxs,
+    polars.DataFrame, or polars.LazyFrame scanning the written parquet dataset when ``output`` is given
+        One row per (frame, observer, target): ``frame, total_nanos, [idx_ego], idx, occluder_idxs,
         static_occluder_idxs, visibility`` where ``visibility`` in [0, 1] is the fraction of the target's
         angular extent along which it is the first thing hit, and the occluder lists hold, ascending, the
         objects and static occluders hit before the target along at least one direction.
+
+        With sensors, one row per (frame, observer, target, sensor) with a ``sensor`` column (its name) after
+        ``idx``, and two more columns: ``in_view``, the share of the target's angular extent (seen from the
+        sensor) inside the field of view along which the target is hit within range, ignoring occlusion (so
+        ``in_view - visibility`` is the share hidden by occluders and ``1 - in_view`` the share out of view),
+        and ``status`` (see ``omega_prime_visibility.table.STATUSES``). ``visibility`` then counts only
+        directions inside the field of view whose first hit is the target within range, and an occluder is
+        listed only when it is hit before the target along such a direction of the target's (so a body in front
+        of a target that lies beyond range is not listed).
 
     Examples
     --------
@@ -147,44 +164,55 @@ def get_visibility_df(
     progress = resolve_progress(progress, hide_progress)
     if output is not None:
         output = check_output_path(output)
+    sensor_set = resolve_sensors(sensors)
     objects = load_objects(df, on_invalid=on_invalid)
+    if sensor_set is not None and not _has_yaw(df):
+        raise ValueError("sensors need the observers' heading: the moving-object table has no 'yaw' column")
     statics = load_static_occluders(static_occluder_polys)
     egos, with_ego = resolve_egos(ego_idx, objects)
     get_engine(engine)  # unknown names fail here, not in a worker
     if chunk_frames < 1:
         raise ValueError(f"chunk_frames must be at least 1, not {chunk_frames}")
-    n_chunks = len(chunks(objects.n_frames, chunk_frames))
     n_workers = auto_workers(objects.n_frames * len(egos)) if workers is None else max(1, int(workers))
-    n_workers = min(n_workers, n_chunks)
+    n_workers = min(n_workers, len(chunks(objects.n_frames, chunk_frames, n_workers)))
     show = objects.n_frames >= PROGRESS_MIN_FRAMES if progress is None else progress
     bar = tqdm(total=objects.n_frames, disable=not show, desc="visibility", unit="frame")
     containment = ContainmentLog()
     tables: list[pl.DataFrame] = []
-    writer = None
-    with atomic_write(output) if output is not None else nullcontext() as temp:
+    with atomic_directory(output) if output is not None else nullcontext() as temp:
+        # workers write their own parts: only row counts and containment logs come back here
+        names = None if sensor_set is None else [s.name for s in sensor_set]
+        labels = {} if names is None else {"sensor": names, "status": STATUSES}
+        schema = empty_table(with_ego, names is not None).to_arrow().schema
+        sink = PartWriter(temp, schema, labels) if temp is not None else None
         try:
             with _executor(n_workers) as pool:
-                frames = run(objects, statics, egos, engine, chunk_frames=chunk_frames, executor=pool)
-                for n_frames, columns, log in frames:
+                spread = {"executor": pool, "workers": n_workers, "sink": sink}
+                frames = run(objects, statics, egos, engine, chunk_frames=chunk_frames, sensors=sensor_set, **spread)
+                written = 0
+                for n_frames, result, log in frames:
                     containment.merge(log)
-                    table = to_polars(columns, with_ego)
-                    if temp is not None:
-                        arrow = table.to_arrow()
-                        writer = writer or pq.ParquetWriter(str(temp), arrow.schema)
-                        writer.write_table(arrow)
+                    if sink is not None:
+                        written += result
                     else:
-                        tables.append(table)
+                        tables.append(to_polars(result, with_ego, names))
                     bar.update(n_frames)
         finally:
             bar.close()
-            if writer is not None:
-                writer.close()
-        if temp is not None and writer is None:
-            empty_table(with_ego).write_parquet(temp)
+        if sink is not None and not written:
+            sink.write_empty()
     containment.warn(stacklevel=3)
     if output is not None:
         return pl.scan_parquet(output)
-    return pl.concat(tables, rechunk=True) if tables else empty_table(with_ego)
+    return pl.concat(tables, rechunk=True) if tables else empty_table(with_ego, sensor_set is not None)
+
+
+def _has_yaw(df: Any) -> bool:
+    """Whether the moving-object input has a ``yaw`` column (a Recording always has)."""
+    try:
+        return "yaw" in as_lazy(df).collect_schema().names()
+    except (TypeError, ValueError):
+        return True
 
 
 @contextmanager
@@ -196,7 +224,11 @@ def _executor(n_workers: int) -> Iterator[ProcessPoolExecutor | None]:
     # VisiLibity only (never polars, whose thread pool does not survive a fork)
     method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
     with ProcessPoolExecutor(n_workers, mp_context=multiprocessing.get_context(method)) as pool:
-        yield pool
+        try:
+            yield pool
+        except BaseException:
+            pool.shutdown(cancel_futures=True)  # on an error or Ctrl-C, do not compute the chunks still queued
+            raise
 
 
 def get_visibility_df_for_frame(
@@ -208,6 +240,7 @@ def get_visibility_df_for_frame(
     *,
     engine: str = "visilibity",
     on_invalid: OnInvalid = "warn",
+    sensors: SensorSpec = None,
 ) -> pl.DataFrame:
     """:func:`get_visibility_df` for a single frame number (same parameters and columns; ``epsilon`` likewise has
     no effect).
@@ -224,4 +257,6 @@ def get_visibility_df_for_frame(
     one = lazy.filter(pl.col("frame") == frame).collect()
     if one.height == 0:
         raise ValueError(f"frame {frame} does not occur in the table")
-    return get_visibility_df(one, ego_idx, static_occluder_polys, engine=engine, progress=False, on_invalid=on_invalid)
+    return get_visibility_df(
+        one, ego_idx, static_occluder_polys, engine=engine, progress=False, on_invalid=on_invalid, sensors=sensors
+    )

@@ -10,6 +10,8 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
+from .sensors import LAYOUTS
+
 
 @dataclass(frozen=True)
 class FileOptions:
@@ -29,6 +31,8 @@ class FileOptions:
     map : str, optional
         OpenDRIVE map for OSI traces (MCAP files carry their own), or a JSON list of ``[trace name, map]`` pairs
         (map paths relative to the JSON file) when traces use different maps.
+    sensors : str, optional
+        A sensor layout name (``"roof"``, ``"typical"``) or a sensors JSON file (see :mod:`sensors`).
 
     Examples
     --------
@@ -44,9 +48,11 @@ class FileOptions:
     engine: str = "visilibity"
     static: str | None = field(default=None, metadata={"file": True})
     map: str | None = field(default=None, metadata={"file": True})
+    sensors: str | None = field(default=None, metadata={"file": True, "names": tuple(LAYOUTS)})
 
     def __post_init__(self) -> None:
         from .engines import ENGINES
+        from .sensors import resolve_sensors
 
         ego = self.ego
         if isinstance(ego, list | tuple) and ego and all(is_int(v) for v in ego):
@@ -57,9 +63,10 @@ class FileOptions:
             raise ValueError(f"ego must be an idx, a list of idx, 'all' or None (the host vehicle), not {ego!r}")
         if self.engine not in ENGINES:
             raise ValueError(f"unknown engine {self.engine!r}; available: {sorted(ENGINES)}")
+        resolve_sensors(self.sensors)  # an unknown layout or a bad sensors file: ValueError naming it
         for f in fields(self):
             value = getattr(self, f.name)
-            if f.metadata.get("file") and value is not None:
+            if f.metadata.get("file") and value is not None and value not in f.metadata.get("names", ()):
                 path = Path(value)
                 if not path.is_file():
                     what = "is not a file" if path.exists() else "does not exist"
@@ -68,13 +75,13 @@ class FileOptions:
 
     def api_kwargs(self) -> dict[str, Any]:
         """Keywords for ``get_visibility_df`` besides the recording, the ego and the static occluders."""
-        return {"engine": self.engine}
+        return {"engine": self.engine, "sensors": self.sensors}
 
     def fingerprint(self) -> str:
         """JSON of the options, with the SHA-256 of every file option's content (an edited file recomputes)."""
         values = asdict(self)
         for f in fields(self):
-            if f.metadata.get("file") and values[f.name] is not None:
+            if f.metadata.get("file") and values[f.name] not in (None, *f.metadata.get("names", ())):
                 values[f.name] = {"path": values[f.name], "sha256": _sha256(values[f.name])}
         return json.dumps(values, sort_keys=True)
 

@@ -30,6 +30,18 @@ def parse_ego(ego: str) -> int | list[int] | str:
     return values[0] if len(values) == 1 else values
 
 
+def parse_sensors(spec: str | None):
+    """``--sensors`` as the API's ``sensors`` (checked before any computing); a bad value exits with one line."""
+    if spec is None:
+        return None
+    from .sensors import resolve_sensors
+
+    try:
+        return resolve_sensors(spec)
+    except ValueError as e:
+        raise fail(str(e)) from None
+
+
 def fail(message: str) -> typer.Exit:
     """Print ``error: message`` to stderr; return the exit to raise (status 2)."""
     typer.echo(f"error: {message}", err=True)
@@ -50,6 +62,7 @@ def load_recording(path: Path, map_path: Path | None = None):
 Ego = Annotated[str, typer.Option(help="observer idx, comma-separated idx, or 'all'; default: host vehicle")]
 Engine = Annotated[str, typer.Option(help=f"one of {sorted(ENGINES)}")]
 Static = Annotated[Path | None, typer.Option("--static", help="static occluders: GeoJSON or WKT file (metres)")]
+Sensors = Annotated[str | None, typer.Option(help="look through sensors: 'roof', 'typical' or a sensors .json file")]
 
 
 def load_static(path: Path | None) -> list | None:
@@ -73,6 +86,7 @@ def run(
     workers: Annotated[int | None, typer.Option(help="processes (default: all cores for long jobs)")] = None,
     progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
     rows: Annotated[int, typer.Option(help="rows to print when no output is given")] = 20,
+    sensors: Sensors = None,
 ) -> None:
     """Compute the visibility table of one recording; print it with a per-target summary, or write it."""
     from .api import describe_idx, get_visibility_df
@@ -88,6 +102,7 @@ def run(
             raise fail(str(e)) from None
     ego_idx = parse_ego(ego) if ego else None
     statics = load_static(static)
+    sensor_set = parse_sensors(sensors)
     r = load_recording(recording, map_path)
     if ego_idx is None and r.host_vehicle_idx is None:
         present = np.unique(r._df["idx"].to_numpy())
@@ -96,7 +111,9 @@ def run(
         ego_idx = int(r.host_vehicle_idx)
     stream = output if output is not None and output.suffix == ".parquet" else None
     try:
-        table = get_visibility_df(r, ego_idx, statics, engine=engine, progress=progress, workers=workers, output=stream)
+        table = get_visibility_df(
+            r, ego_idx, statics, engine=engine, progress=progress, workers=workers, output=stream, sensors=sensor_set
+        )
         if output is not None and stream is None:
             with atomic_write(output) as temp:
                 table.with_columns(
@@ -115,7 +132,7 @@ def run(
     else:
         with pl.Config(tbl_rows=rows, tbl_cols=-1, fmt_table_cell_list_len=8):
             typer.echo(table)
-        by = ["idx_ego", "idx"] if "idx_ego" in table.columns else ["idx"]
+        by = [c for c in ("idx_ego", "idx", "sensor") if c in table.columns]
         summary = table.group_by(by).agg(
             pl.col("visibility").mean().alias("mean_visibility"),
             (pl.col("visibility") == 0.0).mean().alias("hidden_share"),
@@ -147,6 +164,7 @@ def batch(
         Path | None, typer.Option("--map", help="OpenDRIVE map for the OSI traces, or a JSON list of [trace, map]")
     ] = None,
     workers: Annotated[int | None, typer.Option(help="local processes over files (default: the cores)")] = None,
+    sensors: Sensors = None,
     scheduler: Annotated[str | None, typer.Option(help="dask scheduler address, e.g. tcp://host:8786")] = None,
     scheduler_file: Annotated[Path | None, typer.Option(help="dask scheduler file (dask scheduler --help)")] = None,
     overwrite: Annotated[bool, typer.Option(help="recompute results that are current")] = False,
@@ -159,6 +177,7 @@ def batch(
     from .batch import SUMMARY_NAME, BatchInterrupted, run_batch
 
     options = {"ego": parse_ego(ego) if ego else None, "engine": engine, "static": static, "map": map_path}
+    options["sensors"] = sensors
     try:
         summary = run_batch(
             inputs,

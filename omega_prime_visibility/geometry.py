@@ -254,14 +254,30 @@ def angular_extent(observer: np.ndarray, rings: Rings) -> tuple[np.ndarray, np.n
 def _covers_point(px, py, coords, offsets, tolerance):
     """Whether each ragged ring (``coords`` (m, 2), ``offsets`` (n + 1,), metres) contains the point ``(px, py)``
     (even-odd rule) or passes within ``tolerance`` metres of it; shape (n,) bool."""
+    return _covers_in_boxes(px, py, coords, offsets, tolerance, _ring_boxes(coords, offsets))
+
+
+@numba.njit(cache=True)
+def _ring_boxes(coords, offsets):
+    """``(x0, y0, x1, y1)`` bounding box of each ragged ring, shape (n, 4)."""
+    n = len(offsets) - 1
+    boxes = np.empty((n, 4))
+    for i in range(n):
+        s, e = offsets[i], offsets[i + 1]
+        boxes[i, 0], boxes[i, 2] = coords[s:e, 0].min(), coords[s:e, 0].max()
+        boxes[i, 1], boxes[i, 3] = coords[s:e, 1].min(), coords[s:e, 1].max()
+    return boxes
+
+
+@numba.njit(cache=True)
+def _covers_in_boxes(px, py, coords, offsets, tolerance, boxes):
     n = len(offsets) - 1
     out = np.zeros(n, dtype=np.bool_)
     for i in range(n):
-        s, e = offsets[i], offsets[i + 1]
-        x0, x1 = coords[s:e, 0].min(), coords[s:e, 0].max()
-        y0, y1 = coords[s:e, 1].min(), coords[s:e, 1].max()
+        x0, y0, x1, y1 = boxes[i, 0], boxes[i, 1], boxes[i, 2], boxes[i, 3]
         if px < x0 - tolerance or px > x1 + tolerance or py < y0 - tolerance or py > y1 + tolerance:
             continue
+        s, e = offsets[i], offsets[i + 1]
         inside = False
         best = np.inf
         for j in range(s, e):
@@ -273,6 +289,31 @@ def _covers_point(px, py, coords, offsets, tolerance):
             best = min(best, segment_distance2(ax, ay, bx, by))
         out[i] = inside or best <= tolerance * tolerance
     return out
+
+
+@numba.njit(cache=True)
+def _covers_points(points, coords, offsets, tolerance):
+    """:func:`_covers_point` for each of ``points`` (shape (k, 2)), shape (k, n) bool."""
+    out = np.empty((len(points), len(offsets) - 1), dtype=np.bool_)
+    boxes = _ring_boxes(coords, offsets)
+    for p in range(len(points)):
+        out[p] = _covers_in_boxes(points[p, 0], points[p, 1], coords, offsets, tolerance, boxes)
+    return out
+
+
+def covers_points(points: np.ndarray, rings: Rings, tolerance: float = 1e-9) -> np.ndarray:
+    """:func:`covers_point` for several points at once (one compiled call), shape (k, n) bool.
+
+    Examples
+    --------
+    >>> square = Rings(np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]]), np.array([0, 4]))
+    >>> covers_points(np.array([[1.0, 1.0], [3.0, 1.0], [2.0, 1.0]]), square).ravel().tolist()
+    [True, False, True]
+    """
+    points = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
+    coords = np.ascontiguousarray(rings.coords, dtype=np.float64)
+    offsets = np.asarray(rings.offsets, dtype=np.int64)
+    return _covers_points(points, coords, offsets, float(tolerance))
 
 
 def covers_point(point: np.ndarray, rings: Rings, tolerance: float = 1e-9) -> np.ndarray:

@@ -49,6 +49,16 @@ def reserve(buffer, size, needed):
     return grown
 
 
+@numba.njit(cache=True)
+def reserve_rows(buffer, size, needed):
+    """:func:`reserve` for a 2D buffer of shape (capacity, columns): rows ``[:size]`` are in use."""
+    if needed <= len(buffer):
+        return buffer
+    grown = np.empty((max(2 * len(buffer), needed, MIN_CAPACITY), buffer.shape[1]), dtype=buffer.dtype)
+    grown[:size] = buffer[:size]
+    return grown
+
+
 @numba.njit(cache=True, inline="always")
 def push_pair(first, second, size, i, j):
     """Append the pair ``(i, j)`` at position ``size`` of two growable buffers.

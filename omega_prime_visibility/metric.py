@@ -16,7 +16,7 @@ import polars as pl
 import shapely
 from omega_prime.metrics import metric
 
-from .api import EgoSpec, get_visibility_df
+from .api import EgoSpec, SensorSpec, get_visibility_df
 from .scene import OnInvalid
 
 
@@ -31,6 +31,7 @@ def visibility(
     on_invalid: OnInvalid = "warn",
     ego_idx: EgoSpec | None = None,
     epsilon: float | None = None,
+    sensors: SensorSpec = None,
 ) -> tuple[pl.LazyFrame, dict[str, pl.LazyFrame]]:
     """Visibility of every object from ``ego_id`` (one idx, a list, or ``"all"``) in every frame.
 
@@ -40,7 +41,8 @@ def visibility(
 
     For 0.1.0 callers, ``ego_idx`` is accepted instead of ``ego_id`` (give exactly one of them), and ``epsilon``
     (metres) is accepted for compatibility with 0.1.0, where it was VisiLibity's snapping distance; the result here
-    is exact and does not depend on it.
+    is exact and does not depend on it. ``sensors`` (a layout name, a JSON file or Sensor objects) looks through
+    sensors, as in :func:`~omega_prime_visibility.get_visibility_df`.
     """
     # ValueError, not TypeError: omega-prime relabels a metric's TypeError as "Missing parameter"
     if (ego_id is None) == (ego_idx is None):
@@ -57,6 +59,7 @@ def visibility(
         engine=engine,
         progress=progress,
         on_invalid=on_invalid,
+        sensors=sensors,
     )
     return df, {"visibility": table.lazy()}
 

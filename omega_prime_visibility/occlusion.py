@@ -72,13 +72,23 @@ def occludes_one(ox, oy, seg, j_start, j_stop, t_start, t_stop, extent_start, ex
     -------
     bool
     """
-    n = 2 * (j_stop - j_start + t_stop - t_start) + 2
+    whole_lo = np.zeros(1)
+    whole_hi = np.full(1, extent_width)
+    return occludes_within(ox, oy, seg, j_start, j_stop, t_start, t_stop, extent_start, whole_lo, whole_hi)
+
+
+@numba.njit(cache=True)
+def occludes_within(ox, oy, seg, j_start, j_stop, t_start, t_stop, extent_start, allowed_lo, allowed_hi):
+    """:func:`occludes_one` along the directions ``extent_start + [allowed_lo[i], allowed_hi[i]]`` only (sorted,
+    disjoint intervals of bearings relative to ``T``'s extent start, radians, within its width)."""
+    extent_width = allowed_hi[-1]
+    n = 2 * (j_stop - j_start + t_stop - t_start) + 2 * len(allowed_lo)
     cuts = np.empty(n)
     k = 0
-    cuts[k] = 0.0
-    k += 1
-    cuts[k] = extent_width
-    k += 1
+    for i in range(len(allowed_lo)):
+        cuts[k] = allowed_lo[i]
+        cuts[k + 1] = allowed_hi[i]
+        k += 2
     for lo, hi in ((j_start, j_stop), (t_start, t_stop)):
         for j in range(lo, hi):
             for e in range(2):
@@ -87,9 +97,16 @@ def occludes_one(ox, oy, seg, j_start, j_stop, t_start, t_stop, extent_start, ex
                     cuts[k] = rel
                     k += 1
     cuts = np.sort(cuts[:k])
+    interval = 0
     for i in range(k - 1):
         u0, u1 = cuts[i], cuts[i + 1]
         if u1 - u0 < MIN_PIECE:
+            continue
+        while interval < len(allowed_hi) and allowed_hi[interval] <= u0:
+            interval += 1
+        if interval == len(allowed_hi):
+            break
+        if u0 < allowed_lo[interval]:  # a gap between allowed intervals
             continue
         mid = extent_start + 0.5 * (u0 + u1)
         dx, dy = np.cos(mid), np.sin(mid)

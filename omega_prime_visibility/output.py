@@ -1,13 +1,29 @@
-"""Writing results safely: output paths checked before any work, files written under a temporary name and renamed
-when complete, so nothing half-written is ever left under the final name."""
+"""Writing results safely: output paths checked before any work, files (or a directory of parquet parts) written
+under a temporary name and renamed when complete, so nothing half-written is ever left under the final name.
+
+A streamed table is a *dataset*: a directory named like a file (``vis.parquet``) holding one parquet part per
+chunk of frames (``part-000000.parquet``, ...), each written by the worker that computed it, all with one schema.
+``polars.scan_parquet``, ``polars.read_parquet``, ``pandas.read_parquet`` and ``pyarrow.parquet.read_table`` read
+it as one table, in part order.
+"""
 
 from __future__ import annotations
 
 import os
+import re
 import secrets
-from collections.abc import Iterator, Sequence
+import shutil
+from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
+from dataclasses import dataclass, field
 from pathlib import Path
+
+import numpy as np
+import pyarrow as pa
+import pyarrow.parquet as pq
+
+PART = re.compile(r"part-\d{6,}\.parquet")
+"""Names of the parts of a dataset written here."""
 
 
 def check_output_path(path: str | os.PathLike, suffixes: Sequence[str] = (".parquet",)) -> Path:
@@ -30,8 +46,8 @@ def check_output_path(path: str | os.PathLike, suffixes: Sequence[str] = (".parq
         raise ValueError(f"cannot write {path}: the folder {folder} does not exist")
     if not folder.is_dir():
         raise ValueError(f"cannot write {path}: {folder} is not a folder")
-    if path.is_dir():
-        raise ValueError(f"cannot write {path}: it is a directory")
+    if path.is_dir() and not (path.suffix == ".parquet" and is_dataset(path)):
+        raise ValueError(f"cannot write {path}: it is a directory (and not a parquet dataset written here)")
     if path.exists() and not os.access(path, os.W_OK):
         raise ValueError(f"cannot write {path}: the file exists and is read-only")
     # permissions alone do not tell (read-only mounts, /proc, ACLs): create and remove a file to be sure
@@ -63,3 +79,96 @@ def atomic_write(path: str | os.PathLike) -> Iterator[Path]:
     except BaseException:
         temp.unlink(missing_ok=True)
         raise
+
+
+def is_dataset(path: str | os.PathLike) -> bool:
+    """Whether ``path`` is a directory holding parquet parts written here and nothing else (so it may be replaced)."""
+    path = Path(path)
+    if not path.is_dir() or path.is_symlink():
+        return False
+    names = [p.name for p in path.iterdir()]
+    return bool(names) and all(PART.fullmatch(name) for name in names)
+
+
+@contextmanager
+def atomic_directory(path: str | os.PathLike) -> Iterator[Path]:
+    """Yield a new, empty temporary directory next to ``path``; on success it replaces ``path`` (a file or a
+    dataset, see :func:`is_dataset`), on any error it is removed.
+
+    The old content is first renamed away, then the new directory renamed in, then the old removed: at no moment
+    does ``path`` hold a half-written result (a run killed between the two renames leaves ``path`` absent and the
+    previous result under a hidden name beside it).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> with atomic_directory(folder / "t.parquet") as temp:
+    ...     (temp / "part-000000.parquet").write_bytes(b"")
+    0
+    >>> sorted(p.name for p in folder.iterdir()), is_dataset(folder / "t.parquet")
+    (['t.parquet'], True)
+    """
+    path = Path(path)
+    temp = _temp_name(path)
+    temp.mkdir()
+    try:
+        yield temp
+        old = None
+        if path.exists() or path.is_symlink():
+            old = _temp_name(path)
+            os.replace(path, old)
+        os.replace(temp, path)
+    except BaseException:
+        shutil.rmtree(temp, ignore_errors=True)
+        raise
+    if old is not None and old.is_dir() and not old.is_symlink():
+        shutil.rmtree(old)
+    elif old is not None:
+        old.unlink()
+
+
+@dataclass(frozen=True)
+class PartWriter:
+    """Writes the ``k``-th chunk's columns as ``part-{k:06d}.parquet`` in ``directory`` (called in the worker
+    that computed them; pyarrow only, no polars, which does not survive a fork).
+
+    Parameters
+    ----------
+    directory : Path
+        The dataset's (temporary) directory.
+    schema : pyarrow.Schema
+        The table's schema (e.g. ``empty_table(...).to_arrow().schema``): column order and types. Large-list
+        columns come as ``(lengths, values)`` pairs of arrays, the others as arrays.
+    labels : mapping of str to sequence of str
+        For string or dictionary columns: the strings that the column's integer codes stand for.
+    """
+
+    directory: Path
+    schema: pa.Schema
+    labels: Mapping[str, Sequence[str]] = field(default_factory=dict)
+
+    def __call__(self, k: int, columns: Mapping | None) -> int:
+        """Write chunk ``k`` (nothing when ``columns`` is None); the number of rows written."""
+        if columns is None:
+            return 0
+        table = pa.Table.from_arrays([self._array(f, columns[f.name]) for f in self.schema], schema=self.schema)
+        pq.write_table(table, self.directory / f"part-{k:06d}.parquet")
+        return table.num_rows
+
+    def write_empty(self) -> None:
+        """Write a part with no rows, so that an empty result still reads as a table with the schema."""
+        pq.write_table(self.schema.empty_table(), self.directory / "part-000000.parquet")
+
+    def _array(self, f: pa.Field, data) -> pa.Array:
+        if pa.types.is_large_list(f.type):
+            lengths, values = data
+            offsets = np.zeros(len(lengths) + 1, dtype=np.int64)
+            np.cumsum(lengths, out=offsets[1:])
+            return pa.LargeListArray.from_arrays(pa.array(offsets), pa.array(values, f.type.value_type))
+        if pa.types.is_dictionary(f.type):
+            dictionary = pa.array(list(self.labels[f.name]), f.type.value_type)
+            return pa.DictionaryArray.from_arrays(pa.array(data, f.type.index_type), dictionary)
+        if f.name in self.labels:
+            return pa.array(list(self.labels[f.name]), f.type).take(pa.array(data))
+        return pa.array(data, f.type)

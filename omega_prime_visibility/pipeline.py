@@ -11,17 +11,18 @@ from __future__ import annotations
 
 import warnings
 from collections import Counter
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Executor
+from typing import Any
 
 import numpy as np
-import shapely
 
 from .engines import Engine, Viewpoint, get_engine
-from .geometry import covers_point
+from .geometry import covers_points
 from .scene import FrameObjects, ObjectTable, VisibilityInputWarning
+from .sensors import Sensor, sensor_poses
 from .statics import StaticOccluders
-from .table import Columns, TableBuilder, observation_rows
+from .table import Columns, TableBuilder, frame_rows
 
 
 class ContainmentLog:
@@ -57,22 +58,40 @@ class ContainmentLog:
         )
 
 
-def viewpoints(objects: FrameObjects, rows: np.ndarray, statics: StaticOccluders) -> list[Viewpoint]:
-    """Viewpoints at the bounding-box centres of the objects at row numbers ``rows`` of this frame.
+def viewpoints(
+    objects: FrameObjects, rows: np.ndarray, statics: StaticOccluders, sensors: Sequence[Sensor] | None = None
+) -> list[Viewpoint]:
+    """Viewpoints of the objects at row numbers ``rows`` of this frame: at each bounding-box centre seeing all
+    around, or, with ``sensors``, one per (observer, sensor) in that order, at the sensor's pose with its field
+    of view and range.
 
     Transparent to each: its own object and every object containing or touching the viewpoint, and the static
     occluders containing it.
     """
-    out = []
-    for row in np.asarray(rows, dtype=np.int64).tolist():
-        position = objects.position[row]
-        transparent = covers_point(position, objects.rings)
-        transparent[row] = True
-        static_transparent = np.zeros(statics.n_sources, dtype=bool)
-        if statics.n_sources:
-            static_transparent = np.asarray(shapely.intersects(statics.geometries, shapely.Point(position)))
-        out.append(Viewpoint(position, float(objects.yaw[row]), row, transparent, static_transparent))
-    return out
+    rows = np.asarray(rows, dtype=np.int64)
+    if sensors is None:
+        owners = rows
+        positions = objects.position[rows]
+        headings = objects.yaw[rows]
+    else:
+        owners = np.repeat(rows, len(sensors))
+        poses = [sensor_poses(s, objects.position[rows], objects.yaw[rows]) for s in sensors]
+        positions = np.stack([p for p, _ in poses], axis=1).reshape(-1, 2)
+        headings = np.stack([h for _, h in poses], axis=1).reshape(-1)
+    transparent = covers_points(positions, objects.rings)
+    transparent[np.arange(len(owners)), owners] = True
+    static_transparent = statics.containing(positions)
+    headings = headings.tolist()
+    if sensors is None:
+        return [
+            Viewpoint(positions[k], headings[k], row, transparent[k], static_transparent[k])
+            for k, row in enumerate(owners.tolist())
+        ]
+    limits = [(s.fov, s.range, s.z, s.vertical_fov, s.pitch) for s in sensors]
+    return [
+        Viewpoint(positions[k], headings[k], row, transparent[k], static_transparent[k], *limits[k % len(sensors)])
+        for k, row in enumerate(owners.tolist())
+    ]
 
 
 def observer_rows(objects: FrameObjects, egos: np.ndarray) -> np.ndarray:
@@ -91,41 +110,67 @@ def observe_frame(
     egos: np.ndarray,
     builder: TableBuilder,
     containment: ContainmentLog,
+    sensors: Sequence[Sensor] | None = None,
 ) -> None:
-    """Run the engine for every observer present in this frame and add the rows to ``builder``."""
+    """Run the engine for every observer (and sensor) present in this frame and add the rows to ``builder``."""
     rows = observer_rows(objects, egos)
     if len(rows) == 0:
         return
-    views = viewpoints(objects, rows, statics)
-    for view, observation in zip(views, engine.observe(objects, views), strict=True):
-        ego = int(objects.idx[view.own])
-        inside = view.transparent.copy()
-        inside[view.own] = False
-        if inside.any():
-            containment.add(ego, objects.idx[inside], objects.frame)
-        columns = observation_rows(observation, view.own, objects.idx)
-        builder.add(columns, frame=objects.frame, total_nanos=objects.total_nanos, idx_ego=ego)
+    views = viewpoints(objects, rows, statics, sensors)
+    observations = engine.observe(objects, views)
+    inside = np.array([view.transparent for view in views], dtype=bool).reshape(len(views), -1)
+    inside[np.arange(len(views)), [view.own for view in views]] = False
+    for k in np.flatnonzero(inside.any(axis=1)).tolist():
+        containment.add(int(objects.idx[views[k].own]), objects.idx[inside[k]], objects.frame)
+    sensor_codes = None if sensors is None else np.tile(np.arange(len(sensors)), len(rows))
+    columns = frame_rows(
+        observations, np.array([view.own for view in views], dtype=np.int64), objects.idx, sensor_codes
+    )
+    builder.add(columns, frame=objects.frame, total_nanos=objects.total_nanos)
 
 
 def run_chunk(
-    objects: ObjectTable, statics: StaticOccluders, egos: np.ndarray, engine: str
+    objects: ObjectTable,
+    statics: StaticOccluders,
+    egos: np.ndarray,
+    engine: str,
+    sensors: Sequence[Sensor] | None = None,
 ) -> tuple[Columns | None, ContainmentLog]:
     """All frames of ``objects`` with a fresh engine; plain arrays by column name, and the containment log."""
     eng = get_engine(engine)(statics)
     builder = TableBuilder()
     containment = ContainmentLog()
     for k in range(objects.n_frames):
-        observe_frame(eng, statics, objects.frame_objects(k), egos, builder, containment)
+        observe_frame(eng, statics, objects.frame_objects(k), egos, builder, containment, sensors)
     return builder.arrays(), containment
 
 
-def _run_chunk_star(args: tuple) -> tuple[Columns | None, ContainmentLog]:
-    return run_chunk(*args)
+def _run_chunk_star(args: tuple) -> tuple[Any, ContainmentLog]:
+    *chunk, sink, k = args
+    columns, log = run_chunk(*chunk)
+    return (columns if sink is None else sink(k, columns)), log
 
 
-def chunks(n_frames: int, chunk_frames: int) -> list[tuple[int, int]]:
-    """``(start, stop)`` frame positions of consecutive chunks of at most ``chunk_frames`` frames."""
-    return [(k, min(k + chunk_frames, n_frames)) for k in range(0, n_frames, chunk_frames)]
+def chunks(n_frames: int, chunk_frames: int, workers: int = 1) -> list[tuple[int, int]]:
+    """``(start, stop)`` frame positions of consecutive chunks of at most ``chunk_frames`` frames.
+
+    With several ``workers``, the number of chunks is a multiple of ``workers`` and their sizes differ by at most
+    one frame, so that no worker is left idle while another finishes a last, lone chunk.
+
+    Examples
+    --------
+    >>> chunks(10, 4)
+    [(0, 4), (4, 8), (8, 10)]
+    >>> chunks(10, 4, workers=2)
+    [(0, 3), (3, 6), (6, 8), (8, 10)]
+    """
+    if workers <= 1 or n_frames == 0:
+        return [(k, min(k + chunk_frames, n_frames)) for k in range(0, n_frames, chunk_frames)]
+    count = -(-n_frames // chunk_frames)
+    count = min(-(-count // workers) * workers, n_frames)
+    size, extra = divmod(n_frames, count)
+    stops = np.cumsum([size + (k < extra) for k in range(count)]).tolist()
+    return list(zip([0, *stops[:-1]], stops, strict=True))
 
 
 def run(
@@ -136,7 +181,10 @@ def run(
     *,
     chunk_frames: int,
     executor: Executor | None = None,
-) -> Iterator[tuple[int, Columns | None, ContainmentLog]]:
+    workers: int = 1,
+    sink: Callable[[int, Columns | None], Any] | None = None,
+    sensors: Sequence[Sensor] | None = None,
+) -> Iterator[tuple[int, Any, ContainmentLog]]:
     """Observe every frame, chunk by chunk, in order; yields ``(frames in the chunk, columns, containment log)``.
 
     Parameters
@@ -148,12 +196,21 @@ def run(
     engine : str
         A registered engine name; every chunk builds its own engine, so the result never depends on chunking.
     chunk_frames : int
-        Frames per chunk.
+        Frames per chunk (at most).
     executor : concurrent.futures.Executor, optional
         Where chunks run (its ``map`` keeps their order); None runs them here, one after another.
+    workers : int
+        Processes behind ``executor``; the chunks are balanced over them (see :func:`chunks`).
+    sink : callable, optional
+        Called where the chunk ran (in the worker) as ``sink(k, columns)`` for the ``k``-th chunk (0-based); what
+        it returns is yielded instead of the columns (e.g. it writes them to disk and returns a row count, so
+        the columns never travel back to this process).
+    sensors : sequence of Sensor, optional
+        Observe through these sensors (rows gain a ``sensor`` code, their position in this sequence, and the
+        ``in_view`` and ``status`` columns); None: from each observer's centre, all around.
     """
-    bounds = chunks(objects.n_frames, chunk_frames)
-    tasks = ((objects.frame_range(a, b), statics, egos, engine) for a, b in bounds)
+    bounds = chunks(objects.n_frames, chunk_frames, workers)
+    tasks = ((objects.frame_range(a, b), statics, egos, engine, sensors, sink, k) for k, (a, b) in enumerate(bounds))
     results = executor.map(_run_chunk_star, tasks) if executor is not None else map(_run_chunk_star, tasks)
     for (a, b), (columns, log) in zip(bounds, results, strict=True):
         yield b - a, columns, log

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 import shapely
 
-from .geometry import Rings, orient, rings_from, signed_area
+from .geometry import Rings, edges, orient, ring_ids, rings_from, signed_area
 from .scene import MIN_AREA
 
 
@@ -30,6 +30,8 @@ class StaticOccluders:
         Position, in the user's list, of the occluder each segment comes from.
     geometries : ndarray of shapely geometries, shape (n_sources,)
         The occluders as given (validated).
+    bounds : ndarray, shape (n_sources, 4)
+        ``xmin, ymin, xmax, ymax`` of each occluder, metres.
     """
 
     rings: Rings
@@ -37,10 +39,37 @@ class StaticOccluders:
     segments: np.ndarray
     segment_source: np.ndarray
     geometries: np.ndarray
+    bounds: np.ndarray
 
     @property
     def n_sources(self) -> int:
         return len(self.geometries)
+
+    def containing(self, points: np.ndarray) -> np.ndarray:
+        """Whether each occluder contains or touches each of ``points`` (shape (k, 2), metres), shape
+        (k, n_sources) bool; only occluders whose bounding box holds a point are tested exactly (the boxes are
+        closed), so a large map costs little."""
+        points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+        inside = np.zeros((len(points), self.n_sources), dtype=bool)
+        if self.n_sources:
+            x0, y0, x1, y1 = self.bounds.T[:, :, None]
+            px, py = points[:, 0], points[:, 1]
+            near = (x0 <= px) & (px <= x1) & (y0 <= py) & (py <= y1)
+            if near.any():
+                s, v = np.nonzero(near)
+                inside[v, s] = shapely.intersects(self.geometries[s], shapely.points(points[v]))
+        return inside
+
+    def source_edges(self) -> tuple[np.ndarray, np.ndarray]:
+        """Every edge (ring edges and wall segments), shape (s, 2, 2) metres, grouped by source: the edges and
+        the CSR offsets (shape (n_sources + 1,)) of each source's edges."""
+        a, b = edges(self.rings)
+        seg = np.concatenate([np.stack([a, b], axis=1), np.asarray(self.segments, dtype=np.float64).reshape(-1, 2, 2)])
+        src = np.concatenate([self.ring_source[ring_ids(self.rings.offsets)], self.segment_source]).astype(np.int64)
+        order = np.argsort(src, kind="stable")
+        offsets = np.zeros(self.n_sources + 1, dtype=np.int64)
+        np.cumsum(np.bincount(src, minlength=self.n_sources), out=offsets[1:])
+        return np.ascontiguousarray(seg[order]), offsets
 
 
 def polygonal_and_lineal_parts(geometry: shapely.Geometry) -> tuple[list[shapely.Polygon], list[shapely.LineString]]:
@@ -143,4 +172,5 @@ def load_static_occluders(geometries: Sequence[Any] | Any | None) -> StaticOcclu
         segments=np.concatenate(segments) if segments else np.zeros((0, 2, 2)),
         segment_source=np.asarray(segment_source, dtype=np.int64),
         geometries=np.asarray([*geoms, None], dtype=object)[:-1],
+        bounds=shapely.bounds(np.asarray([*geoms, None], dtype=object)[:-1]).reshape(-1, 4),
     )

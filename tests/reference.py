@@ -259,6 +259,11 @@ class ReferenceResult:
         is inside a transparent object).
     extent_start : np.ndarray
         ``(n_objects,)`` start angle of each extent in ``[-pi, pi)`` (``nan`` as above).
+    in_view : np.ndarray
+        ``(n_objects,)`` fraction of the extent inside the field of view along which the object itself is hit
+        within range (occlusion ignored); 1 without a sensor model, ``nan`` for transparent objects.
+    in_fov : np.ndarray
+        ``(n_objects,)`` fraction of the extent inside the field of view (range ignored).
     """
 
     visibility: np.ndarray
@@ -266,6 +271,8 @@ class ReferenceResult:
     static_occluders: list[dict[int, float]]
     angular_extent: np.ndarray
     extent_start: np.ndarray
+    in_view: np.ndarray
+    in_fov: np.ndarray
 
 
 def _interval_overlaps(s1: float, w1: float, s2: np.ndarray, w2: np.ndarray, margin: float) -> np.ndarray:
@@ -281,8 +288,16 @@ def reference_visibility(
     transparent: Any = None,
     n_rays: int = 20000,
     prefilter: bool = True,
+    heading: float = 0.0,
+    fov: float = TWO_PI,
+    max_range: float = np.inf,
 ) -> ReferenceResult:
     """Brute-force visibility of every object by dense ray casting.
+
+    With a sensor model (``fov`` < 2 pi or a finite ``max_range``) a ray counts only when it lies inside the
+    field of view ``[heading - fov / 2, heading + fov / 2]`` and hits the target within ``max_range``; the
+    visibility is the fraction of the extent's rays that count and are not blocked, and occluders are counted on
+    counting rays only.
 
     Parameters
     ----------
@@ -347,6 +362,8 @@ def reference_visibility(
     e_start, e_width, e_always = _edge_intervals(o, segs)
 
     visibility = np.full(n_obj, np.nan)
+    in_view = np.full(n_obj, np.nan)
+    in_fov = np.full(n_obj, np.nan)
     occ: list[dict[int, float]] = [{} for _ in range(n_obj)]
     socc: list[dict[int, float]] = [{} for _ in range(n_obj)]
     for i in range(n_obj):
@@ -365,7 +382,12 @@ def reference_visibility(
             raise RuntimeError(f"{np.sum(~np.isfinite(d_t))} rays inside the extent of object {i} miss it")
         blocked = dist < (d_t - _TIE_RTOL * (1.0 + d_t))[:, None]
         blocked[:, col_of[i]] = False
-        visibility[i] = 1.0 - np.count_nonzero(blocked.any(axis=1)) / n_rays
+        inside_fov = (angles - (heading - fov / 2)) % TWO_PI <= fov if fov < TWO_PI else np.ones(n_rays, dtype=bool)
+        counts = inside_fov & (d_t <= max_range)
+        blocked &= counts[:, None]
+        in_fov[i] = np.count_nonzero(inside_fov) / n_rays
+        in_view[i] = np.count_nonzero(counts) / n_rays
+        visibility[i] = in_view[i] - np.count_nonzero(blocked.any(axis=1)) / n_rays
         frac = np.count_nonzero(blocked, axis=0) / n_rays
         for c in np.flatnonzero(frac):
             k = owners[c]
@@ -379,6 +401,8 @@ def reference_visibility(
         static_occluders=socc,
         angular_extent=widths,
         extent_start=starts,
+        in_view=in_view,
+        in_fov=in_fov,
     )
 
 
@@ -675,9 +699,18 @@ except ImportError:  # pragma: no cover
     st = None
 
 
-def occlusion_confirmed(observer: Any, target: Any, occluder: Any, n_rays: int = 100_000) -> bool:
+def occlusion_confirmed(
+    observer: Any,
+    target: Any,
+    occluder: Any,
+    n_rays: int = 100_000,
+    heading: float = 0.0,
+    fov: float = TWO_PI,
+    max_range: float = np.inf,
+) -> bool:
     """Whether ``occluder`` is hit strictly before ``target`` along some ray, by dense rays aimed at the part of
-    the target's extent that the occluder's vertices can reach (for slivers thinner than a scene-wide ray cast).
+    the target's extent that the occluder's vertices can reach (for slivers thinner than a scene-wide ray cast);
+    with a sensor model, only rays inside the field of view that hit the target within range count.
     """
     o = np.asarray(observer, dtype=float).reshape(2)
     start, width = angular_extent_reference(o, target)
@@ -692,7 +725,10 @@ def occlusion_confirmed(observer: Any, target: Any, occluder: Any, n_rays: int =
     angles = start + lo + (np.arange(n_rays) + 0.5) * (hi - lo) / n_rays
     d = nearest_hit_distances(o, [target, occluder], angles)
     d_t, d_j = d[:, 0], d[:, 1]
-    return bool((np.isfinite(d_t) & (d_j < d_t - _TIE_RTOL * (1.0 + d_t))).any())
+    counts = np.isfinite(d_t) & (d_t <= max_range)
+    if fov < TWO_PI:
+        counts &= (angles - (heading - fov / 2)) % TWO_PI <= fov
+    return bool((counts & (d_j < d_t - _TIE_RTOL * (1.0 + d_t))).any())
 
 
 def occluder_disagreements(
@@ -702,14 +738,16 @@ def occluder_disagreements(
     want: dict[int, float],
     bodies: Sequence[Any],
     must_fraction: float,
+    **sensor: float,
 ) -> set[int]:
     """Occluders on which an engine (``got``) and the reference (``want``: blocked fractions) really disagree.
 
     The engine must list every occluder blocking at least ``must_fraction`` of the target's extent; one it lists
-    that the reference's rays did not see counts only if :func:`occlusion_confirmed` finds no ray either.
+    that the reference's rays did not see counts only if :func:`occlusion_confirmed` (given the same ``sensor``
+    keywords: ``heading``, ``fov``, ``max_range``) finds no ray either.
     """
     missing = {k for k, f in want.items() if f >= must_fraction} - got
-    extra = {k for k in got - set(want) if not occlusion_confirmed(observer, target, bodies[k])}
+    extra = {k for k in got - set(want) if not occlusion_confirmed(observer, target, bodies[k], **sensor)}
     return missing | extra
 
 

@@ -124,6 +124,20 @@ def test_static_occluders_file_and_its_edits(tmp_path) -> None:
     assert run_batch(MCAP, out, ego=0, static=walls, engine="sweep", progress=False)["status"][0] == "done"
 
 
+def test_sensors_option(tmp_path) -> None:
+    out = tmp_path / "out"
+    first = run_batch(MCAP, out, ego=0, engine="sweep", sensors="roof", progress=False)
+    assert first["status"].to_list() == ["done"]
+    expected = get_visibility_df(read_recording(MCAP), 0, engine="sweep", sensors="roof", progress=False)
+    assert "sensor" in expected.columns
+    assert_frame_equal(pl.read_parquet(out / "highway_merge.mcap.parquet"), expected)
+    # without sensors the result is another table: recomputed, not kept
+    assert run_batch(MCAP, out, ego=0, engine="sweep", progress=False)["status"].to_list() == ["done"]
+    assert "sensor" not in pl.read_parquet(out / "highway_merge.mcap.parquet").columns
+    with pytest.raises(ValueError, match="unknown sensor layout 'lidar'"):
+        run_batch(MCAP, out, sensors="lidar", progress=False)
+
+
 def test_static_occluder_files(tmp_path) -> None:
     geojson = tmp_path / "city.geojson"
     geojson.write_text(

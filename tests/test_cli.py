@@ -57,7 +57,12 @@ def test_cli_writes_parquet_with_engine_and_several_egos(tmp_path) -> None:
     table = pl.read_parquet(out_path)
     assert table.columns[:3] == ["frame", "total_nanos", "idx_ego"]
     assert set(table["idx_ego"].unique()) == {0, 1}
-    assert files_under(tmp_path) == {Path("vis.parquet")}  # no temporary file left beside it
+    # a dataset of parts (one here), no temporary file left beside it
+    assert files_under(tmp_path) == {Path("vis.parquet"), Path("vis.parquet/part-000000.parquet")}
+    again = cli(MCAP, "--ego", "0", "--engine", "sweep", "--no-progress", "-o", out_path)  # replaces it
+    assert again.returncode == 0, again.stderr
+    assert "idx_ego" not in pl.read_parquet(out_path).columns
+    assert files_under(tmp_path) == {Path("vis.parquet"), Path("vis.parquet/part-000000.parquet")}
 
 
 def test_cli_writes_csv_with_joined_lists(tmp_path) -> None:
@@ -185,3 +190,26 @@ def test_cli_bad_static_file(tmp_path) -> None:
     assert_error(
         cli(MCAP, "--static", tmp_path / "none.wkt"), f"static occluders {tmp_path / 'none.wkt'} does not exist"
     )
+
+
+def test_cli_sensors_layout_and_file(tmp_path) -> None:
+    out_path = tmp_path / "s.parquet"
+    out = cli(MCAP, "--ego", "0", "--engine", "sweep", "--sensors", "typical", "--no-progress", "-o", out_path)
+    assert out.returncode == 0, out.stderr
+    table = pl.read_parquet(out_path)
+    assert table.columns[3:5] == ["sensor", "occluder_idxs"] and table.columns[-2:] == ["in_view", "status"]
+    assert table["sensor"].n_unique() == 6
+    sensors = tmp_path / "one.json"
+    sensors.write_text('[{"name": "front", "fov": 1.0, "range": 50}]')
+    printed = cli(MCAP, "--ego", "0", "--engine", "sweep", "--sensors", sensors, "--no-progress")
+    assert printed.returncode == 0, printed.stderr
+    assert "front" in printed.stdout and "status" in printed.stdout
+
+
+def test_cli_bad_sensors(tmp_path) -> None:
+    assert_error(cli(MCAP, "--sensors", "lidar"), "unknown sensor layout 'lidar'")
+    bad = tmp_path / "bad.json"
+    bad.write_text('[{"name": "a", "fov": 9}]')
+    assert_error(cli(MCAP, "--sensors", bad), "bad.json", "fov must be in")
+    bad.write_text("{")
+    assert_error(cli(MCAP, "--sensors", bad), "not valid JSON")

@@ -4,8 +4,17 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import shapely
 
-from omega_prime_visibility.geometry import Rings, angular_extent, box_rings, covers_point, orient, signed_area
+from omega_prime_visibility.geometry import (
+    Rings,
+    angular_extent,
+    box_rings,
+    covers_point,
+    covers_points,
+    orient,
+    signed_area,
+)
 
 
 def square(x: float, y: float, side: float = 2.0) -> Rings:
@@ -43,3 +52,16 @@ def test_orient_makes_rings_counter_clockwise() -> None:
     cw = Rings(np.array([[0, 0], [0, 1], [1, 1], [1, 0]], dtype=float), np.array([0, 4]))
     assert signed_area(cw)[0] == pytest.approx(-1)
     assert signed_area(orient(cw))[0] == pytest.approx(1)
+
+
+def test_covers_points_is_covers_point_for_each_point() -> None:
+    rng = np.random.default_rng(3)
+    centre = rng.uniform(-5, 5, (30, 2))
+    rings = box_rings(centre[:, 0], centre[:, 1], rng.uniform(1, 4, 30), rng.uniform(1, 3, 30), rng.uniform(-3, 3, 30))
+    points = np.concatenate([rng.uniform(-6, 6, (40, 2)), rings.coords[:5], (rings.coords[:5] + rings.coords[1:6]) / 2])
+    many = covers_points(points, rings)
+    assert many.shape == (50, 30) and 0 < many.sum() < many.size
+    assert np.array_equal(many, np.array([covers_point(p, rings) for p in points]))
+    polygons = shapely.polygons([rings.ring(i) for i in range(30)])
+    inside = shapely.contains_xy(polygons[None, :], points[:40, :1], points[:40, 1:])  # random points: off the edges
+    assert np.array_equal(many[:40], inside)

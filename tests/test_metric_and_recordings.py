@@ -14,6 +14,7 @@ from conftest import REPO
 
 from omega_prime_visibility import get_visibility_df, metrics, visibility
 from omega_prime_visibility.scene import load_objects
+from omega_prime_visibility.sensors import typical
 
 WALL = shapely.Polygon([(-220, 10), (-120, 10), (-120, 0), (-220, 0)])
 
@@ -38,6 +39,14 @@ def test_metric_passes_static_occluders_and_engine(bundled: omega_prime.Recordin
     manager = omega_prime.metrics.MetricManager(metrics=[visibility])
     _, properties = manager.compute(bundled, ego_id=0, static_occluder_polys=[WALL], engine="visilibity")
     assert properties["visibility"].equals(get_visibility_df(bundled, 0, [WALL]))
+
+
+def test_metric_passes_sensors(bundled: omega_prime.Recording) -> None:
+    manager = omega_prime.metrics.MetricManager(metrics=[visibility])
+    _, properties = manager.compute(bundled, ego_id=0, sensors="typical", engine="sweep")
+    expected = get_visibility_df(bundled, 0, sensors="typical", engine="sweep")
+    assert properties["visibility"].equals(expected)
+    assert set(expected["sensor"]) == {s.name for s in typical()}
 
 
 def test_entry_point_is_declared() -> None:
@@ -97,6 +106,13 @@ def test_real_osi_traces(shared_data, trace: str, xodr: str) -> None:
     assert out.height > 0
     assert out["visibility"].is_between(0.0, 1.0).all()
     assert out["visibility"].is_nan().sum() == 0
+    # through the typical sensor set, with both engines agreeing
+    views = [get_visibility_df(r, ego, sensors="typical", engine=e) for e in ("sweep", "visilibity")]
+    from_ego = out.filter(pl.col("idx_ego") == ego) if "idx_ego" in out.columns else out
+    assert views[0].height == 6 * from_ego.height
+    assert views[0].drop("visibility").equals(views[1].drop("visibility"))
+    assert (views[0]["visibility"] - views[1]["visibility"]).abs().max() < 1e-6
+    assert (views[0]["visibility"] <= views[0]["in_view"]).all()
 
 
 def test_path_input_and_corrupt_file(tmp_path) -> None:

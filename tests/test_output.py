@@ -1,16 +1,23 @@
-"""``get_visibility_df(..., output=)``: the path is checked before computing and the file appears only when complete."""
+"""``get_visibility_df(..., output=)``: the path is checked before computing, workers write parquet parts of one
+dataset, and the result appears under its name only when complete (also when the run is killed)."""
 
 from __future__ import annotations
 
 import os
+import signal
+import subprocess
+import sys
+import time
 from pathlib import Path
 
+import numpy as np
 import polars as pl
+import pyarrow as pa
 import pytest
-from conftest import boxes_table
+from conftest import REPO, boxes_table
 
 from omega_prime_visibility import get_visibility_df, pipeline
-from omega_prime_visibility.output import check_output_path
+from omega_prime_visibility.output import PartWriter, atomic_directory, check_output_path, is_dataset
 
 SCENE = pl.concat([boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 4, 0), (20, 0, 4, 2, 0)], f) for f in range(6)])
 
@@ -34,7 +41,7 @@ def engine_calls(monkeypatch) -> list[int]:
     [
         ("missing/vis.parquet", "missing does not exist"),
         ("notes.txt/vis.parquet", "notes.txt is not a folder"),
-        ("taken.parquet", "it is a directory"),
+        ("taken.parquet", "it is a directory (and not a parquet dataset written here)"),
         ("vis.csv", "must end in .parquet; output= streams parquet: to write CSV, call write_csv"),
         ("vis.txt", "must end in .parquet"),
         ("vis", "must end in .parquet"),
@@ -72,12 +79,101 @@ def test_check_output_path_accepts_given_suffixes(tmp_path) -> None:
     assert list(tmp_path.iterdir()) == []  # the writability probe is removed
 
 
-def test_output_leaves_only_the_final_file(tmp_path, engine_calls) -> None:
+def test_output_leaves_only_the_final_dataset(tmp_path, engine_calls) -> None:
     lazy = get_visibility_df(SCENE, 0, workers=1, chunk_frames=2, output=tmp_path / "vis.parquet")
     assert isinstance(lazy, pl.LazyFrame)
     assert lazy.collect().equals(get_visibility_df(SCENE, 0, workers=1))
     assert len(engine_calls) == 3 + 1  # three chunks, then one in-memory run
     assert [p.name for p in tmp_path.iterdir()] == ["vis.parquet"]
+    assert sorted(p.name for p in (tmp_path / "vis.parquet").iterdir()) == [f"part-00000{k}.parquet" for k in range(3)]
+
+
+def test_workers_write_parts_read_as_one_table_in_order(tmp_path) -> None:
+    boxes = [[(0, 0, 4, 2, 0), (10 + 0.5 * f, 0, 4, 4, 0), (20, 0, 4, 2, 0)] for f in range(9)]
+    frames = pl.concat([boxes_table(b, f) for f, b in enumerate(boxes)])
+    target = tmp_path / "vis.parquet"
+    lazy = get_visibility_df(frames, "all", workers=2, chunk_frames=2, output=target, engine="sweep")
+    assert lazy.collect().equals(get_visibility_df(frames, "all", workers=1, engine="sweep"))
+    assert len(list(target.iterdir())) == 6  # 5 chunks of at most 2 frames, balanced over 2 workers: 6 of 1-2
+    assert pl.read_parquet(target).equals(lazy.collect())
+
+
+def test_an_earlier_result_is_replaced_but_a_foreign_directory_is_not(tmp_path) -> None:
+    target = tmp_path / "vis.parquet"
+    target.write_bytes(b"a file from an older version")
+    get_visibility_df(SCENE, 0, workers=1, chunk_frames=2, output=target)
+    assert is_dataset(target) and len(list(target.iterdir())) == 3
+    lazy = get_visibility_df(SCENE, 0, workers=1, chunk_frames=4, output=target)  # a dataset: replaced whole
+    assert len(list(target.iterdir())) == 2 and lazy.collect().equals(get_visibility_df(SCENE, 0))
+    assert [p.name for p in tmp_path.iterdir()] == ["vis.parquet"]
+    (target / "notes.txt").write_text("the user's own file")
+    with pytest.raises(ValueError, match="it is a directory"):
+        get_visibility_df(SCENE, 0, output=target)
+    assert (target / "notes.txt").exists()
+
+
+def test_atomic_directory_removes_its_work_on_error(tmp_path) -> None:
+    with pytest.raises(RuntimeError), atomic_directory(tmp_path / "t.parquet") as temp:
+        (temp / "part-000000.parquet").write_bytes(b"half")
+        raise RuntimeError
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_part_writer_turns_codes_into_labels(tmp_path) -> None:
+    schema = pa.schema(
+        [
+            ("n", pa.int64()),
+            ("lists", pa.large_list(pa.int64())),
+            ("name", pa.large_string()),
+            ("kind", pa.dictionary(pa.uint32(), pa.large_string())),
+        ]
+    )
+    writer = PartWriter(tmp_path, schema, {"name": ["a", "b"], "kind": ["x", "y", "z"]})
+    columns = {
+        "n": np.array([5, 6, 7]),
+        "lists": (np.array([2, 0, 1]), np.array([1, 2, 3])),
+        "name": np.array([1, 1, 0]),
+        "kind": np.array([2, 0, 2]),
+    }
+    assert writer(3, columns) == 3 and writer(4, None) == 0
+    table = pl.read_parquet(tmp_path / "part-000003.parquet")
+    assert table["lists"].to_list() == [[1, 2], [], [3]]
+    assert table["name"].to_list() == ["b", "b", "a"] and table["kind"].cast(pl.String).to_list() == ["z", "x", "z"]
+    assert [p.name for p in tmp_path.iterdir()] == ["part-000003.parquet"]
+
+
+KILLED_RUN = """
+import sys, polars as pl
+from omega_prime_visibility import get_visibility_df
+boxes = [(0, 0, 4, 2, 0), (10, 0, 4, 4, 0), (20, 0, 4, 2, 0)]
+rows = [dict(frame=f, total_nanos=f, idx=i, x=x + 0.01 * f, y=y, length=l, width=w, yaw=a)
+        for f in range(100_000) for i, (x, y, l, w, a) in enumerate(boxes)]
+get_visibility_df(pl.DataFrame(rows), 0, engine="sweep", workers=1, chunk_frames=50, output=sys.argv[1])
+"""
+
+
+@pytest.mark.skipif(os.name != "posix", reason="SIGKILL")
+@pytest.mark.parametrize("previous", [False, True])
+def test_a_killed_run_leaves_nothing_that_reads_as_complete(tmp_path, previous: bool) -> None:
+    target = tmp_path / "vis.parquet"
+    if previous:
+        get_visibility_df(SCENE, 0, output=target)
+    before = pl.read_parquet(target) if previous else None
+    proc = subprocess.Popen([sys.executable, "-c", KILLED_RUN, str(target)], cwd=REPO)
+    try:
+        deadline = time.monotonic() + 60
+        while not list(tmp_path.glob(".vis.parquet.*.tmp/part-000002.parquet")):  # a few parts are written
+            assert proc.poll() is None and time.monotonic() < deadline, "the run ended before it could be killed"
+            time.sleep(0.05)
+    finally:
+        proc.send_signal(signal.SIGKILL)
+        proc.wait()
+    if previous:
+        assert pl.scan_parquet(target).collect().equals(before)
+    else:
+        assert not target.exists()
+        with pytest.raises(Exception):  # noqa: B017 (polars raises one of several types)
+            pl.scan_parquet(target).collect()
 
 
 def test_failed_run_leaves_no_partial_file(tmp_path, monkeypatch) -> None:
@@ -95,7 +191,7 @@ def test_failed_run_leaves_no_partial_file(tmp_path, monkeypatch) -> None:
     target.write_bytes(b"previous result")
     with pytest.raises(RuntimeError, match="engine failed"):
         get_visibility_df(SCENE, 0, workers=1, chunk_frames=2, output=target)
-    assert calls == [1, 1]  # the first chunk was written (to the temporary file) before the failure
+    assert calls == [1, 1]  # the first chunk was written (to the temporary directory) before the failure
     assert [p.name for p in tmp_path.iterdir()] == ["vis.parquet"]
     assert target.read_bytes() == b"previous result"
 

@@ -10,10 +10,11 @@ import shapely
 from conftest import boxes_table
 
 from omega_prime_visibility import get_visibility_df
-from omega_prime_visibility.pipeline import run, viewpoints
+from omega_prime_visibility.engines import get_engine
+from omega_prime_visibility.pipeline import chunks, run, viewpoints
 from omega_prime_visibility.scene import load_objects
 from omega_prime_visibility.statics import load_static_occluders
-from omega_prime_visibility.table import to_polars
+from omega_prime_visibility.table import frame_rows, observation_rows, to_polars
 
 
 def moving_scene(frames: int) -> pl.DataFrame:
@@ -49,3 +50,32 @@ def test_viewpoints_mark_the_own_body_and_bodies_containing_the_viewpoint() -> N
     assert view.own == 0 and view.heading == 0.3 and np.array_equal(view.position, [0.0, 0.0])
     assert view.transparent.tolist() == [True, True, False]
     assert view.static_transparent.tolist() == [True, False]
+
+
+def test_chunks_cover_every_frame_once_and_balance_over_workers() -> None:
+    for n_frames, chunk_frames, workers in [(30_000, 500, 2), (1001, 500, 2), (7, 3, 3), (3, 500, 8), (0, 5, 2)]:
+        bounds = chunks(n_frames, chunk_frames, workers)
+        sizes = [b - a for a, b in bounds]
+        assert [a for a, _ in bounds] == [0, *[b for _, b in bounds]][: len(bounds)] and sum(sizes) == n_frames
+        assert all(0 < s <= chunk_frames for s in sizes) and (max(sizes, default=0) - min(sizes, default=0)) <= 1
+        assert len(bounds) % workers == 0 or len(bounds) == n_frames
+    assert [b - a for a, b in chunks(1001, 500, 2)] == [251, 250, 250, 250]
+    assert chunks(1001, 500) == [(0, 500), (500, 1000), (1000, 1001)]  # one worker: as asked
+
+
+def test_frame_rows_are_the_rows_of_each_observation_in_turn() -> None:
+    # four observers, one inside box 1 (transparent to it), walls occluding some targets
+    frame = load_objects(moving_scene(3)).frame_objects(2)
+    statics = load_static_occluders([shapely.LineString([(15, -3), (15, -1)]), shapely.box(3, 5, 4, 6)])
+    views = viewpoints(frame, np.array([0, 1, 2, 3]), statics)
+    observations = get_engine("sweep")(statics).observe(frame, views)
+    owns = np.array([v.own for v in views])
+    batch = frame_rows(observations, owns, frame.idx)
+    one_by_one = [observation_rows(o, own, frame.idx) for o, own in zip(observations, owns, strict=True)]
+    assert batch["idx_ego"].tolist() == [int(frame.idx[own]) for own in owns for _ in range(len(frame.idx) - 1)]
+    for name in ("idx", "visibility"):
+        assert np.array_equal(batch[name], np.concatenate([c[name] for c in one_by_one]))
+    for name in ("occluder_idxs", "static_occluder_idxs"):
+        for part in (0, 1):
+            assert np.array_equal(batch[name][part], np.concatenate([c[name][part] for c in one_by_one]))
+    assert batch["occluder_idxs"][1].size and batch["static_occluder_idxs"][1].size  # both kinds occur

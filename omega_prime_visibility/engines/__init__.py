@@ -106,6 +106,12 @@ class Observation:
     static_offsets : ndarray, shape (n + 1,), int64
     static_occluders : ndarray, shape (k2,), int64
         Positions, in the user's static occluder list, of static occluders hit before the target, ascending.
+    in_view_angle : ndarray, shape (n,), or None
+        For a limited viewpoint (:attr:`Viewpoint.limited`): angle of directions inside the field of view along
+        which the object is hit within range, ignoring occlusion; ``visible_angle`` and the occluder lists then
+        count those directions only. None: the whole extent is in view.
+    in_fov_angle : ndarray, shape (n,), or None
+        Likewise, angle of the extent inside the field of view, range ignored.
 
     Entries for objects with ``Reason.CONTAINS_OBSERVER`` are unspecified but for the code itself.
     """
@@ -117,6 +123,8 @@ class Observation:
     occluders: np.ndarray
     static_offsets: np.ndarray
     static_occluders: np.ndarray
+    in_view_angle: np.ndarray | None = None
+    in_fov_angle: np.ndarray | None = None
 
     @classmethod
     def from_parts(
@@ -128,10 +136,22 @@ class Observation:
         static_offsets: np.ndarray,
         static_occluders: np.ndarray,
         transparent: np.ndarray,
+        in_view_angle: np.ndarray | None = None,
+        in_fov_angle: np.ndarray | None = None,
     ) -> Observation:
         """An observation whose reason codes follow from the occluder lists and the transparency mask."""
         reason = _reason_codes(occluder_offsets, static_offsets, np.asarray(transparent, dtype=np.bool_))
-        return cls(visible_angle, angular_extent, reason, occluder_offsets, occluders, static_offsets, static_occluders)
+        return cls(
+            visible_angle,
+            angular_extent,
+            reason,
+            occluder_offsets,
+            occluders,
+            static_offsets,
+            static_occluders,
+            in_view_angle,
+            in_fov_angle,
+        )
 
 
 @numba.njit(cache=True)

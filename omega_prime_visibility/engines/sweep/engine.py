@@ -10,10 +10,14 @@ import numpy as np
 from ...geometry import edges, ring_ids
 from ...kernels import ring_index
 from ...scene import FrameObjects
+from ...sensors import TWO_PI
 from ...statics import StaticOccluders
-from .. import Observation, Viewpoint
+from ...view import objects_in_view, restrict_observation
+from .. import Observation, Reason, Viewpoint
 from .crossings import build_static_grid, prepare_frame, static_crossings
-from .observe import observe_frame
+from .observe import observe_frame, outline_one
+
+_IN_VIEW, _OCCLUDED, _CONTAINS_OBSERVER = int(Reason.IN_VIEW), int(Reason.OCCLUDED), int(Reason.CONTAINS_OBSERVER)
 
 
 class SweepEngine:
@@ -42,17 +46,39 @@ class SweepEngine:
             self._grid = (np.zeros(3), np.ones(2, dtype=np.int64), np.zeros(2, dtype=np.int64), np.zeros(0, np.int64))
             self._ss = (np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64))
         self._static_edges = (self._st_a, self._st_b, self._st_src, self._st_two)  # StaticEdges' fields
+        self._source_edges = statics.source_edges()  # for limited viewpoints (see ...view)
 
     def observe(self, objects: FrameObjects, viewpoints: Sequence[Viewpoint]) -> list[Observation]:
         """One :class:`Observation` per viewpoint; the frame's edge crossings are found once for all of them."""
         if not viewpoints:
             return []
-        return self._observe_arrays(
+        transparent = np.array([v.transparent for v in viewpoints], dtype=bool).reshape(len(viewpoints), -1)
+        seen = {k: objects_in_view(objects.rings, v) for k, v in enumerate(viewpoints) if v.limited}
+        swept = transparent.copy()
+        for k, one in seen.items():  # objects out of a sensor's view need not be swept for it
+            swept[k] |= one.out_of_view(transparent[k])
+        observations = self._observe_arrays(
             objects,
             np.array([v.position for v in viewpoints], dtype=np.float64).reshape(-1, 2),
-            np.array([v.transparent for v in viewpoints], dtype=bool).reshape(len(viewpoints), -1),
+            swept,
             np.array([v.static_transparent for v in viewpoints], dtype=bool).reshape(len(viewpoints), -1),
+            np.array([(v.heading - 0.5 * v.fov, v.fov, v.range) for v in viewpoints], dtype=np.float64),
         )
+        for k, one in seen.items():
+            view = viewpoints[k]
+            observations[k] = restrict_observation(observations[k], one, objects.rings, *self._source_edges, view)
+        return observations
+
+    def _frame_inputs(self, objects: FrameObjects, observers: np.ndarray) -> tuple:
+        """The kernels' per-frame inputs: the frame's edge arrays (a tuple of :class:`.pieces.FrameEdges`' fields)
+        and every observer's bearings."""
+        coords = np.ascontiguousarray(objects.rings.coords, dtype=np.float64)
+        offsets = np.ascontiguousarray(objects.rings.offsets, dtype=np.int64)
+        grid_f, grid_i, cell_off, items = self._grid
+        nxt, ci, cj, y, x = prepare_frame(
+            observers, coords, offsets, self._st_a, self._st_b, grid_f, grid_i, cell_off, items, *self._ss
+        )
+        return (coords, offsets, nxt, ring_index(offsets), ci, cj), np.arctan2(y, x)
 
     def _observe_arrays(
         self,
@@ -60,33 +86,58 @@ class SweepEngine:
         observers: np.ndarray,
         transparent: np.ndarray,
         static_transparent: np.ndarray,
+        limits: np.ndarray | None = None,
     ) -> list[Observation]:
         observers = np.ascontiguousarray(observers, dtype=np.float64).reshape(-1, 2)
-        coords = np.ascontiguousarray(objects.rings.coords, dtype=np.float64)
-        offsets = np.ascontiguousarray(objects.rings.offsets, dtype=np.int64)
-        grid_f, grid_i, cell_off, items = self._grid
-        nxt, ci, cj, y, x = prepare_frame(
-            observers, coords, offsets, self._st_a, self._st_b, grid_f, grid_i, cell_off, items, *self._ss
-        )
-        ang = np.arctan2(y, x)
+        if limits is None:  # every observer sees all around, without limit
+            limits = np.tile([0.0, TWO_PI, np.inf], (len(observers), 1))
+        frame_arrays, ang = self._frame_inputs(objects, observers)
         out = observe_frame(
             observers,
-            (coords, offsets, nxt, ring_index(offsets), ci, cj),
+            frame_arrays,
             self._static_edges,
             ang,
             np.ascontiguousarray(transparent, dtype=bool).reshape(len(observers), -1),
             np.ascontiguousarray(static_transparent, dtype=bool).reshape(len(observers), -1),
+            np.ascontiguousarray(limits, dtype=np.float64).reshape(len(observers), 3),
         )
         visible, width, occ_off, occ, occ_cut, st_off, st, st_cut = out
+        # the reason codes of all observers at once, as Observation.from_parts gives them one by one
+        occluded = (np.diff(occ_off, axis=1) > 0) | (np.diff(st_off, axis=1) > 0)
+        reason = np.where(transparent, _CONTAINS_OBSERVER, np.where(occluded, _OCCLUDED, _IN_VIEW)).astype(np.int8)
+        occ_cut, st_cut = occ_cut.tolist(), st_cut.tolist()
         return [
-            Observation.from_parts(
+            Observation(
                 visible[k],
                 width[k],
+                reason[k],
                 occ_off[k],
                 occ[occ_cut[k] : occ_cut[k + 1]],
                 st_off[k],
                 st[st_cut[k] : st_cut[k + 1]],
-                transparent[k],
             )
             for k in range(len(observers))
         ]
+
+    def visible_outline(
+        self, objects: FrameObjects, viewpoint: Viewpoint, radius: float, arc_step: float
+    ) -> np.ndarray:
+        """Vertices (world frame, metres, counter-clockwise) of the region the viewpoint sees within its field of
+        view and within ``radius`` metres (the viewpoint's range, or a bound when it has none); arcs of the
+        circle are drawn as chords every ``arc_step`` radians (see :mod:`.outline`)."""
+        position = np.ascontiguousarray(viewpoint.position, dtype=np.float64).reshape(1, 2)
+        frame_arrays, ang = self._frame_inputs(objects, position)
+        outline = outline_one(
+            float(position[0, 0]),
+            float(position[0, 1]),
+            frame_arrays,
+            self._static_edges,
+            ang[0],
+            np.ascontiguousarray(viewpoint.transparent, dtype=bool),
+            np.ascontiguousarray(viewpoint.static_transparent, dtype=bool),
+            viewpoint.heading - 0.5 * viewpoint.fov,
+            viewpoint.fov,
+            float(radius),
+            float(arc_step),
+        )
+        return outline + position

@@ -12,7 +12,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .pieces import EX, EY, HI, LO, NUM, UHX, UHY, ULX, ULY
+from ...view import limited_angle
+from .pieces import EX, EY, HI, LO, NUM, TWO_PI, UHX, UHY, ULX, ULY
 
 
 @numba.njit(cache=True)
@@ -77,20 +78,29 @@ def sift_down(pieces, heap, position, i, size):
 
 
 @numba.njit(cache=True)
-def visible_angles(pieces, body, n_bodies):
-    """Angle (radians) along which each body's pieces are the nearest thing hit, shape (n_bodies,).
+def nearest_intervals(pieces):
+    """The sweep: consecutive bearing intervals between events and the nearest piece over each.
 
     Parameters
     ----------
     pieces : ndarray, shape (k, 9)
         The piece table of :mod:`.pieces`.
-    body : ndarray, shape (>= k,), int64
-        The body of each piece, in ``range(n_bodies)``.
+
+    Returns
+    -------
+    lo, hi : ndarray, shape (q,)
+        Bearings (radians), ``hi[i] == lo[i + 1]`` where pieces are active on both sides; together they cover
+        the bearings where some piece is active, in ascending order.
+    top : ndarray, shape (q,), int64
+        The nearest piece over ``[lo[i], hi[i]]``.
     """
     k = len(pieces)
-    visible = np.zeros(n_bodies)
+    out_lo = np.empty(2 * k)
+    out_hi = np.empty(2 * k)
+    out_top = np.empty(2 * k, dtype=np.int64)
+    q = 0
     if k == 0:
-        return visible
+        return out_lo, out_hi, out_top
     by_lo = np.argsort(pieces[:, LO].copy())
     by_hi = np.argsort(pieces[:, HI].copy())
     heap = np.empty(k, dtype=np.int64)
@@ -125,5 +135,37 @@ def visible_angles(pieces, body, n_bodies):
             following = pieces[by_hi[j], HI]  # j < k: active pieces still have to end
             if i < k and pieces[by_lo[i], LO] < following:
                 following = pieces[by_lo[i], LO]
-            visible[body[heap[0]]] += following - theta
+            out_lo[q] = theta
+            out_hi[q] = following
+            out_top[q] = heap[0]
+            q += 1
+    return out_lo[:q], out_hi[:q], out_top[:q]
+
+
+@numba.njit(cache=True)
+def visible_angles(pieces, body, n_bodies, wedge_start, fov, max_range):
+    """Angle (radians) along which each body's pieces are the nearest thing hit, inside the field of view
+    ``[wedge_start, wedge_start + fov]`` and within ``max_range`` metres (see :func:`...view.limited_angle`),
+    shape (n_bodies,).
+
+    Parameters
+    ----------
+    pieces : ndarray, shape (k, 9)
+        The piece table of :mod:`.pieces`.
+    body : ndarray, shape (>= k,), int64
+        The body of each piece, in ``range(n_bodies)``.
+    wedge_start, fov, max_range : float
+        Radians, radians (``>= 2π``: all around), metres (``inf``: no limit).
+    """
+    limited = fov < TWO_PI or max_range < np.inf
+    visible = np.zeros(n_bodies)
+    lo, hi, top = nearest_intervals(pieces)
+    for q in range(len(lo)):
+        t = top[q]
+        if limited:
+            visible[body[t]] += limited_angle(
+                lo[q], hi[q], pieces[t, EX], pieces[t, EY], pieces[t, NUM], wedge_start, fov, max_range
+            )
+        else:
+            visible[body[t]] += hi[q] - lo[q]
     return visible

@@ -11,6 +11,7 @@ import numpy as np
 
 from .heap_sweep import visible_angles
 from .occluders import ObjectsSeen, occluders
+from .outline import visible_outline
 from .pieces import (
     FrameEdges,
     StaticEdges,
@@ -24,7 +25,7 @@ from .pieces import (
 
 
 @numba.njit(cache=True)
-def observe_one(ox, oy, frame, statics, ang, object_transparent, static_transparent):
+def observe_one(ox, oy, frame, statics, ang, object_transparent, static_transparent, wedge_start, fov, max_range):
     """What the observer at ``(ox, oy)`` (metres) sees of every object of the frame.
 
     Parameters
@@ -35,11 +36,13 @@ def observe_one(ox, oy, frame, statics, ang, object_transparent, static_transpar
         This observer's bearings (see :func:`.pieces.object_extents`), radians.
     object_transparent : ndarray of bool, shape (n,)
     static_transparent : ndarray of bool, shape (n_sources,)
+    wedge_start, fov, max_range : float
+        The field of view ``[wedge_start, wedge_start + fov]`` (radians) and the range (metres).
 
     Returns
     -------
     visible : ndarray, shape (n,)
-        Radians along which each object is the first thing hit.
+        Radians along which each object is the first thing hit, within the field of view and range.
     width : ndarray, shape (n,)
         Radians of each object's angular extent.
     occ_offsets, occ, st_offsets, st : ndarray, int64
@@ -51,6 +54,7 @@ def observe_one(ox, oy, frame, statics, ang, object_transparent, static_transpar
     seg = shifted_object_edges(frame.coords, frame.following, ox, oy)
     start, width = object_extents(offsets, ang)
     near, far, reach2 = object_distances(seg, offsets, object_transparent)
+    reach2 = min(reach2, max_range * max_range * (1.0 + 1e-9))  # static edges beyond range hide nothing in it
 
     # 1. front-facing edges; 2. their bearing records cut into pieces
     kept, record_edge, records = front_facing_edges(
@@ -60,7 +64,7 @@ def observe_one(ox, oy, frame, statics, ang, object_transparent, static_transpar
     pieces, body = cut_pieces(kept, record_edge, records, cut_offsets, cuts)
 
     # 3. the sweep
-    visible = visible_angles(pieces, body, n + n_src)[:n].copy()
+    visible = visible_angles(pieces, body, n + n_src, wedge_start, fov, max_range)[:n].copy()
 
     # 4. occluders
     objects = ObjectsSeen(seg, offsets, object_transparent, start, width, near, far)
@@ -69,13 +73,13 @@ def observe_one(ox, oy, frame, statics, ang, object_transparent, static_transpar
 
 
 @numba.njit(cache=True)
-def observe_frame(observers, frame_arrays, static_arrays, ang, transparent, static_transparent):
+def observe_frame(observers, frame_arrays, static_arrays, ang, transparent, static_transparent, limits):
     """:func:`observe_one` for each of the ``k`` observers (shape (k, 2), metres) of one frame.
 
     ``frame_arrays`` and ``static_arrays`` are plain tuples of the :class:`FrameEdges` and :class:`StaticEdges`
     fields (the named tuples are built here: handing named tuples in from Python costs a type inference per
     call). ``ang`` (k, 2 m), ``transparent`` (k, n) and ``static_transparent`` (k, n_sources) hold one row per
-    observer.
+    observer; ``limits`` (k, 3) each observer's wedge start and field of view (radians) and range (metres).
 
     Returns
     -------
@@ -101,7 +105,16 @@ def observe_frame(observers, frame_arrays, static_arrays, ang, transparent, stat
     st_parts = []
     for o in range(k):
         one_visible, one_width, one_occ_offsets, occ, one_st_offsets, st = observe_one(
-            observers[o, 0], observers[o, 1], frame, statics, ang[o], transparent[o], static_transparent[o]
+            observers[o, 0],
+            observers[o, 1],
+            frame,
+            statics,
+            ang[o],
+            transparent[o],
+            static_transparent[o],
+            limits[o, 0],
+            limits[o, 1],
+            limits[o, 2],
         )
         visible[o] = one_visible
         width[o] = one_width
@@ -117,3 +130,20 @@ def observe_frame(observers, frame_arrays, static_arrays, ang, transparent, stat
         occ_all[occ_cut[o] : occ_cut[o + 1]] = occ_parts[o]
         st_all[st_cut[o] : st_cut[o + 1]] = st_parts[o]
     return visible, width, occ_offsets, occ_all, occ_cut, st_offsets, st_all, st_cut
+
+
+@numba.njit(cache=True)
+def outline_one(ox, oy, frame, statics, ang, object_transparent, static_transparent, wedge_start, fov, radius, step):
+    """Steps 1 to 3 for the observer at ``(ox, oy)``, then the outline of the region it sees within ``radius``
+    metres (see :func:`.outline.visible_outline`; ``frame`` and ``statics`` as plain tuples of the named tuples'
+    fields), relative to the observer."""
+    frame = FrameEdges(*frame)
+    statics = StaticEdges(*statics)
+    seg = shifted_object_edges(frame.coords, frame.following, ox, oy)
+    reach2 = radius * radius * (1.0 + 1e-9)  # static edges beyond the radius are not seen
+    kept, record_edge, records = front_facing_edges(
+        seg, ang, frame, statics, object_transparent, static_transparent, ox, oy, reach2
+    )
+    cut_offsets, cuts = crossing_cuts(kept, record_edge, records, frame.cross_first, frame.cross_second)
+    pieces, _ = cut_pieces(kept, record_edge, records, cut_offsets, cuts)
+    return visible_outline(pieces, wedge_start, fov, radius, step)

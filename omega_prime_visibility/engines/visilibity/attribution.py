@@ -5,11 +5,14 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...kernels import ray_line_distance
+from ...kernels import TWO_PI, ray_line_distance
+from ...view import limited_angle
 
 
 @numba.njit(cache=True)
-def attribute_visible_angles(pts, seg, seg_offsets, targets, extent_start, extent_width, tolerance):
+def attribute_visible_angles(
+    pts, seg, seg_offsets, targets, extent_start, extent_width, tolerance, wedge_start=0.0, fov=TWO_PI, max_range=np.inf
+):
     """Angle of the visibility polygon's boundary lying on each target, radians.
 
     ``pts`` are the visibility polygon's vertices relative to the observer, counter-clockwise; the polygon is
@@ -17,8 +20,11 @@ def attribute_visible_angles(pts, seg, seg_offsets, targets, extent_start, exten
     extent are found by binary search. A polygon edge may run along several bodies (merging overlapping or
     touching bodies joins their collinear edges into one): each target is credited the bearings over which one
     of its edges lies on the polygon edge (the two agree within ``tolerance`` times the distance, at both ends
-    of the shared bearings). Edges pointing at the observer subtend no angle.
+    of the shared bearings). Edges pointing at the observer subtend no angle. Only bearings inside the field of
+    view ``[wedge_start, wedge_start + fov]`` along which the edge lies within ``max_range`` metres count (see
+    :func:`...view.limited_angle`).
     """
+    limited = fov < TWO_PI or max_range < np.inf
     m = len(pts)
     n_bodies = len(seg_offsets) - 1
     visible = np.zeros(n_bodies)
@@ -67,6 +73,18 @@ def attribute_visible_angles(pts, seg, seg_offsets, targets, extent_start, exten
                         body = ray_line_distance(dx, dy, ax, ay, bx - ax, by - ay)
                         if abs(boundary - body) > tolerance * max(1.0, boundary):
                             on_edge = False
-                    if on_edge:
+                    if on_edge and limited:
+                        ex, ey = bx - ax, by - ay
+                        visible[t] += limited_angle(
+                            bearing[i] + shared_lo,
+                            bearing[i] + shared_hi,
+                            ex,
+                            ey,
+                            ax * ey - ay * ex,
+                            wedge_start,
+                            fov,
+                            max_range,
+                        )
+                    elif on_edge:
                         visible[t] += shared_hi - shared_lo
     return visible

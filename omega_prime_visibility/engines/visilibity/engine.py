@@ -13,6 +13,7 @@ from ...geometry import Rings, angular_extent, edges, ring_ids
 from ...occlusion import occluding_pairs
 from ...scene import FrameObjects
 from ...statics import StaticOccluders, polygonal_and_lineal_parts
+from ...view import objects_in_view, restrict_observation
 from .. import Observation, Viewpoint, group_pairs
 from .attribution import attribute_visible_angles
 from .conversion import box_overlaps, components, exterior_cw, polygon_coords, vis_polygon
@@ -59,6 +60,7 @@ class VisiLibityEngine:
         self._origin: np.ndarray | None = None
         self._prepared: dict[tuple[float, float], dict] = {}
         self.box_margin = BOX_MARGIN  # metres of free space around all bodies (the visibility polygon's limit)
+        self._source_edges: tuple[np.ndarray, np.ndarray] | None = None  # for limited viewpoints (see ...view)
 
     # -- static geometry, converted once relative to the origin ------------------------------------------------
     def _use_origin(self, observer: np.ndarray) -> np.ndarray:
@@ -142,6 +144,9 @@ class VisiLibityEngine:
     def _observe_one(self, objects: FrameObjects, viewpoint: Viewpoint) -> Observation:
         observer = np.asarray(viewpoint.position, dtype=np.float64)
         transparent, static_transparent = viewpoint.transparent, viewpoint.static_transparent
+        seen = objects_in_view(objects.rings, viewpoint) if viewpoint.limited else None
+        if seen is not None:  # objects out of the sensor's view change nothing for it
+            transparent = transparent | seen.out_of_view(transparent)
         origin = self._use_origin(observer)
         n = len(objects)
         o = observer - origin
@@ -158,13 +163,19 @@ class VisiLibityEngine:
             in_env = obj_blocking & ~hidden[:n]
             pts = self._checked_points(rings, in_env, static_blocking, o, segments, seg_offsets)
             seg = np.ascontiguousarray(segments[: seg_offsets[n]] - o)
-            visible = attribute_visible_angles(pts, seg, seg_offsets[: n + 1], targets, start, width, 1e-6)[:n]
+            view = (viewpoint.heading - 0.5 * viewpoint.fov, viewpoint.fov, viewpoint.range)
+            visible = attribute_visible_angles(pts, seg, seg_offsets[: n + 1], targets, start, width, 1e-6, *view)[:n]
         else:
             visible = width.copy()
         is_obj = body < n
         occ_offsets, occ = group_pairs(target[is_obj], body[is_obj], n)
         st_offsets, st = group_pairs(target[~is_obj], body[~is_obj] - n, n)
-        return Observation.from_parts(visible, width, occ_offsets, occ, st_offsets, st, transparent)
+        observation = Observation.from_parts(visible, width, occ_offsets, occ, st_offsets, st, transparent)
+        if viewpoint.limited:
+            if self._source_edges is None:
+                self._source_edges = self.statics.source_edges()
+            observation = restrict_observation(observation, seen, objects.rings, *self._source_edges, viewpoint)
+        return observation
 
     def _checked_points(
         self,

@@ -1,0 +1,84 @@
+"""Check that a change leaves the output identical to the bit: compute a fixed set of tables with one version of the
+package and compare them with another's (``polars.DataFrame.equals``).
+
+Scenes: the bundled and the upstream ``highway_merge.mcap`` (every object as observer, with the upstream README's
+wall, both engines), random crowded highways (:func:`bench.crowded_highway`, with and without a polygon column,
+overlapping vehicles) and the tidy synthetic highway with every object as observer.
+
+Usage (the reference from an older commit, unpacked outside the repository)::
+
+    git archive <commit> | tar -x -C /tmp/base
+    PYTHONPATH=/tmp/base uv run python benchmarks/same_tables.py --write /tmp/tables --data ../shared/data
+    uv run python benchmarks/same_tables.py --compare /tmp/tables
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import warnings
+from collections.abc import Iterator
+from pathlib import Path
+
+import polars as pl
+import shapely
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench import crowded_highway, synthetic_highway, with_polygons
+
+REPO = Path(__file__).resolve().parent.parent
+SHARED_DATA = REPO.parent / "shared" / "data"
+WALL = shapely.from_wkt("POLYGON ((-220 10, -120 10, -120 0, -220 0, -220 10))")
+
+
+def tables(data: Path) -> Iterator[tuple[str, pl.DataFrame]]:
+    """``(name, table)`` for every checked case, computed with the package on ``sys.path``."""
+    import omega_prime
+
+    from omega_prime_visibility import VisibilityInputWarning, get_visibility_df
+
+    warnings.simplefilter("ignore", VisibilityInputWarning)
+    recordings = [("bundled", REPO / "highway_merge.mcap"), ("upstream", data / "highway_merge.mcap")]
+    for name, path in recordings:
+        if not path.exists():
+            print(f"skipped {path} (absent)")
+            continue
+        df = omega_prime.Recording.from_file(str(path), compute_polygons=True)._df
+        for engine in ("visilibity", "sweep"):
+            yield f"{name}-all-{engine}", get_visibility_df(df, "all", engine=engine, progress=False, workers=1)
+            yield f"{name}-wall-{engine}", get_visibility_df(df, 0, [WALL], engine=engine, progress=False, workers=1)
+    for seed in range(3):
+        boxes = crowded_highway(50, 60, seed=seed)
+        for label, table in (("polygons", with_polygons(boxes)), ("boxes", boxes)):
+            for engine in ("visilibity", "sweep"):
+                out = get_visibility_df(table, 0, engine=engine, progress=False, workers=1)
+                yield f"crowded-{seed}-{label}-{engine}", out
+        yield f"crowded-{seed}-all-sweep", get_visibility_df(boxes, "all", engine="sweep", workers=1, progress=False)
+    yield "tidy-all-sweep", get_visibility_df(synthetic_highway(50, 100), "all", engine="sweep", progress=False)
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    mode = parser.add_mutually_exclusive_group(required=True)
+    mode.add_argument("--write", type=Path, help="write the reference tables to this folder")
+    mode.add_argument("--compare", type=Path, help="compare with the tables in this folder")
+    parser.add_argument("--data", type=Path, default=SHARED_DATA, help="folder of the upstream highway_merge.mcap")
+    args = parser.parse_args(argv)
+    differ = 0
+    for name, table in tables(args.data):
+        path = (args.write or args.compare) / f"{name}.parquet"
+        if args.write:
+            args.write.mkdir(parents=True, exist_ok=True)
+            table.write_parquet(path)
+            print(f"wrote {name}: {table.height} rows")
+            continue
+        same = path.exists() and pl.read_parquet(path).equals(table)
+        differ += not same
+        print(f"{name:<32} {table.height:>8} rows  {'identical' if same else 'DIFFERENT'}")
+    if args.compare:
+        print("all identical" if not differ else f"{differ} table(s) differ")
+        raise SystemExit(1 if differ else 0)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,121 @@
+"""The visible area: paper answers, and the sweep's outline against VisiLibity's visibility polygon."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import polars as pl
+import pytest
+import shapely
+from conftest import boxes_table, scene_table
+from reference import scene_series
+
+from omega_prime_visibility import Sensor
+from omega_prime_visibility.area import ARC_STEP, road_outline, visible_area, visible_area_over_time
+from omega_prime_visibility.engines.visilibity import VisiLibityEngine
+from omega_prime_visibility.pipeline import viewpoints
+from omega_prime_visibility.scene import load_objects
+from omega_prime_visibility.statics import load_static_occluders
+
+CAMERA = Sensor("cam", fov=math.pi / 2, range=100.0)
+
+
+def test_a_wall_across_the_view_leaves_a_triangle() -> None:
+    wall = shapely.LineString([(10, -20), (10, 20)])
+    seen = visible_area(boxes_table([(0, 0, 4, 2, 0)]), 0, 0, CAMERA, [wall])
+    assert seen.area == pytest.approx(100.0, rel=1e-12)  # apex (0, 0), base from (10, -10) to (10, 10)
+    assert seen.equals(shapely.Polygon([(0, 0), (10, -10), (10, 10)]).normalize()) or seen.symmetric_difference(
+        shapely.Polygon([(0, 0), (10, -10), (10, 10)])
+    ).area == pytest.approx(0.0, abs=1e-9)
+
+
+def test_a_car_casts_its_shadow() -> None:
+    # a 2 m square 9..11 m ahead seen by a 360° sensor with a 20 m range: the disk minus the shadow, the part of
+    # the annulus sector behind the near face; shadow = area of the sector between the two rays through the near
+    # corners from the near face out to 20 m, computed here on paper as sector minus the triangle up to the face
+    half = math.atan(1 / 9)
+    sector = half * 20**2  # (2 half) / 2 * r^2
+    triangle = 9 * 1  # apex (0, 0), base from (9, -1) to (9, 1)
+    seen = visible_area(boxes_table([(0, 0, 0.2, 0.2, 0), (10, 0, 2, 2, 0)]), 0, 0, Sensor("s", range=20.0))
+    disk = math.pi * 400 * (math.sin(ARC_STEP) / ARC_STEP)  # the inscribed polygon's area
+    assert seen.area == pytest.approx(disk - (sector - triangle), rel=2e-5)
+
+
+def test_the_sensors_union() -> None:
+    front = Sensor("f", fov=math.pi / 2, range=10.0)
+    back = Sensor("b", yaw=math.pi, fov=math.pi / 2, range=10.0)
+    table = boxes_table([(0, 0, 0.2, 0.2, 0), (-40, 0, 4, 2, 0)])
+    both = visible_area(table, 0, 0, [front, back])
+    assert both.area == pytest.approx(2 * visible_area(table, 0, 0, front).area, rel=1e-6)  # chords differ
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_matches_visilibity_visibility_polygon_cut_to_the_view(seed) -> None:
+    rng = np.random.default_rng(seed)
+    for include_ego, scene in scene_series(rng, 12, True, 10):
+        observer, objects, statics, _ = scene
+        table = scene_table(observer, objects, include_ego).with_columns(yaw=0.0)
+        sensor = Sensor(
+            "s",
+            yaw=float(rng.uniform(-3, 3)),
+            fov=float(rng.uniform(0.5, 2 * math.pi)),
+            range=float(rng.uniform(5, 30)),
+        )
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            seen = visible_area(table, 0, 0, sensor, statics)
+            loaded = load_objects(table)
+        st = load_static_occluders(statics)
+        one = loaded.frame_objects(0)
+        view = viewpoints(one, np.array([0]), st, [sensor])[0]
+        engine = VisiLibityEngine(st)
+        engine.box_margin = 100.0  # its visibility polygon ends at a box this far around the scene: beyond range
+        region = engine.visible_region(one, view)
+        o = view.position
+        arc = [
+            (o[0] + sensor.range * math.cos(t), o[1] + sensor.range * math.sin(t))
+            for t in np.linspace(view.heading - sensor.fov / 2, view.heading + sensor.fov / 2, 2000)
+        ]
+        wedge = shapely.Polygon([tuple(o), *arc]) if sensor.fov < 2 * math.pi else shapely.Polygon(arc)
+        want = shapely.intersection(region, wedge)
+        assert abs(seen.area - want.area) < 2e-4 * max(want.area, 1.0)
+        assert shapely.symmetric_difference(seen, want).area < 2e-4 * max(want.area, 1.0)
+
+
+def test_over_time_with_a_road() -> None:
+    frames = pl.concat([boxes_table([(f, 0, 4, 2, 0), (f + 15, 0, 4, 4, 0)], frame=f) for f in range(3)])
+    road = shapely.box(-50, -3.5, 100, 3.5)
+    out = visible_area_over_time(frames, 0, CAMERA, road=road)
+    assert out.columns == ["frame", "total_nanos", "visible_area", "hidden_road_area"]
+    for row in out.iter_rows(named=True):
+        seen = visible_area(frames, 0, row["frame"], CAMERA)
+        assert row["visible_area"] == pytest.approx(seen.area, rel=1e-12)
+        assert row["hidden_road_area"] == pytest.approx(road.area - road.intersection(seen).area, rel=1e-9)
+    assert visible_area_over_time(frames, 0, CAMERA).columns == ["frame", "total_nanos", "visible_area"]
+
+
+def test_road_outline_from_an_opendrive_map(shared_data) -> None:
+    import omega_prime
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = omega_prime.Recording.from_file(
+            str(shared_data / "pedestrian.osi"), map_path=str(shared_data / "fabriksgatan.xodr"), compute_polygons=True
+        )
+    road = road_outline(r)
+    assert road is not None and road.area > 1000
+    car = r._df.filter(pl.col("idx") == 0)
+    out = visible_area_over_time(r.__class__(car.drop("frame", "polygon", strict=False), validate=False), 0, "typical")
+    assert out.height == car.height and "hidden_road_area" not in out.columns
+
+
+def test_bad_frame_and_ego() -> None:
+    table = boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 2, 0)])
+    with pytest.raises(ValueError, match="frame 5 does not occur"):
+        visible_area(table, 0, 5)
+    with pytest.raises(ValueError, match="never occurs"):
+        visible_area(table, 7, 0)
+    with pytest.raises(ValueError, match="one idx"):
+        visible_area(table, [0, 1], 0)
