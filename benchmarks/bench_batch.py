@@ -117,7 +117,7 @@ def main(argv: list[str] | None = None) -> None:
             from distributed import LocalCluster
 
             cluster = LocalCluster(
-                n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None
+                n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=":0"
             )
         times: dict[str, list[float]] = {"1": [], "2": [], "dask": []}
         try:

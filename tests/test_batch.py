@@ -258,7 +258,7 @@ def test_dask_local_cluster_gives_the_local_results(tmp_path, expected) -> None:
     (tmp_path / "in" / "broken.mcap").write_bytes(b"\x89MCAP0\r\n")
     local = run_batch(tmp_path / "in", tmp_path / "local", workers=1, progress=False)
     with LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None
+        n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=":0"
     ) as cluster:
         remote = batch_cli(tmp_path / "in", "-o", tmp_path / "dask", "--scheduler", cluster.scheduler_address)
     assert remote.returncode == 1, remote.stderr
