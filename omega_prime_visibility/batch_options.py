@@ -94,7 +94,7 @@ class FileOptions:
             if self.static is not None:
                 load_static_occluders(read_static_occluders(self.static))
             if self.map is not None and Path(self.map).suffix == ".json":
-                _map_table(self.map)
+                _map_table(self.map, Path(self.map).stat().st_mtime_ns)
         except RecordingReadError as e:
             raise ValueError(str(e)) from None
 
@@ -103,7 +103,7 @@ class FileOptions:
         if self.map is None or recording.suffix == ".mcap":
             return None
         if Path(self.map).suffix == ".json":
-            return _map_table(self.map).get(recording.name)
+            return _map_table(self.map, Path(self.map).stat().st_mtime_ns).get(recording.name)
         return self.map
 
 
@@ -121,8 +121,9 @@ def _sha256(path: str) -> str:
 
 
 @lru_cache
-def _map_table(path: str) -> dict[str, str]:
-    """``{trace file name: absolute map path}`` from a JSON list of pairs or object (paths relative to the JSON)."""
+def _map_table(path: str, mtime_ns: int) -> dict[str, str]:
+    """``{trace file name: absolute map path}`` from a JSON list of pairs or object (paths relative to the JSON);
+    cached per file version."""
     try:
         pairs = json.loads(Path(path).read_text(encoding="utf-8"))
         pairs = pairs.items() if isinstance(pairs, dict) else pairs

@@ -171,6 +171,25 @@ def test_osi_trace_without_host_vehicle_asks_for_ego(tmp_path, shared_data) -> N
     )
 
 
+def test_map_list_for_traces(tmp_path) -> None:
+    from omega_prime_visibility.batch_options import FileOptions
+
+    (tmp_path / "maps").mkdir()
+    (tmp_path / "maps" / "town.xodr").write_text("<OpenDRIVE/>")
+    (tmp_path / "maps.json").write_text('[["a.osi", "maps/town.xodr"], ["b.osi", "maps/town.xodr"]]')
+    options = FileOptions(map=tmp_path / "maps.json")
+    options.check()
+    assert options.map_for(Path("/anywhere/a.osi")) == str((tmp_path / "maps" / "town.xodr").resolve())
+    assert options.map_for(Path("c.osi")) is None  # not listed: read without a map
+    assert FileOptions(map=tmp_path / "maps" / "town.xodr").map_for(Path("run.mcap")) is None  # its own map
+    (tmp_path / "maps.json").write_text('[["a.osi", "maps/gone.xodr"]]')
+    with pytest.raises(ValueError, match=r"names maps that do not exist: .*gone\.xodr"):
+        FileOptions(map=tmp_path / "maps.json").check()
+    (tmp_path / "maps.json").write_text("{not json")
+    with pytest.raises(ValueError, match="cannot read the map list"):
+        FileOptions(map=tmp_path / "maps.json").check()
+
+
 def test_result_names_never_collide(tmp_path) -> None:
     for name in ("a/x.mcap", "b/x.mcap", "b/deeper/x.osi", "b/.hidden/y.mcap", "c/x.mcap"):
         (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
