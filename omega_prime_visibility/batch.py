@@ -113,7 +113,7 @@ def _compute_and_write(task: FileTask) -> int:
                 f"idx present: {describe_idx(present)})"
             )
         ego = int(recording.host_vehicle_idx)
-    statics = _static_occluders(options.static) if options.static is not None else None
+    statics = None if options.static is None else _static_occluders(options.static, os.stat(options.static).st_mtime_ns)
     ego_idx = list(ego) if isinstance(ego, tuple) else ego
     table = get_visibility_df(recording, ego_idx, statics, workers=task.workers, progress=False, **options.api_kwargs())
     arrow = table.to_arrow()
@@ -130,8 +130,9 @@ def _compute_and_write(task: FileTask) -> int:
 
 
 @lru_cache(maxsize=4)
-def _static_occluders(path: str) -> list:
-    """Read once per process (a worker computes many files with the same occluders)."""
+def _static_occluders(path: str, mtime_ns: int) -> list:
+    """Read once per process and file version (a worker computes many files with the same occluders, and a dask
+    worker outlives a batch)."""
     from .io import read_static_occluders
 
     return read_static_occluders(path)

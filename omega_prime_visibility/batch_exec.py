@@ -89,6 +89,13 @@ def _stop(pool: ProcessPoolExecutor) -> None:
 
 
 def _init_worker(parent_pid: int) -> None:
+    # one file per worker and as many workers as cores: library thread pools of their own would only fight over
+    # the cores (polars' and arrow's pools start at first use, after this; a user's own setting is kept)
+    os.environ.setdefault("POLARS_MAX_THREADS", "1")
+    os.environ.setdefault("OMP_NUM_THREADS", "1")
+    import pyarrow
+
+    pyarrow.set_cpu_count(int(os.environ["OMP_NUM_THREADS"]))
     # Ctrl-C reaches the whole process group: the parent decides and stops the workers with SIGTERM
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, _terminate)

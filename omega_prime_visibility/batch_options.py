@@ -10,6 +10,8 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
+from .sensors import LAYOUTS
+
 
 @dataclass(frozen=True)
 class FileOptions:
@@ -29,6 +31,10 @@ class FileOptions:
     map : str, optional
         OpenDRIVE map for OSI traces (MCAP files carry their own), or a JSON list of ``[trace name, map]`` pairs
         (map paths relative to the JSON file) when traces use different maps.
+    sensors : str, optional
+        A sensor layout name (``"roof"``, ``"typical"``) or a sensors JSON file (see :mod:`sensors`).
+    mode : {"2d", "3d"}
+        Bird's-eye view, or oriented 3D boxes (see :mod:`threed`); ``engine`` names an engine of that mode.
 
     Examples
     --------
@@ -41,12 +47,15 @@ class FileOptions:
     """
 
     ego: int | tuple[int, ...] | str | None = None
-    engine: str = "visilibity"
+    engine: str | None = None
     static: str | None = field(default=None, metadata={"file": True})
     map: str | None = field(default=None, metadata={"file": True})
+    sensors: str | None = field(default=None, metadata={"file": True, "names": tuple(LAYOUTS)})
+    mode: str = "2d"
 
     def __post_init__(self) -> None:
-        from .engines import ENGINES
+        from .sensors import resolve_sensors
+        from .threed import check_mode, resolve_engine
 
         ego = self.ego
         if isinstance(ego, list | tuple) and ego and all(is_int(v) for v in ego):
@@ -55,11 +64,12 @@ class FileOptions:
             object.__setattr__(self, "ego", int(ego))
         elif ego is not None and ego != "all":
             raise ValueError(f"ego must be an idx, a list of idx, 'all' or None (the host vehicle), not {ego!r}")
-        if self.engine not in ENGINES:
-            raise ValueError(f"unknown engine {self.engine!r}; available: {sorted(ENGINES)}")
+        object.__setattr__(self, "mode", check_mode(self.mode))
+        object.__setattr__(self, "engine", resolve_engine(self.engine, self.mode))
+        resolve_sensors(self.sensors)  # an unknown layout or a bad sensors file: ValueError naming it
         for f in fields(self):
             value = getattr(self, f.name)
-            if f.metadata.get("file") and value is not None:
+            if f.metadata.get("file") and value is not None and value not in f.metadata.get("names", ()):
                 path = Path(value)
                 if not path.is_file():
                     what = "is not a file" if path.exists() else "does not exist"
@@ -68,13 +78,13 @@ class FileOptions:
 
     def api_kwargs(self) -> dict[str, Any]:
         """Keywords for ``get_visibility_df`` besides the recording, the ego and the static occluders."""
-        return {"engine": self.engine}
+        return {"engine": self.engine, "sensors": self.sensors, "mode": self.mode}
 
     def fingerprint(self) -> str:
         """JSON of the options, with the SHA-256 of every file option's content (an edited file recomputes)."""
         values = asdict(self)
         for f in fields(self):
-            if f.metadata.get("file") and values[f.name] is not None:
+            if f.metadata.get("file") and values[f.name] not in (None, *f.metadata.get("names", ())):
                 values[f.name] = {"path": values[f.name], "sha256": _sha256(values[f.name])}
         return json.dumps(values, sort_keys=True)
 
@@ -87,7 +97,7 @@ class FileOptions:
             if self.static is not None:
                 load_static_occluders(read_static_occluders(self.static))
             if self.map is not None and Path(self.map).suffix == ".json":
-                _map_table(self.map)
+                _map_table(self.map, Path(self.map).stat().st_mtime_ns)
         except RecordingReadError as e:
             raise ValueError(str(e)) from None
 
@@ -96,7 +106,7 @@ class FileOptions:
         if self.map is None or recording.suffix == ".mcap":
             return None
         if Path(self.map).suffix == ".json":
-            return _map_table(self.map).get(recording.name)
+            return _map_table(self.map, Path(self.map).stat().st_mtime_ns).get(recording.name)
         return self.map
 
 
@@ -114,8 +124,9 @@ def _sha256(path: str) -> str:
 
 
 @lru_cache
-def _map_table(path: str) -> dict[str, str]:
-    """``{trace file name: absolute map path}`` from a JSON list of pairs or object (paths relative to the JSON)."""
+def _map_table(path: str, mtime_ns: int) -> dict[str, str]:
+    """``{trace file name: absolute map path}`` from a JSON list of pairs or object (paths relative to the JSON);
+    cached per file version."""
     try:
         pairs = json.loads(Path(path).read_text(encoding="utf-8"))
         pairs = pairs.items() if isinstance(pairs, dict) else pairs

@@ -63,6 +63,7 @@ def load_recording(path: Path, map_path: Path | None = None):
 Ego = Annotated[str, typer.Option(help="observer idx, comma-separated idx, or 'all'; default: host vehicle")]
 Engine = Annotated[str, typer.Option(help=f"one of {sorted(ENGINES)}")]
 Static = Annotated[Path | None, typer.Option("--static", help="static occluders: GeoJSON or WKT file (metres)")]
+Sensors = Annotated[str | None, typer.Option(help="look through sensors: 'roof', 'typical' or a sensors .json file")]
 
 
 def load_static(path: Path | None) -> list | None:
@@ -88,9 +89,7 @@ def run(
     workers: Annotated[int | None, typer.Option(help="processes (default: all cores for long jobs)")] = None,
     progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
     rows: Annotated[int, typer.Option(help="rows to print when no output is given")] = 20,
-    sensors: Annotated[
-        str | None, typer.Option(help="look through sensors: 'roof', 'typical' or a sensors .json file")
-    ] = None,
+    sensors: Sensors = None,
     mode: Annotated[str, typer.Option(help="2d (bird's-eye view, exact) or 3d (boxes with heights, ray cast)")] = "2d",
     map_occluders: Annotated[
         bool, typer.Option("--map-occluders", help="road objects of the map (--map, or the recording's) as occluders")
@@ -114,8 +113,8 @@ def run(
         except ValueError as e:
             raise fail(str(e)) from None
     ego_idx = parse_ego(ego) if ego else None
-    sensor_set = parse_sensors(sensors)
     statics = load_static(static)
+    sensor_set = parse_sensors(sensors)
     r = load_recording(recording, map_path)
     if ego_idx is None and r.host_vehicle_idx is None:
         present = np.unique(r._df["idx"].to_numpy())
@@ -293,12 +292,16 @@ def batch(
     inputs: Annotated[list[str], typer.Argument(help="recordings, folders (searched recursively) and glob patterns")],
     output: Annotated[Path, typer.Option("-o", "--output", help="folder for the results and the summary")],
     ego: Ego = "",
-    engine: Engine = "visilibity",
+    engine: Annotated[
+        str | None, typer.Option(help=f"2D: one of {sorted(ENGINES)} (default visilibity); 3D: {sorted(ENGINES_3D)}")
+    ] = None,
     static: Static = None,
     map_path: Annotated[
         Path | None, typer.Option("--map", help="OpenDRIVE map for the OSI traces, or a JSON list of [trace, map]")
     ] = None,
     workers: Annotated[int | None, typer.Option(help="local processes over files (default: the cores)")] = None,
+    sensors: Sensors = None,
+    mode: Annotated[str, typer.Option(help="2d (bird's-eye view, exact) or 3d (boxes with heights, ray cast)")] = "2d",
     scheduler: Annotated[str | None, typer.Option(help="dask scheduler address, e.g. tcp://host:8786")] = None,
     scheduler_file: Annotated[Path | None, typer.Option(help="dask scheduler file (dask scheduler --help)")] = None,
     overwrite: Annotated[bool, typer.Option(help="recompute results that are current")] = False,
@@ -311,6 +314,8 @@ def batch(
     from .batch import SUMMARY_NAME, BatchInterrupted, run_batch
 
     options = {"ego": parse_ego(ego) if ego else None, "engine": engine, "static": static, "map": map_path}
+    options["sensors"] = sensors
+    options["mode"] = mode
     try:
         summary = run_batch(
             inputs,

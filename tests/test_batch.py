@@ -10,6 +10,7 @@ import signal
 import subprocess
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import polars as pl
@@ -64,9 +65,8 @@ def test_end_to_end_folder_with_bad_files(tmp_path, expected) -> None:
         shutil.copyfile(SHARED_DATA / "pedestrian.osi", data / "pedestrian.osi")
         shutil.copyfile(SHARED_DATA / "fabriksgatan.xodr", data / "fabriksgatan.xodr")
     out = tmp_path / "results"
-    run = batch_cli(
-        data, "-o", out, "--ego", "0", "--map", data / "fabriksgatan.xodr", "--workers", "2", "--no-progress"
-    )
+    maps = ["--map", data / "fabriksgatan.xodr"] if osi else []
+    run = batch_cli(data, "-o", out, "--ego", "0", *maps, "--workers", "2", "--no-progress")
     assert run.returncode == 1, run.stderr
     summary = pl.read_parquet(out / SUMMARY)
     failed = summary.filter(pl.col("status") == "failed")
@@ -124,6 +124,20 @@ def test_static_occluders_file_and_its_edits(tmp_path) -> None:
     assert run_batch(MCAP, out, ego=0, static=walls, engine="sweep", progress=False)["status"][0] == "done"
 
 
+def test_sensors_option(tmp_path) -> None:
+    out = tmp_path / "out"
+    first = run_batch(MCAP, out, ego=0, engine="sweep", sensors="roof", progress=False)
+    assert first["status"].to_list() == ["done"]
+    expected = get_visibility_df(read_recording(MCAP), 0, engine="sweep", sensors="roof", progress=False)
+    assert "sensor" in expected.columns
+    assert_frame_equal(pl.read_parquet(out / "highway_merge.mcap.parquet"), expected)
+    # without sensors the result is another table: recomputed, not kept
+    assert run_batch(MCAP, out, ego=0, engine="sweep", progress=False)["status"].to_list() == ["done"]
+    assert "sensor" not in pl.read_parquet(out / "highway_merge.mcap.parquet").columns
+    with pytest.raises(ValueError, match="unknown sensor layout 'lidar'"):
+        run_batch(MCAP, out, sensors="lidar", progress=False)
+
+
 def test_static_occluder_files(tmp_path) -> None:
     geojson = tmp_path / "city.geojson"
     geojson.write_text(
@@ -155,6 +169,25 @@ def test_osi_trace_without_host_vehicle_asks_for_ego(tmp_path, shared_data) -> N
         summary["error"][0]
         == "pedestrian.osi names no host vehicle: give an ego (--ego IDX or --ego all; idx present: [0, 1])"
     )
+
+
+def test_map_list_for_traces(tmp_path) -> None:
+    from omega_prime_visibility.batch_options import FileOptions
+
+    (tmp_path / "maps").mkdir()
+    (tmp_path / "maps" / "town.xodr").write_text("<OpenDRIVE/>")
+    (tmp_path / "maps.json").write_text('[["a.osi", "maps/town.xodr"], ["b.osi", "maps/town.xodr"]]')
+    options = FileOptions(map=tmp_path / "maps.json")
+    options.check()
+    assert options.map_for(Path("/anywhere/a.osi")) == str((tmp_path / "maps" / "town.xodr").resolve())
+    assert options.map_for(Path("c.osi")) is None  # not listed: read without a map
+    assert FileOptions(map=tmp_path / "maps" / "town.xodr").map_for(Path("run.mcap")) is None  # its own map
+    (tmp_path / "maps.json").write_text('[["a.osi", "maps/gone.xodr"]]')
+    with pytest.raises(ValueError, match=r"names maps that do not exist: .*gone\.xodr"):
+        FileOptions(map=tmp_path / "maps.json").check()
+    (tmp_path / "maps.json").write_text("{not json")
+    with pytest.raises(ValueError, match="cannot read the map list"):
+        FileOptions(map=tmp_path / "maps.json").check()
 
 
 def test_result_names_never_collide(tmp_path) -> None:
@@ -244,7 +277,7 @@ def test_dask_local_cluster_gives_the_local_results(tmp_path, expected) -> None:
     (tmp_path / "in" / "broken.mcap").write_bytes(b"\x89MCAP0\r\n")
     local = run_batch(tmp_path / "in", tmp_path / "local", workers=1, progress=False)
     with LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None
+        n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=":0"
     ) as cluster:
         remote = batch_cli(tmp_path / "in", "-o", tmp_path / "dask", "--scheduler", cluster.scheduler_address)
     assert remote.returncode == 1, remote.stderr
@@ -340,3 +373,22 @@ def test_readme_batch_examples(tmp_path) -> None:
     assert namespace["summary"].select("result", "status", "rows").rows() == [
         ("highway_merge.mcap.parquet", "done", 1206)
     ]
+
+
+def test_batch_in_3d(tmp_path) -> None:
+    from omega_prime_visibility import get_visibility_df, run_batch
+
+    copy = tmp_path / "in" / "highway_merge.mcap"
+    copy.parent.mkdir()
+    shutil.copyfile(MCAP, copy)
+    summary = run_batch([copy], tmp_path / "out", ego=0, mode="3d", workers=1, progress=False)
+    assert summary["status"].to_list() == ["done"]
+    result = pl.read_parquet(tmp_path / "out" / summary["result"][0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        expected = get_visibility_df(copy, 0, mode="3d", progress=False)
+    assert "can_see" in result.columns and result.equals(expected)
+    # other options recompute: back in 2D
+    again = run_batch([copy], tmp_path / "out", ego=0, workers=1, progress=False)
+    assert again["status"].to_list() == ["done"]
+    assert "can_see" not in pl.read_parquet(tmp_path / "out" / again["result"][0]).columns
