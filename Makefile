@@ -6,7 +6,7 @@ UV := $(shell command -v uv 2>/dev/null || echo .tools/bin/uv)
 UV_DEP := $(if $(filter .tools/bin/uv,$(UV)),.tools/bin/uv,)
 PYTEST_ARGS ?= -n 2
 
-.PHONY: run test lint bench bench-batch scenario
+.PHONY: run test lint bench bench-batch scenario pictures
 
 .tools/bin/uv:
 	python3 -m venv .tools
@@ -24,9 +24,14 @@ test: lint | $(UV_DEP)
 
 bench: | $(UV_DEP)
 	$(UV) run python benchmarks/bench.py --long 30000
+	$(UV) run python benchmarks/bench_sensors.py
+	$(UV) run python benchmarks/pictures.py
 
 bench-batch: | $(UV_DEP)
 	$(UV) run python benchmarks/bench_batch.py
 
 scenario: | $(UV_DEP)
 	$(UV) run python scenarios/highway_merge.py -o highway_merge.mcap
+
+pictures: | $(UV_DEP)
+	$(UV) run python scripts/make_pictures.py

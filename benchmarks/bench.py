@@ -2,7 +2,11 @@
 
 Figures are microseconds per (frame, target) row, end to end through ``get_visibility_df`` (table built), on one
 core, after a warm-up call (numba compilation excluded). Synthetic highway: N boxes on four lanes with realistic
-gaps, the ego (idx 0) in an inner lane, all driving at lane speed.
+gaps, the ego (idx 0) in an inner lane, all driving at lane speed. Then the crowded family, the small real scene
+against the published 0.1.0 (when its throwaway environment exists, see ``compare_published.py``) and, with
+``--long``, a long recording with every object as observer streamed to a parquet dataset. On a machine shared
+with other programs, wall times grow with their load: the CPU times printed beside them say what this process
+itself spent.
 """
 
 from __future__ import annotations
@@ -21,6 +25,7 @@ from omega_prime_visibility import ENGINES, VisibilityInputWarning, get_visibili
 
 REPO = Path(__file__).resolve().parent.parent
 TARGETS_US = {("visilibity", 50): 40.0, ("sweep", 50): 2.0, ("sweep", 200): 3.0}
+SMALL_TARGETS = {"sweep": 150, "visilibity": 15}  # times faster than the published 0.1.0 on highway_merge.mcap
 CROWDED_RUNS = (("sweep", 50), ("sweep", 200), ("visilibity", 50))
 
 
@@ -108,22 +113,25 @@ def with_polygons(table: pl.DataFrame) -> pl.DataFrame:
     return table.with_columns(pl.Series("polygon", shapely.polygons(coords), dtype=pl.Object))
 
 
-def time_rows(table, engine: str, repeat: int = 3, **kwargs) -> tuple[float, int]:
-    """Best-of-``repeat`` seconds and row count of one ``get_visibility_df`` call."""
+def time_rows(table, engine: str, repeat: int = 3, cpu: bool = False, **kwargs) -> tuple[float, int]:
+    """Best-of-``repeat`` seconds (wall, or with ``cpu`` this process's CPU time) and row count of one
+    ``get_visibility_df`` call."""
+    clock = time.process_time if cpu else time.perf_counter
     get_visibility_df(table, 0, engine=engine, progress=False, **kwargs)  # warm-up / compile
     best = np.inf
     for _ in range(repeat):
-        t = time.perf_counter()
+        t = clock()
         out = get_visibility_df(table, 0, engine=engine, progress=False, **kwargs)
-        best = min(best, time.perf_counter() - t)
+        best = min(best, clock() - t)
     return best, out.height
 
 
 def crowded(frames: int, engines: list[str]) -> None:
     """The crowded family (:func:`crowded_highway`): µs per (frame, target) for each of ``CROWDED_RUNS``, with
-    and without a polygon column (:func:`with_polygons`), one core, warm."""
-    print(f"crowded highway, {frames} frames, one core, warm; µs per (frame, target), end to end")
-    print(f"{'scene':<34}{'polygon column':>16}{'length/width/yaw':>18}   target")
+    and without a polygon column (:func:`with_polygons`), one core, warm; wall time, and in brackets this
+    process's CPU time (which other programs on a shared machine inflate less)."""
+    print(f"crowded highway, {frames} frames, one core, warm; µs per (frame, target), end to end, wall (CPU)")
+    print(f"{'scene':<34}{'polygon column':>18}{'length/width/yaw':>20}   target")
     for engine, n in CROWDED_RUNS:
         if engine not in engines:
             continue
@@ -133,18 +141,93 @@ def crowded(frames: int, engines: list[str]) -> None:
             with warnings.catch_warnings():  # overlapping vehicles: some contain the observer now and then
                 warnings.simplefilter("ignore", VisibilityInputWarning)
                 secs, rows = time_rows(table, engine, workers=1)
-            cells.append(secs / rows * 1e6)
+                cpu, _ = time_rows(table, engine, workers=1, cpu=True)
+            cells.append(f"{secs / rows * 1e6:.2f} ({cpu / rows * 1e6:.2f})")
         target = f"{engine} ≤ {TARGETS_US[(engine, n)]:g}"
-        print(f"{f'crowded {engine} N={n}':<34}{cells[0]:>16.2f}{cells[1]:>18.2f}   {target}")
+        print(f"{f'crowded {engine} N={n}':<34}{cells[0]:>18}{cells[1]:>20}   {target}")
 
 
-def peak_rss_gib() -> float:
-    """Peak resident memory of this process and of its finished child processes, GiB (the larger of the two)."""
-    import resource
+def small_scene(engines: list[str], published_python: str) -> None:
+    """The upstream ``highway_merge.mcap`` (433 frames, 6 objects) with the upstream README's wall, ego 0, warm:
+    ours against the published 0.1.0 in the same run (its interpreter from a throwaway environment, see
+    ``compare_published.py``); the speed-up next to its target."""
+    from compare_published import UPSTREAM_MCAP, WALL_WKT, load_table
 
-    own = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    children = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
-    return max(own, children) / 2**20
+    if not UPSTREAM_MCAP.exists():
+        print(f"small scene: {UPSTREAM_MCAP} not found, skipped")
+        return
+    import shapely
+
+    df = load_table(str(UPSTREAM_MCAP))
+    wall = [shapely.from_wkt(WALL_WKT)]
+    published = None
+    if Path(published_python).exists():
+        import json
+        import subprocess
+        import tempfile
+
+        with tempfile.TemporaryDirectory() as tmp:
+            out = Path(tmp) / "pub.parquet"
+            cmd = [published_python, str(REPO / "benchmarks" / "compare_published.py"), "--input", str(UPSTREAM_MCAP)]
+            cmd += ["--ego", "0", "--static-wkt", WALL_WKT, "--out", str(out), "--repeat", "3"]
+            subprocess.run(cmd, check=True, capture_output=True, env={**os.environ, "PYTHONPATH": ""})
+            published = json.loads(out.with_suffix(".json").read_text())["seconds"]
+    line = "upstream highway_merge.mcap + wall, 433 frames x 6 objects, ego 0, warm: published 0.1.0 "
+    print(line + (f"{published * 1e3:.0f} ms" if published else f"not run ({published_python} not found)"))
+    for engine in engines:
+        secs, _ = time_rows(df, engine, repeat=5, static_occluder_polys=wall)
+        cpu, _ = time_rows(df, engine, repeat=5, cpu=True, static_occluder_polys=wall)
+        ratio = f"{published / secs:.0f}x faster" if published else "–"
+        target = SMALL_TARGETS.get(engine)
+        print(
+            f"  {engine:<12}{secs * 1e3:>7.1f} ms ({cpu * 1e3:.1f} ms CPU, {secs / 433 * 1e6:.0f} µs per frame): "
+            f"{ratio}   target ≥ {target}x"
+        )
+
+
+class MemorySampler:
+    """Peak memory of this process and its children (the workers), sampled every ``interval`` seconds (Linux;
+    reading PSS walks the page tables, so not too often).
+
+    ``pss`` sums the proportional set sizes (pages shared between the main process and its forked workers
+    counted once); ``rss`` sums the resident set sizes (shared pages counted in every process that maps them).
+    """
+
+    def __init__(self, interval: float = 2.0) -> None:
+        import threading
+
+        self.interval, self.pss, self.rss = interval, 0.0, 0.0
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, daemon=True)
+
+    def __enter__(self) -> MemorySampler:
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self._stop.set()
+        self._thread.join()
+
+    def _run(self) -> None:
+        while not self._stop.wait(self.interval):
+            pss = rss = 0
+            for pid in [os.getpid(), *self._children(os.getpid())]:
+                try:
+                    for line in Path(f"/proc/{pid}/smaps_rollup").read_text().splitlines():
+                        key, _, value = line.partition(":")
+                        if key in ("Pss", "Rss"):
+                            kib = int(value.split()[0])
+                            pss, rss = (pss + kib, rss) if key == "Pss" else (pss, rss + kib)
+                except (OSError, ValueError):
+                    continue  # a worker that just ended
+            self.pss, self.rss = max(self.pss, pss / 2**20), max(self.rss, rss / 2**20)
+
+    @staticmethod
+    def _children(pid: int) -> list[int]:
+        try:
+            return [int(c) for c in Path(f"/proc/{pid}/task/{pid}/children").read_text().split()]
+        except OSError:
+            return []
 
 
 def long_recording(engine: str, frames: int, workers: int) -> None:
@@ -160,16 +243,22 @@ def long_recording(engine: str, frames: int, workers: int) -> None:
         f"{frames} frames x 50 objects, one ego, {workers} workers: {secs:.1f} s for {out.height} rows (target < 20 s)"
     )
     del out
-    with tempfile.TemporaryDirectory() as tmp:
+    with tempfile.TemporaryDirectory() as tmp, warnings.catch_warnings():
+        warnings.simplefilter("ignore", VisibilityInputWarning)  # vehicles drive through each other
         path = Path(tmp) / "all.parquet"
-        t = time.perf_counter()
-        lazy = get_visibility_df(table, "all", engine=engine, progress=True, workers=workers, output=path)
-        secs = time.perf_counter() - t
+        t, cpu = time.perf_counter(), os.times()
+        with MemorySampler() as memory:
+            lazy = get_visibility_df(table, "all", engine=engine, progress=False, workers=workers, output=path)
+        secs, done = time.perf_counter() - t, os.times()
         rows = lazy.select(pl.len()).collect().item()
-        size = path.stat().st_size / 2**20
+        size = sum(p.stat().st_size for p in path.iterdir()) / 2**20
+    main_cpu = done.user + done.system - cpu.user - cpu.system
+    workers_cpu = done.children_user + done.children_system - cpu.children_user - cpu.children_system
     print(
-        f"{frames} frames x 50 objects, every object as observer: {secs:.1f} s for {rows} rows, "
-        f"parquet {size:.0f} MiB, peak memory {peak_rss_gib():.2f} GiB (targets < 300 s, < 4 GiB)"
+        f"{frames} frames x 50 objects, every object as observer: {secs:.1f} s for {rows} rows (target ≤ 60 s), "
+        f"parquet dataset {size:.0f} MiB; CPU: workers {workers_cpu:.0f} s, main process {main_cpu:.1f} s; "
+        f"peak memory of main + workers {memory.pss:.2f} GiB PSS ({memory.rss:.2f} GiB summed RSS, counting the "
+        "pages the workers share with the main process in each) (target ≤ 2 GiB)"
     )
 
 
@@ -184,6 +273,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
     parser.add_argument("--crowded-frames", type=int, default=500, help="frames per crowded-highway run")
     parser.add_argument("--crowded-only", action="store_true", help="run only the crowded-highway family")
+    parser.add_argument("--published-python", default="/tmp/pub/bin/python", help="the published package's python")
     args = parser.parse_args(argv)
     engines = args.engines.split(",")
     os.environ.setdefault("NUMBA_NUM_THREADS", "1")
@@ -212,6 +302,7 @@ def main(argv: list[str] | None = None) -> None:
         line = f"{'highway_merge.mcap (whole file)':<34}" + "".join(f"{c:>14}" for c in cells) + " rows"
         print(line + "   visilibity < 300 ms")
     crowded(args.crowded_frames, engines)
+    small_scene(engines, args.published_python)
     if args.long:
         long_recording(args.long_engine, args.long, args.workers)
 

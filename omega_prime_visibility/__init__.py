@@ -6,7 +6,7 @@
 from .api import get_visibility_df, get_visibility_df_for_frame
 from .batch import run_batch
 from .combine import seen_by_any
-from .engines import ENGINES, Observation, Reason, Viewpoint
+from .engines import ENGINES, ENGINES_3D, Observation, Reason, Viewpoint
 from .intervals import visible_intervals
 from .scene import VisibilityInputWarning
 from .sensors import Sensor
@@ -14,20 +14,30 @@ from .table import SCHEMA
 
 __all__ = [
     "ENGINES",
+    "ENGINES_3D",
     "SCHEMA",
     "Observation",
     "Reason",
     "Sensor",
     "Viewpoint",
     "VisibilityInputWarning",
+    "animate",
     "get_visibility_df",
     "get_visibility_df_for_frame",
     "metrics",
+    "plot_frame",
     "run_batch",
+    "save_timeline",
     "seen_by_any",
+    "timeline_chart",
     "visibility",
+    "visible_area",
+    "visible_area_over_time",
     "visible_intervals",
+    "write_report",
 ]
+
+PLOTTING = ("animate", "plot_frame", "save_timeline", "timeline_chart", "write_report")
 
 
 def __getattr__(name: str):
@@ -36,4 +46,14 @@ def __getattr__(name: str):
         from . import metric
 
         return getattr(metric, name)
+    # the pictures need matplotlib/altair (the 'plot' extra): load them only when asked for
+    if name in PLOTTING:
+        from . import plot
+
+        return getattr(plot, name)
+    # the visible area builds on the sweep engine's kernels: load them only when asked for
+    if name in ("visible_area", "visible_area_over_time"):
+        from . import area
+
+        return getattr(area, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -20,15 +20,34 @@ from .engines import get_engine
 from .output import PartWriter, atomic_directory, check_output_path
 from .pipeline import ContainmentLog, chunks, run
 from .scene import ObjectTable, OnInvalid, as_lazy, load_objects
-from .sensors import Sensor, resolve_sensors
-from .statics import load_static_occluders
+from .sensors import Sensor, fitted_sensors, resolve_sensors
 from .table import STATUSES, empty_table, to_polars
+from .threed import Finisher, check_mode, load_statics, resolve_engine, with_can_see
 
 EgoSpec = int | Sequence[int] | Literal["all"]
 SensorSpec = str | os.PathLike | Sensor | Sequence[Sensor] | None
 PROGRESS_MIN_FRAMES = 200
 PARALLEL_MIN_WORK = 5_000  # (frame, observer) pairs from which all cores are used by default
 CHUNK_FRAMES = 500
+CHUNK_ROWS = 250_000  # output rows a chunk aims at, at most: bounds each worker's memory when every object observes
+
+
+def chunk_size(objects: ObjectTable, n_egos: int, chunk_frames: int, n_sensors: int = 1) -> int:
+    """Frames per chunk: ``chunk_frames`` at most, fewer when frames yield many rows (many observers), so that a
+    chunk's table stays near :data:`CHUNK_ROWS` rows (about 20 MiB of arrays in the worker).
+
+    Examples
+    --------
+    >>> import polars as pl
+    >>> frames = pl.DataFrame({"frame": [0, 0, 1, 1], "total_nanos": [0, 0, 1, 1], "idx": [0, 1, 0, 1],
+    ...     "x": [0.0, 9, 0, 9], "y": [0.0] * 4, "length": [4.0] * 4, "width": [2.0] * 4, "yaw": [0.0] * 4})
+    >>> objects = load_objects(frames)
+    >>> chunk_size(objects, 2, 500), chunk_size(objects, 2, 500, n_sensors=200_000)
+    (500, 1)
+    """
+    per_frame = len(objects.idx) / max(objects.n_frames, 1)
+    rows = per_frame * min(n_egos, per_frame) * n_sensors
+    return max(1, min(chunk_frames, int(CHUNK_ROWS // max(rows, 1.0))))
 
 
 def describe_idx(present: np.ndarray) -> str:
@@ -85,7 +104,7 @@ def get_visibility_df(
     static_occluder_polys: Sequence[shapely.Geometry] | None = None,
     epsilon: float | None = None,
     *,
-    engine: str = "visilibity",
+    engine: str | None = None,
     progress: bool | None = None,
     on_invalid: OnInvalid = "warn",
     workers: int | None = None,
@@ -93,6 +112,10 @@ def get_visibility_df(
     chunk_frames: int = CHUNK_FRAMES,
     hide_progress: bool | None = None,
     sensors: SensorSpec = None,
+    mode: Literal["2d", "3d"] = "2d",
+    static_occluder_heights: Sequence[float] | float | None = None,
+    static_meshes: Sequence[Any] = (),
+    map_occluders: str | os.PathLike | bool | None = None,
 ) -> pl.DataFrame | pl.LazyFrame:
     """Visibility and occluders of every object, seen from the ego, in every frame where the ego exists.
 
@@ -109,8 +132,10 @@ def get_visibility_df(
     epsilon : float, optional
         Metres; accepted for compatibility with 0.1.0, where it was VisiLibity's snapping distance; the result here
         is exact and does not depend on it. Must be a non-negative finite number or None.
-    engine : str
-        Registered engine name (``"visilibity"``, the default; see ``omega_prime_visibility.ENGINES``).
+    engine : str, optional
+        Registered engine name: in 2D ``"visilibity"`` (the default) or ``"sweep"`` (``ENGINES``); in 3D
+        ``"raycast3d"`` (the default), ``"raycast3d-high"``, ``"raycast3d-fast"`` or ``"silhouette3d"``
+        (exact, box scenes only) (``ENGINES_3D``).
     progress : bool, optional
         Show a progress bar; by default only for long recordings.
     on_invalid : {"warn", "raise"}
@@ -126,13 +151,27 @@ def get_visibility_df(
         refused: for CSV, call ``write_csv`` on the returned table. The parts are written in a temporary
         directory beside it, renamed when complete, so a failed or killed run leaves no partial result.
     chunk_frames : int
-        Frames per chunk of work.
+        Frames per chunk of work, at most (fewer when frames yield many rows, see :func:`chunk_size`).
     hide_progress : bool, optional
         0.1.0's name for ``progress=not hide_progress`` (a ValueError if both are given and contradict).
     sensors : "roof", "typical", a .json path, a Sensor or a sequence of Sensors, optional
-        Look through these sensors, mounted on every observer (:mod:`omega_prime_visibility.sensors`; the layouts
-        are those of a 4.6 m x 1.85 m car, call ``typical(length, width)`` for another size). Needs the observers'
-        ``yaw``. None (the default): from the observer's centre, all around, without a range limit.
+        Look through these sensors, mounted on every observer (:mod:`omega_prime_visibility.sensors`). A layout
+        name is fitted to each observer's own length and width (the median extent of its outline along and across
+        its heading), so a truck's bumper radar sits on the truck's bumper. Needs the observers' ``yaw``. None
+        (the default): from the observer's centre, all around, without a range limit.
+    mode : {"2d", "3d"}
+        ``"3d"``: oriented 3D boxes from ``z, length, width, height, roll, pitch, yaw`` seen from the ego's eye
+        (its centre, 1.25 m above the ground under it); ``visibility`` is a solid-angle fraction and the table
+        gains ``can_see`` (see :mod:`omega_prime_visibility.threed`).
+    static_occluder_heights : float or sequence of float, optional
+        z (metres) of the tops of ``static_occluder_polys`` (one for all, or one each); in 2D those lower than the
+        driver's eye height (1.25 m) are left out, in 3D they are walls of that height (none: 100 m).
+    static_meshes : sequence of paths or trimesh.Trimesh, optional
+        3D static occluders (any file trimesh loads), numbered after the footprints; 3D only.
+    map_occluders : path or True, optional
+        An OpenDRIVE map (True: the recording's own) whose road objects (``<object>``) become static occluders
+        with their heights, numbered after ``static_occluder_polys``
+        (:func:`omega_prime_visibility.mapobjects.read_map_objects`).
 
     Returns
     -------
@@ -164,16 +203,22 @@ def get_visibility_df(
     progress = resolve_progress(progress, hide_progress)
     if output is not None:
         output = check_output_path(output)
-    sensor_set = resolve_sensors(sensors)
-    objects = load_objects(df, on_invalid=on_invalid)
-    if sensor_set is not None and not _has_yaw(df):
+    mode = check_mode(mode)
+    engine = resolve_engine(engine, mode)
+    resolve_sensors(sensors)  # a bad layout name or file fails before the table is read
+    objects = load_objects(df, on_invalid=on_invalid, three_d=mode == "3d")
+    if sensors is not None and not _has_yaw(df):
         raise ValueError("sensors need the observers' heading: the moving-object table has no 'yaw' column")
-    statics = load_static_occluders(static_occluder_polys)
+    statics, static_positions = load_statics(
+        static_occluder_polys, mode, static_occluder_heights, static_meshes, map_occluders, df
+    )
     egos, with_ego = resolve_egos(ego_idx, objects)
+    sensor_set = fitted_sensors(sensors, observer_sizes(objects, egos) if isinstance(sensors, str) else {})
     get_engine(engine)  # unknown names fail here, not in a worker
     if chunk_frames < 1:
         raise ValueError(f"chunk_frames must be at least 1, not {chunk_frames}")
     n_workers = auto_workers(objects.n_frames * len(egos)) if workers is None else max(1, int(workers))
+    chunk_frames = chunk_size(objects, len(egos), chunk_frames, 1 if sensor_set is None else len(sensor_set))
     n_workers = min(n_workers, len(chunks(objects.n_frames, chunk_frames, n_workers)))
     show = objects.n_frames >= PROGRESS_MIN_FRAMES if progress is None else progress
     bar = tqdm(total=objects.n_frames, disable=not show, desc="visibility", unit="frame")
@@ -181,10 +226,11 @@ def get_visibility_df(
     tables: list[pl.DataFrame] = []
     with atomic_directory(output) if output is not None else nullcontext() as temp:
         # workers write their own parts: only row counts and containment logs come back here
-        names = None if sensor_set is None else [s.name for s in sensor_set]
+        names = sensor_names(sensor_set)
         labels = {} if names is None else {"sensor": names, "status": STATUSES}
-        schema = empty_table(with_ego, names is not None).to_arrow().schema
-        sink = PartWriter(temp, schema, labels) if temp is not None else None
+        schema = with_can_see(empty_table(with_ego, names is not None), mode).to_arrow().schema
+        finish = Finisher(static_positions, mode == "3d")
+        sink = Finisher(static_positions, mode == "3d", PartWriter(temp, schema, labels)) if temp is not None else None
         try:
             with _executor(n_workers) as pool:
                 spread = {"executor": pool, "workers": n_workers, "sink": sink}
@@ -195,7 +241,7 @@ def get_visibility_df(
                     if sink is not None:
                         written += result
                     else:
-                        tables.append(to_polars(result, with_ego, names))
+                        tables.append(with_can_see(to_polars(finish.columns(result), with_ego, names), mode))
                     bar.update(n_frames)
         finally:
             bar.close()
@@ -204,7 +250,35 @@ def get_visibility_df(
     containment.warn(stacklevel=3)
     if output is not None:
         return pl.scan_parquet(output)
-    return pl.concat(tables, rechunk=True) if tables else empty_table(with_ego, sensor_set is not None)
+    return (
+        pl.concat(tables, rechunk=True) if tables else with_can_see(empty_table(with_ego, sensor_set is not None), mode)
+    )
+
+
+def observer_sizes(objects: ObjectTable, egos: np.ndarray) -> dict[int, tuple[float, float]]:
+    """Each observer's length and width (metres): the median extent of its outline along and across its
+    heading, over the frames where it occurs."""
+    rings = objects.rings
+    heading = np.repeat(objects.yaw, objects.rings.sizes)
+    rel = rings.coords - np.repeat(objects.position, objects.rings.sizes, axis=0)
+    along = rel[:, 0] * np.cos(heading) + rel[:, 1] * np.sin(heading)
+    across = -rel[:, 0] * np.sin(heading) + rel[:, 1] * np.cos(heading)
+    first = rings.offsets[:-1]
+    length = np.maximum.reduceat(along, first) - np.minimum.reduceat(along, first) if len(first) else np.zeros(0)
+    width = np.maximum.reduceat(across, first) - np.minimum.reduceat(across, first) if len(first) else np.zeros(0)
+    sizes = {}
+    for ego in np.asarray(egos).tolist():
+        mine = objects.idx == ego
+        sizes[ego] = (float(np.median(length[mine])), float(np.median(width[mine])))
+    return sizes
+
+
+def sensor_names(sensors: Any) -> list[str] | None:
+    """The sensors' names in order (for one sequence, or the first observer's of a per-observer mapping)."""
+    if sensors is None:
+        return None
+    first = next(iter(sensors.values())) if isinstance(sensors, dict) else sensors
+    return [s.name for s in first]
 
 
 def _has_yaw(df: Any) -> bool:
@@ -238,12 +312,13 @@ def get_visibility_df_for_frame(
     static_occluder_polys: Sequence[shapely.Geometry] | None = None,
     epsilon: float | None = None,
     *,
-    engine: str = "visilibity",
+    engine: str | None = None,
     on_invalid: OnInvalid = "warn",
     sensors: SensorSpec = None,
+    **three_d: Any,
 ) -> pl.DataFrame:
     """:func:`get_visibility_df` for a single frame number (same parameters and columns; ``epsilon`` likewise has
-    no effect).
+    no effect; ``mode`` and the 3D keywords are passed on).
 
     Raises
     ------
@@ -258,5 +333,12 @@ def get_visibility_df_for_frame(
     if one.height == 0:
         raise ValueError(f"frame {frame} does not occur in the table")
     return get_visibility_df(
-        one, ego_idx, static_occluder_polys, engine=engine, progress=False, on_invalid=on_invalid, sensors=sensors
+        one,
+        ego_idx,
+        static_occluder_polys,
+        engine=engine,
+        progress=False,
+        on_invalid=on_invalid,
+        sensors=sensors,
+        **three_d,
     )

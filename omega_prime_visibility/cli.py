@@ -1,5 +1,6 @@
 """Command line: ``omega-prime-visibility run RECORDING --ego 0`` prints or writes the visibility table of one
-recording; ``omega-prime-visibility batch INPUTS... -o OUTDIR`` computes many, locally or on a dask cluster."""
+recording; ``batch INPUTS... -o OUTDIR`` computes many, locally or on a dask cluster; ``animate`` renders a GIF
+or MP4, ``report`` an interactive HTML page."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ import pyarrow as pa
 import pyarrow.compute as pc
 import typer
 
-from .engines import ENGINES
+from .engines import ENGINES, ENGINES_3D
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, help=__doc__)
 
@@ -60,7 +61,13 @@ def load_recording(path: Path, map_path: Path | None = None):
 
 # options shared by run and batch
 Ego = Annotated[str, typer.Option(help="observer idx, comma-separated idx, or 'all'; default: host vehicle")]
-Engine = Annotated[str, typer.Option(help=f"one of {sorted(ENGINES)}")]
+Engine = Annotated[
+    str | None, typer.Option(help=f"2D: one of {sorted(ENGINES)} (default visilibity); 3D: {sorted(ENGINES_3D)}")
+]
+Mode = Annotated[str, typer.Option(help="2d (bird's-eye view, exact) or 3d (boxes with heights, ray cast)")]
+MapOccluders = Annotated[
+    bool, typer.Option("--map-occluders", help="road objects of the map (--map, or the recording's) as occluders")
+]
 Static = Annotated[Path | None, typer.Option("--static", help="static occluders: GeoJSON or WKT file (metres)")]
 Sensors = Annotated[str | None, typer.Option(help="look through sensors: 'roof', 'typical' or a sensors .json file")]
 
@@ -79,7 +86,7 @@ def load_static(path: Path | None) -> list | None:
 def run(
     recording: Annotated[Path, typer.Argument(help="omega-prime MCAP (or OSI trace with --map)")],
     ego: Ego = "",
-    engine: Engine = "visilibity",
+    engine: Engine = None,
     output: Annotated[Path | None, typer.Option("-o", "--output", help="write .parquet or .csv here")] = None,
     map_path: Annotated[Path | None, typer.Option("--map", help="OpenDRIVE map for OSI traces")] = None,
     static: Static = None,
@@ -87,22 +94,29 @@ def run(
     progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
     rows: Annotated[int, typer.Option(help="rows to print when no output is given")] = 20,
     sensors: Sensors = None,
+    mode: Mode = "2d",
+    map_occluders: MapOccluders = False,
 ) -> None:
     """Compute the visibility table of one recording; print it with a per-target summary, or write it."""
     from .api import describe_idx, get_visibility_df
     from .output import atomic_write, check_output_path
 
     # every check that needs no computing comes first, so a typo never costs a long run
-    if engine not in ENGINES:
-        raise fail(f"unknown engine {engine!r}; available: {sorted(ENGINES)}")
+    from .threed import check_mode, resolve_engine
+
+    try:
+        mode = check_mode(mode)
+        engine = resolve_engine(engine, mode)
+    except ValueError as e:
+        raise fail(str(e)) from None
     if output is not None:
         try:
             output = check_output_path(output, (".parquet", ".csv"))
         except ValueError as e:
             raise fail(str(e)) from None
     ego_idx = parse_ego(ego) if ego else None
-    statics = load_static(static)
     sensor_set = parse_sensors(sensors)
+    statics = load_static(static)
     r = load_recording(recording, map_path)
     if ego_idx is None and r.host_vehicle_idx is None:
         present = np.unique(r._df["idx"].to_numpy())
@@ -112,7 +126,16 @@ def run(
     stream = output if output is not None and output.suffix == ".parquet" else None
     try:
         table = get_visibility_df(
-            r, ego_idx, statics, engine=engine, progress=progress, workers=workers, output=stream, sensors=sensor_set
+            r,
+            ego_idx,
+            statics,
+            engine=engine,
+            progress=progress,
+            workers=workers,
+            output=stream,
+            sensors=sensor_set,
+            mode=mode,
+            map_occluders=(map_path if map_path is not None else True) if map_occluders else None,
         )
         if output is not None and stream is None:
             with atomic_write(output) as temp:
@@ -153,18 +176,133 @@ def run(
             typer.echo(summary.sort(by))
 
 
+def parse_frames(frames: str) -> slice | None:
+    """``--frames START:STOP[:STEP]`` (frame numbers, stop excluded, either end may be left out) as a slice."""
+    if not frames:
+        return None
+    parts = frames.split(":")
+    try:
+        if len(parts) not in (2, 3):
+            raise ValueError
+        values = [int(p) if p.strip() else None for p in parts]
+    except ValueError:
+        raise fail(
+            f"--frames takes START:STOP or START:STOP:STEP (frame numbers, stop excluded), not {frames!r}"
+        ) from None
+    if len(values) == 3 and values[2] is not None and values[2] <= 0:
+        raise fail(f"--frames: the step must be a positive number of frames, not {values[2]}")
+    return slice(*values)
+
+
+def single_ego(ego: str) -> int | None:
+    """``--ego`` for a picture: one idx, or None for the recording's host vehicle."""
+    if not ego:
+        return None
+    value = parse_ego(ego)
+    if not isinstance(value, int):
+        raise fail(f"--ego takes one idx for a picture, not {ego!r}")
+    return value
+
+
+def host_or(ego_idx: int | None, recording) -> int:
+    """``ego_idx``, or the recording's host vehicle when it is None."""
+    if ego_idx is not None:
+        return ego_idx
+    if recording.host_vehicle_idx is None:
+        raise fail("the recording names no host vehicle: pass --ego IDX")
+    return int(recording.host_vehicle_idx)
+
+
+FramesOption = Annotated[str, typer.Option(help="START:STOP[:STEP] frame numbers (stop excluded); default all")]
+EgoOption = Annotated[str, typer.Option(help="observer idx; default: host vehicle")]
+MapOption = Annotated[Path | None, typer.Option("--map", help="OpenDRIVE map for OSI traces")]
+
+
+@app.command()
+def animate(
+    recording: Annotated[Path, typer.Argument(help="omega-prime MCAP (or OSI trace with --map)")],
+    output: Annotated[Path, typer.Option("-o", "--output", help="write a .gif or .mp4 here")],
+    ego: EgoOption = "",
+    frames: FramesOption = "",
+    fps: Annotated[float, typer.Option(help="frames per second")] = 10.0,
+    follow: Annotated[bool, typer.Option(help="keep the ego in the middle (--no-follow: one fixed view)")] = True,
+    view_range: Annotated[float, typer.Option(help="metres shown each side of the ego")] = 60.0,
+    target: Annotated[int | None, typer.Option(help="outline this idx and its occluders")] = None,
+    sensors: Annotated[str | None, typer.Option(help="sensor layout (roof, typical) or JSON file to draw")] = None,
+    engine: Annotated[str, typer.Option(help=f"one of {sorted(ENGINES)}")] = "visilibity",
+    map_path: MapOption = None,
+    progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
+) -> None:
+    """Render the scene seen from the ego, frame by frame, to an animated GIF or an MP4 video."""
+    from .output import check_output_path
+    from .plot import animate as render
+
+    if engine not in ENGINES:
+        raise fail(f"unknown engine {engine!r}; available: {sorted(ENGINES)}")
+    try:
+        check_output_path(output, (".gif", ".mp4"))
+    except ValueError as e:
+        raise fail(str(e)) from None
+    span, ego_idx = parse_frames(frames), single_ego(ego)
+    r = load_recording(recording, map_path)
+    ego_idx = host_or(ego_idx, r)
+    try:
+        render(r, ego_idx, output, frames=span, fps=fps, follow=follow, view_range=view_range, target=target,
+               sensors=sensors, engine=engine, progress=progress)  # fmt: skip
+    except (ValueError, ImportError) as e:
+        raise fail(str(e)) from None
+    typer.echo(f"wrote {output}")
+
+
+@app.command()
+def report(
+    recording: Annotated[Path, typer.Argument(help="omega-prime MCAP (or OSI trace with --map)")],
+    output: Annotated[Path, typer.Option("-o", "--output", help="write the .html report here")],
+    ego: EgoOption = "",
+    frames: FramesOption = "",
+    view_range: Annotated[float, typer.Option(help="metres shown each side of the ego")] = 60.0,
+    sensors: Annotated[
+        str | None, typer.Option(help="timeline and summary through sensors: 'roof', 'typical' or a .json file")
+    ] = None,
+    engine: Annotated[str, typer.Option(help=f"one of {sorted(ENGINES)}")] = "visilibity",
+    map_path: MapOption = None,
+    progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
+) -> None:
+    """Write an interactive HTML report (frame slider, timeline, per-target summary) that works offline."""
+    from .output import check_output_path
+    from .plot import write_report
+
+    if engine not in ENGINES:
+        raise fail(f"unknown engine {engine!r}; available: {sorted(ENGINES)}")
+    try:
+        check_output_path(output, (".html",))
+    except ValueError as e:
+        raise fail(str(e)) from None
+    span, ego_idx, sensor_set = parse_frames(frames), single_ego(ego), parse_sensors(sensors)
+    r = load_recording(recording, map_path)
+    ego_idx = host_or(ego_idx, r)
+    try:
+        write_report(r, ego_idx, output, frames=span, view_range=view_range, engine=engine, progress=progress,
+                     title=recording.name, sensors=sensor_set)  # fmt: skip
+    except (ValueError, ImportError) as e:
+        raise fail(str(e)) from None
+    typer.echo(f"wrote {output}")
+
+
 @app.command()
 def batch(
     inputs: Annotated[list[str], typer.Argument(help="recordings, folders (searched recursively) and glob patterns")],
     output: Annotated[Path, typer.Option("-o", "--output", help="folder for the results and the summary")],
     ego: Ego = "",
-    engine: Engine = "visilibity",
+    engine: Engine = None,
     static: Static = None,
     map_path: Annotated[
         Path | None, typer.Option("--map", help="OpenDRIVE map for the OSI traces, or a JSON list of [trace, map]")
     ] = None,
     workers: Annotated[int | None, typer.Option(help="local processes over files (default: the cores)")] = None,
     sensors: Sensors = None,
+    mode: Mode = "2d",
+    map_occluders: MapOccluders = False,
     scheduler: Annotated[str | None, typer.Option(help="dask scheduler address, e.g. tcp://host:8786")] = None,
     scheduler_file: Annotated[Path | None, typer.Option(help="dask scheduler file (dask scheduler --help)")] = None,
     overwrite: Annotated[bool, typer.Option(help="recompute results that are current")] = False,
@@ -177,7 +315,7 @@ def batch(
     from .batch import SUMMARY_NAME, BatchInterrupted, run_batch
 
     options = {"ego": parse_ego(ego) if ego else None, "engine": engine, "static": static, "map": map_path}
-    options["sensors"] = sensors
+    options.update(sensors=sensors, mode=mode, map_occluders=map_occluders)
     try:
         summary = run_batch(
             inputs,
@@ -217,6 +355,8 @@ def engines() -> None:
     """List the available engines."""
     for name in sorted(ENGINES):
         typer.echo(name)
+    for name in sorted(ENGINES_3D):
+        typer.echo(f"{name} (--mode 3d)")
 
 
 def main() -> None:

@@ -316,6 +316,30 @@ def covers_points(points: np.ndarray, rings: Rings, tolerance: float = 1e-9) -> 
     return _covers_points(points, coords, offsets, float(tolerance))
 
 
+@numba.njit(cache=True)
+def _points_in_boxes(points, boxes):
+    out = np.empty((len(points), len(boxes)), dtype=np.bool_)
+    for p in range(len(points)):
+        x, y = points[p, 0], points[p, 1]
+        for b in range(len(boxes)):
+            out[p, b] = boxes[b, 0] <= x <= boxes[b, 2] and boxes[b, 1] <= y <= boxes[b, 3]
+    return out
+
+
+def points_in_boxes(points: np.ndarray, boxes: np.ndarray) -> np.ndarray:
+    """Whether each point (shape (k, 2), metres) lies in each closed box ``(x0, y0, x1, y1)`` (shape (s, 4), as
+    ``shapely.bounds`` gives; NaN boxes hold nothing), shape (k, s) bool.
+
+    Examples
+    --------
+    >>> points_in_boxes(np.array([[1.0, 1.0], [2.0, 0.0]]), np.array([[0.0, 0.0, 2.0, 2.0], [5, 5, 6, 6]]))
+    array([[ True, False],
+           [ True, False]])
+    """
+    points = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
+    return _points_in_boxes(points, np.ascontiguousarray(boxes, dtype=np.float64).reshape(-1, 4))
+
+
 def covers_point(point: np.ndarray, rings: Rings, tolerance: float = 1e-9) -> np.ndarray:
     """Whether each ring's polygon contains ``point`` or has it within ``tolerance`` metres of its boundary.
 

@@ -26,11 +26,14 @@ def visibility(
     /,
     ego_id: EgoSpec | None = None,
     static_occluder_polys: Sequence[shapely.Geometry] | None = None,
-    engine: str = "visilibity",
+    engine: str | None = None,
     progress: bool | Literal[False] = False,
     on_invalid: OnInvalid = "warn",
     ego_idx: EgoSpec | None = None,
     epsilon: float | None = None,
+    mode: Literal["2d", "3d"] = "2d",
+    static_occluder_heights: Sequence[float] | float | None = None,
+    map_occluders: str | None = None,
     sensors: SensorSpec = None,
 ) -> tuple[pl.LazyFrame, dict[str, pl.LazyFrame]]:
     """Visibility of every object from ``ego_id`` (one idx, a list, or ``"all"``) in every frame.
@@ -43,6 +46,9 @@ def visibility(
     (metres) is accepted for compatibility with 0.1.0, where it was VisiLibity's snapping distance; the result here
     is exact and does not depend on it. ``sensors`` (a layout name, a JSON file or Sensor objects) looks through
     sensors, as in :func:`~omega_prime_visibility.get_visibility_df`.
+
+    ``mode="3d"`` (with ``static_occluder_heights`` and ``map_occluders``, an OpenDRIVE path) gives the 3D table of
+    :func:`omega_prime_visibility.get_visibility_df` (with ``can_see``).
     """
     # ValueError, not TypeError: omega-prime relabels a metric's TypeError as "Missing parameter"
     if (ego_id is None) == (ego_idx is None):
@@ -59,6 +65,9 @@ def visibility(
         engine=engine,
         progress=progress,
         on_invalid=on_invalid,
+        mode=mode,
+        static_occluder_heights=static_occluder_heights,
+        map_occluders=map_occluders,
         sensors=sensors,
     )
     return df, {"visibility": table.lazy()}

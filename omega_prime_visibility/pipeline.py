@@ -24,6 +24,9 @@ from .sensors import Sensor, sensor_poses
 from .statics import StaticOccluders
 from .table import Columns, TableBuilder, frame_rows
 
+SensorSet = Sequence[Sensor] | dict[int, Sequence[Sensor]]
+"""Sensors for every observer, or per observer idx (same names, same order)."""
+
 
 class ContainmentLog:
     """Counts objects that contain an observer, for one summarising warning."""
@@ -59,16 +62,19 @@ class ContainmentLog:
 
 
 def viewpoints(
-    objects: FrameObjects, rows: np.ndarray, statics: StaticOccluders, sensors: Sequence[Sensor] | None = None
+    objects: FrameObjects, rows: np.ndarray, statics: StaticOccluders, sensors: SensorSet | None = None
 ) -> list[Viewpoint]:
     """Viewpoints of the objects at row numbers ``rows`` of this frame: at each bounding-box centre seeing all
-    around, or, with ``sensors``, one per (observer, sensor) in that order, at the sensor's pose with its field
-    of view and range.
+    around, or, with ``sensors`` (one sequence for all observers, or one per observer idx, with the same names in
+    the same order), one per (observer, sensor) in that order, at the sensor's pose with its field of view and
+    range.
 
     Transparent to each: its own object and every object containing or touching the viewpoint, and the static
     occluders containing it.
     """
     rows = np.asarray(rows, dtype=np.int64)
+    if isinstance(sensors, dict):  # each observer with its own sensors (e.g. a layout fitted to its size)
+        return [v for row in rows.tolist() for v in viewpoints(objects, [row], statics, sensors[int(objects.idx[row])])]
     if sensors is None:
         owners = rows
         positions = objects.position[rows]
@@ -110,7 +116,7 @@ def observe_frame(
     egos: np.ndarray,
     builder: TableBuilder,
     containment: ContainmentLog,
-    sensors: Sequence[Sensor] | None = None,
+    sensors: SensorSet | None = None,
 ) -> None:
     """Run the engine for every observer (and sensor) present in this frame and add the rows to ``builder``."""
     rows = observer_rows(objects, egos)
@@ -118,14 +124,15 @@ def observe_frame(
         return
     views = viewpoints(objects, rows, statics, sensors)
     observations = engine.observe(objects, views)
-    inside = np.array([view.transparent for view in views], dtype=bool).reshape(len(views), -1)
-    inside[np.arange(len(views)), [view.own for view in views]] = False
-    for k in np.flatnonzero(inside.any(axis=1)).tolist():
-        containment.add(int(objects.idx[views[k].own]), objects.idx[inside[k]], objects.frame)
-    sensor_codes = None if sensors is None else np.tile(np.arange(len(sensors)), len(rows))
-    columns = frame_rows(
-        observations, np.array([view.own for view in views], dtype=np.int64), objects.idx, sensor_codes
-    )
+    owns = np.array([view.own for view in views], dtype=np.int64)
+    for view in views:
+        if np.count_nonzero(view.transparent) > 1:  # more than its own body: it is inside some object
+            inside = view.transparent.copy()
+            inside[view.own] = False
+            containment.add(int(objects.idx[view.own]), objects.idx[inside], objects.frame)
+    per_observer = 0 if sensors is None else len(next(iter(sensors.values())) if isinstance(sensors, dict) else sensors)
+    sensor_codes = None if sensors is None else np.tile(np.arange(per_observer), len(rows))
+    columns = frame_rows(observations, owns, objects.idx, sensor_codes)
     builder.add(columns, frame=objects.frame, total_nanos=objects.total_nanos)
 
 
@@ -134,7 +141,7 @@ def run_chunk(
     statics: StaticOccluders,
     egos: np.ndarray,
     engine: str,
-    sensors: Sequence[Sensor] | None = None,
+    sensors: SensorSet | None = None,
 ) -> tuple[Columns | None, ContainmentLog]:
     """All frames of ``objects`` with a fresh engine; plain arrays by column name, and the containment log."""
     eng = get_engine(engine)(statics)
@@ -183,7 +190,7 @@ def run(
     executor: Executor | None = None,
     workers: int = 1,
     sink: Callable[[int, Columns | None], Any] | None = None,
-    sensors: Sequence[Sensor] | None = None,
+    sensors: SensorSet | None = None,
 ) -> Iterator[tuple[int, Any, ContainmentLog]]:
     """Observe every frame, chunk by chunk, in order; yields ``(frames in the chunk, columns, containment log)``.
 

@@ -46,6 +46,8 @@ class FrameObjects:
         Headings, radians counter-clockwise from +x (0 where the table had no ``yaw``).
     rings : Rings
         One counter-clockwise outline per object.
+    boxes3d : ndarray, shape (n, 9), or None
+        The objects' 3D boxes (:mod:`.boxes3d`), when loaded with ``three_d=True``.
     """
 
     frame: int
@@ -54,6 +56,7 @@ class FrameObjects:
     position: np.ndarray
     yaw: np.ndarray
     rings: Rings
+    boxes3d: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.idx)
@@ -70,6 +73,7 @@ class ObjectTable:
     yaw: np.ndarray
     rings: Rings
     frame_starts: np.ndarray  # (f + 1,) row where each frame starts
+    boxes3d: np.ndarray | None = None  # (rows, 9) with three_d=True
 
     @property
     def n_frames(self) -> int:
@@ -85,6 +89,7 @@ class ObjectTable:
             position=self.position[s:e],
             yaw=self.yaw[s:e],
             rings=self.rings.slice(s, e),
+            boxes3d=None if self.boxes3d is None else self.boxes3d[s:e],
         )
 
     def frame_range(self, start: int, stop: int) -> ObjectTable:
@@ -98,6 +103,7 @@ class ObjectTable:
             self.yaw[s:e],
             self.rings.slice(s, e),
             self.frame_starts[start : stop + 1] - s,
+            None if self.boxes3d is None else self.boxes3d[s:e],
         )
 
 
@@ -265,7 +271,7 @@ def _polygon_rings(
     return orient(rings, True), good, reasons, notes, broken[good[broken]]
 
 
-def load_objects(data: Any, *, on_invalid: OnInvalid = "warn") -> ObjectTable:
+def load_objects(data: Any, *, on_invalid: OnInvalid = "warn", three_d: bool = False) -> ObjectTable:
     """Validate the moving-object table once and group it by frame.
 
     Parameters
@@ -276,6 +282,9 @@ def load_objects(data: Any, *, on_invalid: OnInvalid = "warn") -> ObjectTable:
     on_invalid : {"warn", "raise"}
         What to do with rows that cannot be used (NaN or infinite pose, zero-size or invalid outline): skip them
         with a :class:`VisibilityInputWarning` naming how many and which, or raise ``ValueError``.
+    three_d : bool
+        Also read the 3D boxes (``z, height, roll, pitch`` with ``length, width, yaw``; see :mod:`.scene3d`);
+        rows with NaN 3D values are skipped like NaN poses.
 
     Raises
     ------
@@ -321,6 +330,15 @@ def load_objects(data: Any, *, on_invalid: OnInvalid = "warn") -> ObjectTable:
             problems.append(f"{int((good & pose_ok & ~size_ok).sum())} zero-size box(es) (length * width ~ 0)")
         ok = good & size_ok
         rings = box_rings(x[ok], y[ok], length[ok], width[ok], yaw[ok])
+    boxes3d = None
+    if three_d:
+        from .scene3d import read_boxes3d
+
+        boxes3d, ok3d, problems3d = read_boxes3d(df, x, y, yaw)
+        if (ok & ~ok3d).any():
+            problems += problems3d
+            rings = rings.take(np.flatnonzero(ok3d[ok]))  # the rings are those of the rows usable in 2D
+            ok = ok & ok3d
     if len(replaced):
         notes[-1] += ", e.g. " + ", ".join(f"(frame {frame[i]}, idx {idx[i]})" for i in replaced[:5])
     if notes and ok.all():
@@ -340,4 +358,6 @@ def load_objects(data: Any, *, on_invalid: OnInvalid = "warn") -> ObjectTable:
     frame_starts = np.concatenate([[0], np.flatnonzero(np.diff(frame)) + 1, [len(frame)]]).astype(np.int64)
     if len(frame) == 0:
         frame_starts = np.zeros(1, dtype=np.int64)
-    return ObjectTable(frame, total_nanos, idx, position, yaw, rings, frame_starts)
+    if boxes3d is not None:
+        boxes3d = boxes3d[ok]
+    return ObjectTable(frame, total_nanos, idx, position, yaw, rings, frame_starts, boxes3d)

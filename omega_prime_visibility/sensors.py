@@ -239,6 +239,21 @@ def resolve_sensors(
     return check_sensors(spec)
 
 
+def fitted_sensors(
+    spec: str | os.PathLike | Sensor | Sequence[Sensor] | None, sizes: dict[int, tuple[float, float]]
+) -> dict[int, tuple[Sensor, ...]] | tuple[Sensor, ...] | None:
+    """Sensors per observer: a layout name (:data:`LAYOUTS`) fitted to each observer's ``(length, width)`` in
+    ``sizes`` (metres, by idx); anything else (:func:`resolve_sensors`) is the same for every observer.
+
+    >>> fitted = fitted_sensors("typical", {0: (4.0, 1.8), 7: (12.0, 2.5)})
+    >>> [s.x for s in fitted[7] if s.name == "front_radar"], [s.x for s in fitted[0] if s.name == "front_radar"]
+    ([6.0], [2.0])
+    """
+    if isinstance(spec, str) and spec in LAYOUTS:
+        return {idx: check_sensors(LAYOUTS[spec](length, width)) for idx, (length, width) in sizes.items()}
+    return resolve_sensors(spec)
+
+
 def sensor_poses(sensor: Sensor, position: np.ndarray, heading: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """World positions (metres) and headings (radians, counter-clockwise from +x) of ``sensor`` on observers at
     ``position`` (shape (m, 2)) facing ``heading`` (shape (m,)).

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 import shapely
 
-from .geometry import Rings, edges, orient, ring_ids, rings_from, signed_area
+from .geometry import Rings, edges, orient, points_in_boxes, ring_ids, rings_from, signed_area
 from .scene import MIN_AREA
 
 
@@ -32,6 +32,8 @@ class StaticOccluders:
         The occluders as given (validated).
     bounds : ndarray, shape (n_sources, 4)
         ``xmin, ymin, xmax, ymax`` of each occluder, metres.
+    solids : statics3d.StaticSolids or None
+        Their 3D triangles with heights, and meshes (``mode="3d"``; see :mod:`.statics3d`).
     """
 
     rings: Rings
@@ -40,6 +42,7 @@ class StaticOccluders:
     segment_source: np.ndarray
     geometries: np.ndarray
     bounds: np.ndarray
+    solids: Any = None
 
     @property
     def n_sources(self) -> int:
@@ -52,11 +55,9 @@ class StaticOccluders:
         points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
         inside = np.zeros((len(points), self.n_sources), dtype=bool)
         if self.n_sources:
-            x0, y0, x1, y1 = self.bounds.T[:, :, None]
-            px, py = points[:, 0], points[:, 1]
-            near = (x0 <= px) & (px <= x1) & (y0 <= py) & (py <= y1)
+            near = points_in_boxes(points, self.bounds)
             if near.any():
-                s, v = np.nonzero(near)
+                v, s = np.nonzero(near)
                 inside[v, s] = shapely.intersects(self.geometries[s], shapely.points(points[v]))
         return inside
 

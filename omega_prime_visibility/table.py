@@ -315,6 +315,10 @@ def frame_rows(
         Each viewpoint's sensor code (its position in the list of sensors).
     """
     k, n = len(observations), len(idx)
+    if k == 1 and sensors is None:  # one observer all around (the usual case): its rows as they are
+        columns = observation_rows(observations[0], int(owns[0]), idx)
+        columns["idx_ego"] = np.full(len(columns["idx"]), idx[owns[0]] if owns[0] >= 0 else -1, dtype=np.int64)
+        return columns
     occ = [o.occluders for o in observations]
     st = [o.static_occluders for o in observations]
     occ_cut = np.zeros(k + 1, dtype=np.int64)

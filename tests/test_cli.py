@@ -169,29 +169,6 @@ def test_cli_osi_trace_with_text_map(shared_data, tmp_path) -> None:
     assert_error(out, f"cannot read map {tmp_path / 'map.txt'}")
 
 
-def test_cli_static_occluders_from_geojson(tmp_path) -> None:
-    import shapely
-
-    from omega_prime_visibility import get_visibility_df
-    from omega_prime_visibility.io import read_recording
-
-    wall = shapely.LineString([(60, -5.4), (140, -5.4)])
-    (tmp_path / "wall.geojson").write_text(shapely.to_geojson(wall))
-    out = cli(MCAP, "--ego", "0", "--static", tmp_path / "wall.geojson", "--no-progress", "-o", tmp_path / "v.parquet")
-    assert out.returncode == 0, out.stderr
-    expected = get_visibility_df(read_recording(MCAP), 0, [wall], progress=False)
-    assert expected["static_occluder_idxs"].list.len().sum() > 0
-    assert pl.read_parquet(tmp_path / "v.parquet").equals(expected)
-
-
-def test_cli_bad_static_file(tmp_path) -> None:
-    (tmp_path / "walls.wkt").write_text("LINESTRING (0 0, 1 1)\nnot wkt\n")
-    assert_error(cli(MCAP, "--static", tmp_path / "walls.wkt"), "walls.wkt, line 2, as WKT")
-    assert_error(
-        cli(MCAP, "--static", tmp_path / "none.wkt"), f"static occluders {tmp_path / 'none.wkt'} does not exist"
-    )
-
-
 def test_cli_sensors_layout_and_file(tmp_path) -> None:
     out_path = tmp_path / "s.parquet"
     out = cli(MCAP, "--ego", "0", "--engine", "sweep", "--sensors", "typical", "--no-progress", "-o", out_path)
@@ -213,3 +190,26 @@ def test_cli_bad_sensors(tmp_path) -> None:
     assert_error(cli(MCAP, "--sensors", bad), "bad.json", "fov must be in")
     bad.write_text("{")
     assert_error(cli(MCAP, "--sensors", bad), "not valid JSON")
+
+
+def test_cli_static_occluders_from_geojson(tmp_path) -> None:
+    import shapely
+
+    from omega_prime_visibility import get_visibility_df
+    from omega_prime_visibility.io import read_recording
+
+    wall = shapely.LineString([(60, -5.4), (140, -5.4)])
+    (tmp_path / "wall.geojson").write_text(shapely.to_geojson(wall))
+    out = cli(MCAP, "--ego", "0", "--static", tmp_path / "wall.geojson", "--no-progress", "-o", tmp_path / "v.parquet")
+    assert out.returncode == 0, out.stderr
+    expected = get_visibility_df(read_recording(MCAP), 0, [wall], progress=False)
+    assert expected["static_occluder_idxs"].list.len().sum() > 0
+    assert pl.read_parquet(tmp_path / "v.parquet").equals(expected)
+
+
+def test_cli_bad_static_file(tmp_path) -> None:
+    (tmp_path / "walls.wkt").write_text("LINESTRING (0 0, 1 1)\nnot wkt\n")
+    assert_error(cli(MCAP, "--static", tmp_path / "walls.wkt"), "walls.wkt, line 2, as WKT")
+    assert_error(
+        cli(MCAP, "--static", tmp_path / "none.wkt"), f"static occluders {tmp_path / 'none.wkt'} does not exist"
+    )

@@ -1,33 +1,154 @@
-"""The frame plot draws what the table says."""
+"""The frame plot draws what the table says: colours, outlines, sensors' wedges, statics, lanes, legend."""
 
 from __future__ import annotations
+
+import math
+import subprocess
+import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt
+import numpy as np
 import pytest
 import shapely
 from conftest import boxes_table
+from matplotlib.patches import Arc, Circle, Wedge
 
+import omega_prime_visibility
 from omega_prime_visibility.plot import plot_frame
+from omega_prime_visibility.plot._optional import require
+from omega_prime_visibility.sensors import Sensor
+
+CMAP = plt.get_cmap("RdYlGn")
 
 
-def test_plot_frame_colours_objects_by_visibility() -> None:
+@pytest.fixture(autouse=True)
+def _close_figures():
+    yield
+    plt.close("all")
+
+
+def by_gid(ax, gid: str) -> list:
+    return [a for a in [*ax.patches, *ax.lines] if a.get_gid() == gid]
+
+
+def texts(ax) -> list[str]:
+    return [t.get_text() for t in ax.texts]
+
+
+def test_plot_frame_colours_objects_by_visibility_and_outlines_occluders() -> None:
+    # ego at the origin; idx 1 (4 m wide at x = 10) hides idx 2 (2 m wide at x = 20) completely
     df = boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 4, 0), (20, 0, 4, 2, 0)])
-    wall = shapely.LineString([(5, -8), (5, -4)])
-    ax = plot_frame(df, 0, 0, [wall], target=2)
-    cmap = plt.get_cmap("RdYlGn")
-    faces = [tuple(p.get_facecolor()) for p in ax.patches]
-    assert len(ax.patches) == 4  # visible region + 3 objects
-    assert faces[2] == pytest.approx(cmap(1.0))  # idx 1, fully visible
-    assert faces[3] == pytest.approx(cmap(0.0))  # idx 2, hidden
-    assert ax.patches[2].get_linewidth() == 2.5  # occluder of the chosen target, outlined
-    assert ax.figure.axes[-1].get_ylabel() == "visibility"
-    plt.close(ax.figure)
+    ax = plot_frame(df, 0, 0, target=2)
+    (blocker,) = by_gid(ax, "object 1")
+    (hidden,) = by_gid(ax, "object 2")
+    (ego,) = by_gid(ax, "ego")
+    assert tuple(blocker.get_facecolor()) == pytest.approx(CMAP(1.0))
+    assert tuple(hidden.get_facecolor()) == pytest.approx(CMAP(0.0))
+    assert blocker.get_linewidth() == 2.5 and blocker.get_edgecolor()[:3] == (0, 0, 0)  # occluder of the target
+    assert hidden.get_linestyle() == "--"  # the target itself, dashed
+    assert ego.get_facecolor()[:3] == pytest.approx(matplotlib.colors.to_rgb("#1f5fbf"))
+    assert {"1: 100%", "2: 0%", "ego 0"} <= set(texts(ax))
+    colourbar = ax.figure.axes[-1]
+    assert colourbar.get_ylim() == (0.0, 1.0) and colourbar.get_ylabel().startswith("visibility")
+    legend = ax.figure.legends[0] if ax.figure.legends else ax.get_legend()
+    labels = [t.get_text() for t in legend.get_texts()]
+    assert "occluders of idx 2" in labels and "target idx 2" in labels
+    assert ax.get_xlim() == (-80.0, 80.0)  # view_range around the ego
 
 
-def test_plot_frame_rejects_unknown_frame() -> None:
+def test_plot_frame_half_hidden_target_gets_the_middle_colour() -> None:
+    # a thin target across y in [-2, 2] at x ~ 20; a thin blocker across y in [0, 2] at x ~ 10 hides exactly the
+    # upper half of its angular extent (both seen from the origin): visibility 0.5
+    df = boxes_table([(0, 0, 1, 1, 0), (10, 1, 0.2, 2, 0), (20, 0, 0.2, 4, 0)])
+    ax = plot_frame(df, 0, 0)
+    (target,) = by_gid(ax, "object 2")
+    face = tuple(target.get_facecolor())
+    # 0.5 lies on the border of two of the colour map's 256 entries: either neighbour is right
+    assert face == pytest.approx(CMAP(0.4999)) or face == pytest.approx(CMAP(0.5001))
+    assert face != pytest.approx(CMAP(0.48)) and face != pytest.approx(CMAP(0.52))
+    assert "2: 50%" in texts(ax)
+
+
+@pytest.mark.parametrize("yaw", [0.0, math.pi / 2])
+def test_plot_frame_draws_sensor_wedges_at_their_pose(yaw: float) -> None:
+    df = boxes_table([(5, 5, 4, 2, yaw), (30, 5, 4, 2, 0)])
+    cam = Sensor("cam", x=1.0, fov=math.radians(60), range=15.0)
+    ax = plot_frame(df, 0, 0, sensors=[cam, Sensor("roof", range=40.0)])
+    (wedge,) = [p for p in by_gid(ax, "sensor cam") if isinstance(p, Wedge)]
+    # mounted 1 m ahead of the ego's centre, along its heading
+    assert wedge.center == pytest.approx((5 + math.cos(yaw), 5 + math.sin(yaw)))
+    assert (wedge.theta1, wedge.theta2) == pytest.approx((math.degrees(yaw) - 30, math.degrees(yaw) + 30))
+    assert wedge.r == 15.0
+    (arc,) = by_gid(ax, "range cam")
+    assert isinstance(arc, Arc) and arc.width == 30.0
+    (circle,) = [p for p in by_gid(ax, "sensor roof") if isinstance(p, Circle)]
+    assert circle.get_radius() == 40.0 and circle.center == pytest.approx((5, 5))
+    legend = ax.figure.legends[0] if ax.figure.legends else ax.get_legend()
+    assert "cam: 60°, 15 m" in [t.get_text() for t in legend.get_texts()]
+
+
+def test_plot_frame_sensor_layouts_are_sized_to_the_ego() -> None:
+    df = boxes_table([(0, 0, 5.0, 2.0, 0), (30, 0, 4, 2, 0)])
+    ax = plot_frame(df, 0, 0, sensors="typical")
+    (radar,) = [p for p in by_gid(ax, "sensor front_radar") if isinstance(p, Wedge)]
+    assert radar.center == pytest.approx((2.5, 0.0))  # front bumper of a 5 m ego
+
+
+def test_plot_frame_statics_hatched_and_black_when_they_hide_the_target() -> None:
+    df = boxes_table([(0, 0, 4, 2, 0), (20, 0, 4, 2, 0), (0, 30, 4, 2, 0)])
+    wall = shapely.box(9, -3, 10, 3)  # hides idx 1
+    aside = shapely.box(9, 10, 10, 12)  # hides nothing
+    ax = plot_frame(df, 0, 0, [wall, aside], target=1)
+    (hiding,) = by_gid(ax, "static 0")
+    (idle,) = by_gid(ax, "static 1")
+    assert hiding.get_hatch() == idle.get_hatch() == "///"
+    assert hiding.get_edgecolor()[:3] == (0, 0, 0) and idle.get_edgecolor()[:3] != (0, 0, 0)
+    assert "1: 0%" in texts(ax)
+
+
+def test_plot_frame_draws_given_lanes_underneath() -> None:
+    df = boxes_table([(0, 0, 4, 2, 0), (20, 0, 4, 2, 0)])
+    lanes = [shapely.LineString([(-50, 1.75), (50, 1.75)]), shapely.LineString([(-50, -1.75), (50, -1.75)])]
+    ax = plot_frame(df, 0, 0, lanes=lanes)
+    drawn = by_gid(ax, "lane")
+    assert len(drawn) == 2 and all(line.get_zorder() < 0 for line in drawn)
+    assert np.asarray(drawn[0].get_xydata()).tolist() == [[-50, 1.75], [50, 1.75]]
+
+
+def test_plot_frame_on_a_given_axes_returns_it() -> None:
+    _, ax = plt.subplots()
+    out = plot_frame(boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 2, 0)]), 0, 0, ax=ax, view_range=None)
+    assert out is ax and ax.get_legend() is not None  # legend inside the axes of a figure without layout engine
+
+
+def test_plot_frame_rejects_unknown_frame_and_absent_ego() -> None:
+    df = boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 4, 0)])
     with pytest.raises(ValueError, match="frame 3 does not occur"):
-        plot_frame(boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 4, 0)]), 0, 3)
+        plot_frame(df, 0, 3)
+    with pytest.raises(ValueError, match="ego idx 7 never occurs"):
+        plot_frame(df, 7, 0)
+
+
+def test_plotting_is_public_and_lazy() -> None:
+    assert omega_prime_visibility.plot_frame is plot_frame
+    for name in ("animate", "timeline_chart", "save_timeline", "write_report"):
+        assert callable(getattr(omega_prime_visibility, name))
+
+
+def test_importing_the_package_loads_no_plotting_library() -> None:
+    code = (
+        "import sys, omega_prime_visibility as o; o.plot_frame; "
+        "print(sorted(m for m in ('matplotlib', 'altair', 'vl_convert', 'PIL', 'imageio_ffmpeg') if m in sys.modules))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"  # plot_frame itself imports matplotlib only when it draws
+
+
+def test_missing_plotting_library_names_the_extra(monkeypatch) -> None:
+    monkeypatch.setitem(sys.modules, "vl_convert", None)  # as if not installed
+    with pytest.raises(ImportError, match=r"omega-prime-visibility\[plot\]"):
+        require("vl_convert")

@@ -15,18 +15,30 @@ from omega_prime_visibility import get_visibility_df
 COLUMNS = ("idx", "occluder_idxs", "static_occluder_idxs", "visibility")
 
 
-def test_readme_example_runs() -> None:
-    text = (REPO / "README.md").read_text()
-    code = re.search(r"```python\n(.*?)```", text, re.S).group(1)
+def python_blocks() -> list[str]:
+    return re.findall(r"```python\n(.*?)```", (REPO / "README.md").read_text(), re.S)
+
+
+def run_block(code: str, namespace: dict, folder) -> None:
     cwd = os.getcwd()
-    os.chdir(REPO)
+    os.chdir(folder)
     try:
-        namespace: dict = {}
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             exec(compile(code, "README.md", "exec"), namespace)
     finally:
         os.chdir(cwd)
+
+
+@pytest.fixture(scope="module")
+def namespace() -> dict:
+    """What the README's first example (ten lines) leaves behind."""
+    out: dict = {}
+    run_block(python_blocks()[0], out, REPO)
+    return out
+
+
+def test_readme_example_runs(namespace) -> None:
     df, everyone = namespace["df"], namespace["everyone"]
     # the Metric's table (no wall) is get_visibility_df's
     assert namespace["properties"]["visibility"].equals(get_visibility_df(namespace["r"], 0, progress=False))
@@ -44,3 +56,36 @@ def test_readme_example_runs() -> None:
         assert rows[1] == rows[4] == rows[5] == ([], [], 1.0)
     hidden = df.group_by("idx").agg((pl.col("visibility") == 0).mean()).sort("idx")["visibility"].to_list()
     assert hidden == pytest.approx([0.0, 45 / 201, 96 / 201, 0.0, 0.0, 0.0], abs=1e-12)
+
+
+def test_readme_pictures_example_runs(namespace, tmp_path) -> None:
+    from PIL import Image
+
+    pictures = next(block for block in python_blocks() if "plot_frame(" in block)
+    run_block(pictures, dict(namespace), tmp_path)
+    with Image.open(tmp_path / "merge.gif") as gif:
+        assert gif.n_frames == 100  # every second of frames 0 to 199
+    with Image.open(tmp_path / "timeline.png") as png:
+        assert png.size[0] > 600
+    assert "window.vegaEmbed=" in (tmp_path / "report.html").read_text()
+
+
+def test_readme_sensors_example_and_its_numbers(namespace) -> None:
+    block = next(block for block in python_blocks() if "sensors=" in block and "seen_by_any" in block)
+    ns = dict(namespace)
+    run_block(block, ns, REPO)
+    per_sensor, best, intervals, seen = ns["per_sensor"], ns["best"], ns["intervals"], ns["seen"]
+    assert per_sensor.height == 6 * 1206 and per_sensor["sensor"].n_unique() == 6
+    at30 = per_sensor.filter(pl.col("frame") == 30)
+    looking = at30.filter(pl.col("idx") == 2, pl.col("in_view") > 0)
+    assert len(looking) and (looking["status"] == "occluded").all()
+    camera6 = at30.filter(pl.col("idx") == 6, pl.col("sensor") == "front_camera").row(0, named=True)
+    assert (camera6["status"], camera6["in_view"], round(camera6["visibility"], 2)) == ("partly_visible", 1.0, 0.58)
+    truck = at30.filter(pl.col("idx") == 1, pl.col("sensor") == "front_camera").row(0, named=True)
+    assert truck["status"] == "partly_visible" and truck["in_view"] < 0.2
+    car2 = intervals.filter(pl.col("idx") == 2).row(0, named=True)
+    assert (car2["start_nanos"], car2["noticed_nanos"]) == (4_500_000_000, 5_000_000_000)
+    car3 = intervals.filter(pl.col("idx") == 3).select("start_frame", "end_frame").rows()
+    assert car3 == [(0, 34), (65, 113), (135, 188)]
+    assert round(seen.area) == 17771
+    assert best.height == 1206

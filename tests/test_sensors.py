@@ -324,3 +324,16 @@ def test_engines_agree_with_random_mounted_sensors() -> None:
         assert a.drop("visibility", "in_view").equals(b.drop("visibility", "in_view"))
         assert np.abs(a["visibility"].to_numpy() - b["visibility"].to_numpy()).max(initial=0) < 1e-6
         assert np.array_equal(a["in_view"].to_numpy(), b["in_view"].to_numpy())
+
+
+@pytest.mark.parametrize("engine", ENGINE_NAMES)
+def test_a_layout_by_name_is_fitted_to_each_observer(engine) -> None:
+    # a 12 m x 2.5 m truck (idx 0) and a 4 m x 1.8 m car (idx 1) seeing each other and a third car
+    scene = [(0, 0, 12, 2.5, 0.3), (30, 6, 4, 1.8, -0.2), (15, -8, 4.5, 2, 1.0)]
+    table = boxes_table(scene)
+    by_name = get_visibility_df(table, "all", engine=engine, sensors="typical")
+    truck = get_visibility_df(table, 0, engine=engine, sensors=typical(12, 2.5))
+    car = get_visibility_df(table, 1, engine=engine, sensors=typical(4, 1.8))
+    assert by_name.filter(pl.col("idx_ego") == 0).drop("idx_ego").equals(truck)
+    assert by_name.filter(pl.col("idx_ego") == 1).drop("idx_ego").equals(car)
+    assert not truck.equals(get_visibility_df(table, 0, engine=engine, sensors=typical()))

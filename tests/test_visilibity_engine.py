@@ -111,3 +111,20 @@ def test_visilibity_polygon_that_skips_a_body_is_caught() -> None:
     # the corrected polygon holds target 32's corner at bearing -56.72° on its boundary
     corner = shapely.Point(19.622, -29.908)
     assert engine.visible_region(frame, view).boundary.distance(corner) < 1e-6
+
+
+def test_components_label_each_node_with_the_smallest_node_of_its_component() -> None:
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    from omega_prime_visibility.engines.visilibity.conversion import components
+
+    rng = np.random.default_rng(5)
+    for n, m in [(1, 0), (6, 0), (30, 12), (60, 45), (40, 200)]:
+        first, second = rng.integers(0, n, m), rng.integers(0, n, m)
+        label = components(n, first, second)
+        reference = connected_components(coo_matrix((np.ones(m), (first, second)), shape=(n, n)), directed=False)[1]
+        for c in np.unique(reference):  # the same partition, each labelled by its smallest member
+            members = np.flatnonzero(reference == c)
+            assert np.all(label[members] == members.min())
+        assert len(np.unique(label)) == len(np.unique(reference))

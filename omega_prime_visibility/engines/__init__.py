@@ -197,12 +197,36 @@ def _sweep() -> type:
 ENGINES: dict[str, Callable[[], type]] = {"visilibity": _visilibity, "sweep": _sweep}
 
 
+def _raycast3d(setting: str) -> Callable[[], type]:
+    def load() -> type:
+        from .raycast3d import FastRaycastEngine, HighRaycastEngine, RaycastEngine
+
+        return {"default": RaycastEngine, "high": HighRaycastEngine, "fast": FastRaycastEngine}[setting]
+
+    return load
+
+
+def _silhouette3d() -> type:
+    from .silhouette3d import SilhouetteEngine
+
+    return SilhouetteEngine
+
+
+ENGINES_3D: dict[str, Callable[[], type]] = {
+    "raycast3d": _raycast3d("default"),
+    "raycast3d-high": _raycast3d("high"),
+    "raycast3d-fast": _raycast3d("fast"),
+    "silhouette3d": _silhouette3d,
+}
+"""The 3D engines (``mode="3d"``): Embree ray casting at three settings, and the exact box engine."""
+
+
 def get_engine(name: str) -> type[Engine]:
-    """The engine class registered under ``name``."""
+    """The engine class registered under ``name`` (2D or 3D)."""
     try:
-        return ENGINES[name]()
+        return {**ENGINES, **ENGINES_3D}[name]()
     except KeyError:
-        raise ValueError(f"unknown engine {name!r}; available: {sorted(ENGINES)}") from None
+        raise ValueError(f"unknown engine {name!r}; available: {sorted(ENGINES)} (3D: {sorted(ENGINES_3D)})") from None
 
 
 def group_pairs(key: np.ndarray, value: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:

@@ -7,6 +7,8 @@ Pairs of edges of *different* bodies that cross properly are returned; the sweep
 
 from __future__ import annotations
 
+import math
+
 import numba
 import numpy as np
 
@@ -84,6 +86,32 @@ def _cell_range(xmin, ymin, xmax, ymax, x0, y0, cell, nx, ny):
     cy0 = min(max(int((ymin - y0) / cell), 0), ny - 1)
     cy1 = min(max(int((ymax - y0) / cell), 0), ny - 1)
     return cx0, cx1, cy0, cy1
+
+
+@numba.njit(cache=True)
+def statics_near(grid_f, grid_i, cell_off, items, ox, oy, radius, n_static):
+    """Numbers of the static edges that may come within ``radius`` metres of ``(ox, oy)``, ascending: those
+    registered in the grid cells the disk's bounding box touches (all of them when that is most of the grid or
+    the radius is infinite)."""
+    if n_static == 0:
+        return np.zeros(0, dtype=np.int64)
+    x0, y0, cell = grid_f[0], grid_f[1], grid_f[2]
+    nx, ny = grid_i[0], grid_i[1]
+    if not math.isfinite(radius):
+        return np.arange(n_static)
+    cx0, cx1, cy0, cy1 = _cell_range(ox - radius, oy - radius, ox + radius, oy + radius, x0, y0, cell, nx, ny)
+    if 4 * (cx1 - cx0 + 1) * (cy1 - cy0 + 1) > nx * ny:
+        return np.arange(n_static)
+    total = 0
+    for cy in range(cy0, cy1 + 1):
+        total += cell_off[cy * nx + cx1 + 1] - cell_off[cy * nx + cx0]
+    found = np.empty(total, dtype=np.int64)
+    k = 0
+    for cy in range(cy0, cy1 + 1):
+        a, b = cell_off[cy * nx + cx0], cell_off[cy * nx + cx1 + 1]
+        found[k : k + b - a] = items[a:b]
+        k += b - a
+    return np.unique(found)
 
 
 @numba.njit(cache=True)

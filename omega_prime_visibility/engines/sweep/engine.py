@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+import numba
 import numpy as np
 
 from ...geometry import edges, ring_ids
@@ -18,6 +19,23 @@ from .crossings import build_static_grid, prepare_frame, static_crossings
 from .observe import observe_frame, outline_one
 
 _IN_VIEW, _OCCLUDED, _CONTAINS_OBSERVER = int(Reason.IN_VIEW), int(Reason.OCCLUDED), int(Reason.CONTAINS_OBSERVER)
+
+
+@numba.njit(cache=True)
+def _reason_codes_stacked(occ_offsets, static_offsets, transparent):
+    """The :class:`..Reason` code of every (observer, object), as :meth:`..Observation.from_parts` gives them one
+    observer at a time: offsets shape (k, n + 1), ``transparent`` (k, n); shape (k, n), int8."""
+    k, n = transparent.shape
+    reason = np.empty((k, n), dtype=np.int8)
+    for o in range(k):
+        for i in range(n):
+            if transparent[o, i]:
+                reason[o, i] = _CONTAINS_OBSERVER
+            elif occ_offsets[o, i + 1] > occ_offsets[o, i] or static_offsets[o, i + 1] > static_offsets[o, i]:
+                reason[o, i] = _OCCLUDED
+            else:
+                reason[o, i] = _IN_VIEW
+    return reason
 
 
 class SweepEngine:
@@ -54,15 +72,18 @@ class SweepEngine:
             return []
         transparent = np.array([v.transparent for v in viewpoints], dtype=bool).reshape(len(viewpoints), -1)
         seen = {k: objects_in_view(objects.rings, v) for k, v in enumerate(viewpoints) if v.limited}
-        swept = transparent.copy()
-        for k, one in seen.items():  # objects out of a sensor's view need not be swept for it
-            swept[k] |= one.out_of_view(transparent[k])
+        swept, limits = transparent, None  # None: all see all around, without limit
+        if seen:
+            swept = transparent.copy()
+            for k, one in seen.items():  # objects out of a sensor's view need not be swept for it
+                swept[k] |= one.out_of_view(transparent[k])
+            limits = np.array([(v.heading - 0.5 * v.fov, v.fov, v.range) for v in viewpoints], dtype=np.float64)
         observations = self._observe_arrays(
             objects,
             np.array([v.position for v in viewpoints], dtype=np.float64).reshape(-1, 2),
             swept,
             np.array([v.static_transparent for v in viewpoints], dtype=bool).reshape(len(viewpoints), -1),
-            np.array([(v.heading - 0.5 * v.fov, v.fov, v.range) for v in viewpoints], dtype=np.float64),
+            limits,
         )
         for k, one in seen.items():
             view = viewpoints[k]
@@ -90,21 +111,21 @@ class SweepEngine:
     ) -> list[Observation]:
         observers = np.ascontiguousarray(observers, dtype=np.float64).reshape(-1, 2)
         if limits is None:  # every observer sees all around, without limit
-            limits = np.tile([0.0, TWO_PI, np.inf], (len(observers), 1))
+            limits = np.empty((len(observers), 3))
+            limits[:] = (0.0, TWO_PI, np.inf)
         frame_arrays, ang = self._frame_inputs(objects, observers)
         out = observe_frame(
             observers,
             frame_arrays,
             self._static_edges,
+            self._grid,
             ang,
             np.ascontiguousarray(transparent, dtype=bool).reshape(len(observers), -1),
             np.ascontiguousarray(static_transparent, dtype=bool).reshape(len(observers), -1),
             np.ascontiguousarray(limits, dtype=np.float64).reshape(len(observers), 3),
         )
         visible, width, occ_off, occ, occ_cut, st_off, st, st_cut = out
-        # the reason codes of all observers at once, as Observation.from_parts gives them one by one
-        occluded = (np.diff(occ_off, axis=1) > 0) | (np.diff(st_off, axis=1) > 0)
-        reason = np.where(transparent, _CONTAINS_OBSERVER, np.where(occluded, _OCCLUDED, _IN_VIEW)).astype(np.int8)
+        reason = _reason_codes_stacked(occ_off, st_off, transparent)
         occ_cut, st_cut = occ_cut.tolist(), st_cut.tolist()
         return [
             Observation(
@@ -132,6 +153,7 @@ class SweepEngine:
             float(position[0, 1]),
             frame_arrays,
             self._static_edges,
+            self._grid,
             ang[0],
             np.ascontiguousarray(viewpoint.transparent, dtype=bool),
             np.ascontiguousarray(viewpoint.static_transparent, dtype=bool),

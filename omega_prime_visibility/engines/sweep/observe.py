@@ -6,9 +6,12 @@ themselves live in :mod:`.pieces` (1, 2), :mod:`.heap_sweep` (3) and :mod:`.occl
 
 from __future__ import annotations
 
+import math
+
 import numba
 import numpy as np
 
+from .crossings import statics_near
 from .heap_sweep import visible_angles
 from .occluders import ObjectsSeen, occluders
 from .outline import visible_outline
@@ -25,13 +28,17 @@ from .pieces import (
 
 
 @numba.njit(cache=True)
-def observe_one(ox, oy, frame, statics, ang, object_transparent, static_transparent, wedge_start, fov, max_range):
+def observe_one(
+    ox, oy, frame, statics, static_grid, ang, object_transparent, static_transparent, wedge_start, fov, max_range
+):
     """What the observer at ``(ox, oy)`` (metres) sees of every object of the frame.
 
     Parameters
     ----------
     frame : FrameEdges
     statics : StaticEdges
+    static_grid : tuple
+        :func:`.crossings.build_static_grid` of the static edges.
     ang : ndarray, shape (2 m,)
         This observer's bearings (see :func:`.pieces.object_extents`), radians.
     object_transparent : ndarray of bool, shape (n,)
@@ -55,10 +62,11 @@ def observe_one(ox, oy, frame, statics, ang, object_transparent, static_transpar
     start, width = object_extents(offsets, ang)
     near, far, reach2 = object_distances(seg, offsets, object_transparent)
     reach2 = min(reach2, max_range * max_range * (1.0 + 1e-9))  # static edges beyond range hide nothing in it
+    candidates = statics_near(*static_grid, ox, oy, math.sqrt(reach2), len(statics.start))
 
     # 1. front-facing edges; 2. their bearing records cut into pieces
     kept, record_edge, records = front_facing_edges(
-        seg, ang, frame, statics, object_transparent, static_transparent, ox, oy, reach2
+        seg, ang, frame, statics, object_transparent, static_transparent, ox, oy, reach2, candidates
     )
     cut_offsets, cuts = crossing_cuts(kept, record_edge, records, frame.cross_first, frame.cross_second)
     pieces, body = cut_pieces(kept, record_edge, records, cut_offsets, cuts)
@@ -73,7 +81,7 @@ def observe_one(ox, oy, frame, statics, ang, object_transparent, static_transpar
 
 
 @numba.njit(cache=True)
-def observe_frame(observers, frame_arrays, static_arrays, ang, transparent, static_transparent, limits):
+def observe_frame(observers, frame_arrays, static_arrays, static_grid, ang, transparent, static_transparent, limits):
     """:func:`observe_one` for each of the ``k`` observers (shape (k, 2), metres) of one frame.
 
     ``frame_arrays`` and ``static_arrays`` are plain tuples of the :class:`FrameEdges` and :class:`StaticEdges`
@@ -109,6 +117,7 @@ def observe_frame(observers, frame_arrays, static_arrays, ang, transparent, stat
             observers[o, 1],
             frame,
             statics,
+            static_grid,
             ang[o],
             transparent[o],
             static_transparent[o],
@@ -133,7 +142,9 @@ def observe_frame(observers, frame_arrays, static_arrays, ang, transparent, stat
 
 
 @numba.njit(cache=True)
-def outline_one(ox, oy, frame, statics, ang, object_transparent, static_transparent, wedge_start, fov, radius, step):
+def outline_one(
+    ox, oy, frame, statics, static_grid, ang, object_transparent, static_transparent, wedge_start, fov, radius, step
+):
     """Steps 1 to 3 for the observer at ``(ox, oy)``, then the outline of the region it sees within ``radius``
     metres (see :func:`.outline.visible_outline`; ``frame`` and ``statics`` as plain tuples of the named tuples'
     fields), relative to the observer."""
@@ -141,8 +152,9 @@ def outline_one(ox, oy, frame, statics, ang, object_transparent, static_transpar
     statics = StaticEdges(*statics)
     seg = shifted_object_edges(frame.coords, frame.following, ox, oy)
     reach2 = radius * radius * (1.0 + 1e-9)  # static edges beyond the radius are not seen
+    candidates = statics_near(*static_grid, ox, oy, radius, len(statics.start))
     kept, record_edge, records = front_facing_edges(
-        seg, ang, frame, statics, object_transparent, static_transparent, ox, oy, reach2
+        seg, ang, frame, statics, object_transparent, static_transparent, ox, oy, reach2, candidates
     )
     cut_offsets, cuts = crossing_cuts(kept, record_edge, records, frame.cross_first, frame.cross_second)
     pieces, _ = cut_pieces(kept, record_edge, records, cut_offsets, cuts)

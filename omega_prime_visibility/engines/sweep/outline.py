@@ -19,6 +19,8 @@ from ...view import clip_circular
 from .heap_sweep import nearest_intervals
 from .pieces import EX, EY, NUM, PI, TWO_PI
 
+SAME_POINT = 1e-9  # relative distance under which two consecutive outline points are one
+
 
 @numba.njit(cache=True)
 def _arc(out, k, radius, a, b, arc_step):
@@ -132,4 +134,20 @@ def visible_outline(pieces, wedge_start, fov, radius, arc_step):
         out, k = _line_point(out, k, ex, ey, num, near_hi)
         if near_hi < b:
             out, k = _arc(out, k, radius, near_hi, b, arc_step)
-    return out[:k]
+    return _without_repeats(out[:k])
+
+
+@numba.njit(cache=True)
+def _without_repeats(points):
+    """``points`` without those within ``SAME_POINT`` (relative to their distance) of the previous one kept: two
+    edges meeting at a corner give it twice, and the rounded copies could otherwise turn back by 1e-15 m."""
+    keep = np.ones(len(points), dtype=np.bool_)
+    last = 0
+    for i in range(1, len(points)):
+        dx, dy = points[i, 0] - points[last, 0], points[i, 1] - points[last, 1]
+        scale = 1.0 + abs(points[i, 0]) + abs(points[i, 1])
+        if dx * dx + dy * dy <= (SAME_POINT * scale) ** 2:
+            keep[i] = False
+        else:
+            last = i
+    return points[keep]

@@ -144,7 +144,7 @@ def _set_record(records, r, lo, hi, ulx, uly, uhx, uhy):
 
 
 @numba.njit(cache=True)
-def front_facing_edges(seg, ang, frame, statics, object_transparent, static_transparent, ox, oy, reach2):
+def front_facing_edges(seg, ang, frame, statics, object_transparent, static_transparent, ox, oy, reach2, candidates):
     """Step 1: the edges facing the observer at ``(ox, oy)``, counter-clockwise, and their bearing records.
 
     Parameters
@@ -159,6 +159,8 @@ def front_facing_edges(seg, ang, frame, statics, object_transparent, static_tran
     static_transparent : ndarray of bool, shape (n_sources,)
     reach2 : float
         Static edges farther than this squared distance (square metres) are dropped.
+    candidates : ndarray, int64
+        The static edges to consider (ascending; e.g. :func:`.crossings.statics_near`), the others are dropped.
 
     Returns
     -------
@@ -172,17 +174,19 @@ def front_facing_edges(seg, ang, frame, statics, object_transparent, static_tran
     n = len(offsets) - 1
     m = len(seg)
     n_edges = m + len(statics.start)
+    n_tried = m + len(candidates)
     kept_of_edge = np.full(n_edges, -1, dtype=np.int64)
-    kept_start = np.empty((n_edges, 2))
-    kept_end = np.empty((n_edges, 2))
-    kept_body = np.empty(n_edges, dtype=np.int64)
-    kept_edge = np.empty(n_edges, dtype=np.int64)
-    kept_distance = np.empty((n_edges, 2))
-    record_edge = np.empty(2 * n_edges, dtype=np.int64)
-    records = np.empty((2 * n_edges, 6))
+    kept_start = np.empty((n_tried, 2))
+    kept_end = np.empty((n_tried, 2))
+    kept_body = np.empty(n_tried, dtype=np.int64)
+    kept_edge = np.empty(n_tried, dtype=np.int64)
+    kept_distance = np.empty((n_tried, 2))
+    record_edge = np.empty(2 * n_tried, dtype=np.int64)
+    records = np.empty((2 * n_tried, 6))
     n_kept = 0
     n_rec = 0
-    for g in range(n_edges):
+    for tried in range(n_tried):
+        g = tried if tried < m else m + candidates[tried - m]
         if g < m:
             body = frame.ring[g]
             if object_transparent[body]:

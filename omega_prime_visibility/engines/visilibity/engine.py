@@ -16,7 +16,14 @@ from ...statics import StaticOccluders, polygonal_and_lineal_parts
 from ...view import objects_in_view, restrict_observation
 from .. import Observation, Viewpoint, group_pairs
 from .attribution import attribute_visible_angles
-from .conversion import box_overlaps, components, exterior_cw, polygon_coords, vis_polygon
+from .conversion import (
+    box_overlaps,
+    components,
+    exterior_cw,
+    polygon_coords,
+    vis_polygon,
+    vis_polygons_reversed,
+)
 from .polygon_check import nearer_edge_exists
 
 BOX_MARGIN = 10.0  # metres of free space around everything
@@ -243,8 +250,7 @@ class VisiLibityEngine:
             return self._enclosed_environment(rings, obj_blocking, static_blocking, o)
 
     def _polygon_points(self, env: vis.Environment, o: np.ndarray) -> np.ndarray:
-        vp = vis.Visibility_Polygon(vis.Point(float(o[0]), float(o[1])), env, self.epsilon)
-        return np.array([(vp[i].x(), vp[i].y()) for i in range(vp.n())], dtype=np.float64).reshape(-1, 2)
+        return polygon_coords(vis.Visibility_Polygon(vis.Point(float(o[0]), float(o[1])), env, self.epsilon))
 
     def environment(self, objects: FrameObjects, viewpoint: Viewpoint) -> tuple[vis.Environment, np.ndarray]:
         """The VisiLibity environment used for this viewpoint, and the origin its coordinates are relative to."""
@@ -295,15 +301,15 @@ class VisiLibityEngine:
             first, second = first[touching], second[touching]
             if len(first):
                 label = components(len(lo), first, second)
+                observer = shapely.Point(o)
                 for root in np.unique(label[np.concatenate([first, second])]):
                     members = np.flatnonzero(label == root)
                     grouped[members] = True
                     merged = shapely.union_all(shapes[members])
-                    holes += self._group_holes(merged, o)
+                    holes += self._group_holes(merged, observer)
         bounds_lo = lo.min(axis=0) if len(lo) else o
         bounds_hi = hi.max(axis=0) if len(hi) else o
-        for k in np.flatnonzero(~grouped[:n_obj]):
-            holes.append(vis_polygon(rings.ring(objs[k])[::-1]))
+        holes += vis_polygons_reversed(rings.coords, rings.offsets, objs[~grouped[:n_obj]].tolist())
         holes += [part_holes[k] for k in np.flatnonzero(~grouped[n_obj:])]
         return [self._outer(np.minimum(bounds_lo, o), np.maximum(bounds_hi, o)), *holes]
 
@@ -316,12 +322,11 @@ class VisiLibityEngine:
         shapes[n_obj:] = parts
         return shapes
 
-    def _group_holes(self, merged: shapely.Geometry, o: np.ndarray) -> list[vis.Polygon]:
+    def _group_holes(self, merged: shapely.Geometry, point: shapely.Point) -> list[vis.Polygon]:
         pieces = list(getattr(merged, "geoms", [merged]))
         if len(pieces) > 1:  # bodies touching at points only: join them by a hair
             merged = shapely.buffer(merged, self.touch_gap, join_style="mitre")
             pieces = list(getattr(merged, "geoms", [merged]))
-        point = shapely.Point(o)
         if any(len(p.interiors) and shapely.intersects(shapely.Polygon(p.exterior), point) for p in pieces):
             raise _Unenclosable
         return [vis_polygon(exterior_cw(p)) for p in pieces]

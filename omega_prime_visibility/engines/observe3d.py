@@ -1,0 +1,61 @@
+"""What the 3D engines share: a viewpoint's eye and view limits, and observations built from solid angles."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import fields
+
+import numpy as np
+
+from ..boxes3d import eye_point, view_limits
+from . import Observation, Reason, Viewpoint
+
+_HAS_VIEW_FIELDS = "in_view_angle" in {f.name for f in fields(Observation)}
+
+
+def eye_and_view(view: Viewpoint, boxes: np.ndarray) -> tuple[np.ndarray, tuple[float, float, float, float]]:
+    """The 3D eye (metres) of ``view`` and its limits ``(heading, half fov, lowest, highest elevation)``."""
+    eye = eye_point(view.position, view.height, boxes, view.own)
+    return eye, view_limits(view.heading, min(view.fov, 2 * math.pi), view.pitch, view.vertical_fov)
+
+
+def own_body(view: Viewpoint, n: int) -> np.ndarray:
+    """The observer's own body as a mask over the frame's ``n`` objects. In 3D only it and the boxes containing
+    the eye (tested in 3D by the engines) are transparent: a box whose footprint covers the viewpoint but not the
+    eye (an overhead sign, a low object under a raised sensor) is seen and blocks."""
+    mask = np.zeros(n, dtype=bool)
+    if 0 <= view.own < n:
+        mask[view.own] = True
+    return mask
+
+
+def limited(view: Viewpoint) -> bool:
+    """Whether the horizontal or vertical field of view or the range cut anything off."""
+    return view.fov < 2 * math.pi or math.isfinite(view.range) or view.vertical_fov < math.pi or view.pitch != 0.0
+
+
+def observation(
+    view: Viewpoint,
+    visible: np.ndarray,
+    extent: np.ndarray,
+    occluder_offsets: np.ndarray,
+    occluders: np.ndarray,
+    static_offsets: np.ndarray,
+    static_occluders: np.ndarray,
+    transparent: np.ndarray,
+    in_view: np.ndarray,
+    in_fov: np.ndarray,
+) -> Observation:
+    """An :class:`Observation` in steradians; ``in_view`` (hit within view and range, occlusion ignored) and
+    ``in_fov`` (within the field of view) are passed on where the contract has them, else a target cut off by
+    the view is marked occluded so that the table takes its visible share."""
+    parts = (visible, extent, occluder_offsets, occluders, static_offsets, static_occluders, transparent)
+    if _HAS_VIEW_FIELDS and limited(view):
+        return Observation.from_parts(*parts, in_view_angle=in_view, in_fov_angle=in_fov)
+    obs = Observation.from_parts(*parts)
+    cut = (obs.reason == int(Reason.IN_VIEW)) & (visible < extent * (1 - 1e-12))
+    if not cut.any():
+        return obs
+    reason = obs.reason.copy()
+    reason[cut] = int(Reason.OCCLUDED)
+    return Observation(visible, extent, reason, occluder_offsets, occluders, static_offsets, static_occluders)

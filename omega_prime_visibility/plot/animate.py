@@ -1,0 +1,191 @@
+"""An animation over a range of frames, seen from the ego: GIF (pillow) or MP4 (ffmpeg from ``imageio-ffmpeg``)."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import shapely
+from tqdm.auto import tqdm
+
+from ..output import atomic_write, check_output_path
+from ._optional import require
+from .data import FrameSpec, FrameViewer, load_source
+from .frame import FramePainter
+
+SUFFIXES = (".gif", ".mp4")
+PROGRESS_MIN_FRAMES = 200
+
+
+def animate(
+    df: Any,
+    ego_idx: int,
+    output: str | os.PathLike,
+    static_occluder_polys: Sequence[shapely.Geometry] | None = None,
+    *,
+    frames: FrameSpec = None,
+    fps: float = 10.0,
+    follow: bool = True,
+    view_range: float = 60.0,
+    target: int | None = None,
+    sensors: Any = None,
+    lanes: Any = True,
+    size: tuple[float, float] = (8.0, 3.6),
+    dpi: int = 80,
+    colours: int = 64,
+    engine: str = "visilibity",
+    progress: bool | None = None,
+) -> Path:
+    """Render frames seen from ``ego_idx`` to an animated GIF or an MP4 video; return the path written.
+
+    Each picture is :func:`~.frame.plot_frame`'s, with the time stamp and the ego's speed written in the top left
+    corner and a progress bar along the bottom edge.
+
+    Parameters
+    ----------
+    df : omega_prime.Recording, polars DataFrame/LazyFrame or MCAP path
+        The moving objects.
+    ego_idx : int
+        The observer.
+    output : path
+        Ends in ``.gif`` (written with pillow) or ``.mp4`` (H.264, needs the ffmpeg that ``imageio-ffmpeg``
+        brings). Checked before anything is drawn; written under a temporary name and renamed when complete.
+    static_occluder_polys : sequence of shapely geometries, optional
+        As for ``get_visibility_df``.
+    frames : slice, range or sequence of frame numbers, optional
+        Which frames (frame numbers, not positions), by default all; ``slice(30, 90)`` takes those from 30 up to
+        (not including) 90 that occur, ``slice(None, None, 2)`` every second one. An empty range or a frame that
+        does not occur raises ``ValueError``.
+    fps : float
+        Frames per second of the animation.
+    follow : bool
+        Keep the ego in the middle (``view_range`` metres each side along x); False shows one fixed view covering
+        the ego's whole path.
+    target, sensors, lanes, engine
+        As for :func:`~.frame.plot_frame`.
+    size, dpi : (float, float), int
+        Picture size in inches and dots per inch (8 x 3.6 at 80 dpi: 640 x 288 pixels).
+    colours : int
+        GIF palette size per frame (2 to 256; fewer makes smaller files).
+    progress : bool, optional
+        Show a progress bar while rendering; by default for ``PROGRESS_MIN_FRAMES`` frames or more.
+
+    Examples
+    --------
+    >>> import polars as pl, tempfile, pathlib
+    >>> cars = pl.DataFrame({"frame": [0, 0, 1, 1], "total_nanos": [0, 0, 10**8, 10**8], "idx": [0, 1, 0, 1],
+    ...                      "x": [0.0, 20.0, 2.0, 21.0], "y": [0.0, 0.0, 0.0, 0.0], "length": [4.0] * 4,
+    ...                      "width": [2.0] * 4, "yaw": [0.0] * 4})
+    >>> out = animate(cars, 0, pathlib.Path(tempfile.mkdtemp()) / "two.gif", view_range=30)
+    >>> out.stat().st_size > 0
+    True
+    """
+    output = check_output_path(output, SUFFIXES)
+    if not (isinstance(fps, int | float) and 0 < fps <= 100):
+        raise ValueError(f"fps must be a number of frames per second in (0, 100], not {fps!r}")
+    if not (isinstance(colours, int) and 2 <= colours <= 256):
+        raise ValueError(f"colours must be an integer from 2 to 256, not {colours!r}")
+    if output.suffix == ".mp4":
+        require("imageio_ffmpeg", "writing MP4")
+    else:
+        require("PIL", "writing GIF")
+    source = load_source(df, static_occluder_polys, lanes)
+    positions = source.positions(frames)
+    viewer = FrameViewer(source, ego_idx, engine, margin=3 * view_range)
+    pictures = render(
+        source, viewer, positions, follow=follow, view_range=view_range, target=target, sensors=sensors,
+        size=size, dpi=dpi, progress=len(positions) >= PROGRESS_MIN_FRAMES if progress is None else progress,
+    )  # fmt: skip
+    with atomic_write(output) as temp:
+        if output.suffix == ".gif":
+            write_gif(pictures, temp, fps, colours)
+        else:
+            write_mp4(pictures, temp, fps)
+    return output
+
+
+def render(source, viewer, positions, *, follow, view_range, target, sensors, size, dpi, progress):
+    """Yield one RGB picture (uint8 array, shape (h, w, 3)) per frame position."""
+    matplotlib = require("matplotlib")
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Rectangle
+
+    del matplotlib
+    fig = Figure(figsize=size, dpi=dpi, layout="constrained")
+    canvas = FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    painter = FramePainter(ax, source, viewer.ego_idx, target=target, sensors=sensors, view_range=view_range)
+    limits = None if follow else fixed_limits(source, viewer, positions, view_range)
+    stamp = ax.text(
+        0.01, 0.97, "", transform=ax.transAxes, va="top", fontsize=8, zorder=10,
+        bbox={"facecolor": "white", "alpha": 0.85, "lw": 0, "pad": 2},
+    )  # fmt: skip
+    # the progress bar: a thin grey track along the bottom edge, filled in dark grey up to the current frame
+    ax.add_patch(Rectangle((0, 0), 1, 0.018, transform=ax.transAxes, facecolor="#dddddd", lw=0, zorder=9))
+    bar = ax.add_patch(Rectangle((0, 0), 0, 0.018, transform=ax.transAxes, facecolor="#555555", lw=0, zorder=10))
+    n = len(positions)
+    for j, k in enumerate(tqdm(positions.tolist(), desc="frames", unit="frame", disable=not progress)):
+        view = viewer.view(k)
+        painter.draw(view, limits)
+        speed = source.ego_speed(viewer.ego_idx, view.frame)
+        stamp.set_text(f"t = {view.total_nanos / 1e9:.2f} s, ego speed {speed:.1f} m/s ({speed * 3.6:.0f} km/h)")
+        bar.set_width((j + 1) / n)
+        if j == 0:
+            # lay out once and keep every frame's axes where the first frame's are; what lies outside the scene's
+            # axes (colour bar, legend) is the same in every frame: keep its pixels and redraw only the axes
+            canvas.draw()
+            fig.set_layout_engine("none")
+            ax.set_visible(False)
+            canvas.draw()
+            background = canvas.copy_from_bbox(fig.bbox)
+            ax.set_visible(True)
+        canvas.restore_region(background)
+        ax.draw(canvas.get_renderer())
+        yield np.asarray(canvas.buffer_rgba())[:, :, :3].copy()
+
+
+def fixed_limits(source, viewer, positions, view_range: float) -> tuple[float, float, float, float]:
+    """One view for all frames: the ego's path over ``positions``, ``view_range`` metres around it along x."""
+    objects = source.objects
+    points = []
+    for k in positions.tolist():
+        s, e = objects.frame_starts[k], objects.frame_starts[k + 1]
+        rows = np.flatnonzero(objects.idx[s:e] == viewer.ego_idx)
+        if len(rows):
+            points.append(objects.position[s + rows[0]])
+    path = np.asarray(points)
+    x0, y0 = path.min(axis=0)
+    x1, y1 = path.max(axis=0)
+    return x0 - view_range, x1 + view_range, y0 - 0.35 * view_range, y1 + 0.35 * view_range
+
+
+def write_gif(pictures, path: Path, fps: float, colours: int) -> None:
+    """Write RGB pictures as a looping GIF (each frame with its own palette of ``colours`` colours)."""
+    image = require("PIL.Image", "writing GIF")
+    frames = [image.fromarray(p).quantize(colors=colours, method=image.Quantize.FASTOCTREE) for p in pictures]
+    frames[0].save(
+        path, format="GIF", save_all=True, append_images=frames[1:], duration=round(1000 / fps), loop=0, optimize=False
+    )
+
+
+def write_mp4(pictures, path: Path, fps: float) -> None:
+    """Write RGB pictures as an H.264 MP4 (yuv420p, so sizes are cut to even numbers of pixels)."""
+    ffmpeg = require("imageio_ffmpeg", "writing MP4")
+    writer = None
+    try:
+        for p in pictures:
+            h, w = p.shape[0] // 2 * 2, p.shape[1] // 2 * 2
+            if writer is None:
+                writer = ffmpeg.write_frames(
+                    str(path), (w, h), fps=fps, codec="libx264", pix_fmt_out="yuv420p", macro_block_size=2,
+                    output_params=["-f", "mp4"], quality=7,
+                )  # fmt: skip
+                writer.send(None)
+            writer.send(np.ascontiguousarray(p[:h, :w]))
+    finally:
+        if writer is not None:
+            writer.close()

@@ -1,0 +1,248 @@
+"""What every picture needs, computed once: the loaded recording, the frames asked for, and per frame what the ego
+sees (visibility, occluders, the visible region), on the same per-frame pipeline as ``get_visibility_df``.
+
+No plotting library is imported here.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import polars as pl
+import shapely
+
+from ..engines import get_engine
+from ..engines.visilibity import VisiLibityEngine
+from ..pipeline import ContainmentLog, observe_frame, observer_rows, viewpoints
+from ..scene import ObjectTable, as_polars, load_objects
+from ..sensors import Sensor, resolve_sensors
+from ..statics import StaticOccluders, load_static_occluders
+from ..table import TableBuilder, to_polars
+
+FrameSpec = range | slice | Sequence[int] | None
+
+
+@dataclass
+class Source:
+    """A recording loaded for pictures.
+
+    Attributes
+    ----------
+    objects : ObjectTable
+        The validated objects, grouped by frame.
+    statics : StaticOccluders
+        The static occluders.
+    table : polars.DataFrame
+        The input's ``frame, total_nanos, idx, x, y`` (and ``vel_x, vel_y`` where present), for speeds.
+    lanes : list of (shapely Polygon or None, shapely LineString or None)
+        Lane surfaces and centre lines from the recording's map (empty without a map).
+    """
+
+    objects: ObjectTable
+    statics: StaticOccluders
+    table: pl.DataFrame
+    lanes: list[tuple[Any, Any]] = field(default_factory=list)
+
+    @property
+    def frames(self) -> np.ndarray:
+        """The frame numbers of the table, ascending."""
+        return self.objects.frame[self.objects.frame_starts[:-1]]
+
+    def position_of(self, frame: int) -> int:
+        """0-based position of frame number ``frame``; ``ValueError`` if it does not occur."""
+        frames = self.frames
+        k = int(np.searchsorted(frames, frame))
+        if k >= len(frames) or frames[k] != frame:
+            raise ValueError(
+                f"frame {frame} does not occur in the table (frames {int(frames[0])} to {int(frames[-1])})"
+                if len(frames)
+                else f"frame {frame} does not occur in the table (it has no frames)"
+            )
+        return k
+
+    def positions(self, frames: FrameSpec) -> np.ndarray:
+        """0-based positions of ``frames``: None (all), a slice of frame numbers (``slice(30, 90)``: the frames
+        from 30 up to 90 that occur), a range or a sequence of frame numbers (each must occur).
+
+        Raises ``ValueError`` if the selection is empty or names a frame that does not occur."""
+        all_frames = self.frames
+        if frames is None:
+            wanted = all_frames
+        elif isinstance(frames, slice):
+            lo = int(all_frames[0]) if frames.start is None else int(frames.start)
+            hi = int(all_frames[-1]) + 1 if frames.stop is None else int(frames.stop)
+            wanted = all_frames[(all_frames >= lo) & (all_frames < hi)][:: frames.step or 1]
+            if len(wanted) == 0:
+                raise ValueError(
+                    f"the frame range {lo} to {hi} (stop excluded) is empty: the table has frames "
+                    f"{int(all_frames[0])} to {int(all_frames[-1])}"
+                )
+        else:
+            wanted = np.asarray(list(frames) if isinstance(frames, range) else frames, dtype=np.int64).reshape(-1)
+            if len(wanted) == 0:
+                raise ValueError("the frame range is empty: give at least one frame")
+        return np.array([self.position_of(int(f)) for f in wanted], dtype=np.int64)
+
+    def ego_speed(self, ego_idx: int, frame: int) -> float:
+        """Speed of ``ego_idx`` in ``frame``, m/s: from ``vel_x, vel_y`` if the table has them, else from the
+        change of its position between neighbouring frames (NaN when it cannot be told)."""
+        rows = self.table.filter((pl.col("idx") == ego_idx) & (pl.col("frame") == frame))
+        if rows.height and {"vel_x", "vel_y"} <= set(rows.columns):
+            return float(math.hypot(rows["vel_x"][0], rows["vel_y"][0]))
+        ego = self.table.filter(pl.col("idx") == ego_idx).sort("frame").select("frame", "total_nanos", "x", "y")
+        k = int(np.searchsorted(ego["frame"].to_numpy(), frame))
+        a, b = max(k - 1, 0), min(k + 1, ego.height - 1)
+        dt = (ego["total_nanos"][b] - ego["total_nanos"][a]) / 1e9
+        if b == a or dt <= 0:
+            return math.nan
+        return float(math.hypot(ego["x"][b] - ego["x"][a], ego["y"][b] - ego["y"][a]) / dt)
+
+
+def load_source(df: Any, static_occluder_polys: Sequence[shapely.Geometry] | None = None, lanes: Any = True) -> Source:
+    """Load a recording (``omega_prime.Recording``, polars table or MCAP path) for pictures.
+
+    ``lanes``: True takes the lanes of the recording's map where it has one, False none; a map object (with a
+    ``lanes`` dict) or a sequence of shapely geometries gives them explicitly.
+    """
+    if isinstance(df, str) or hasattr(df, "__fspath__"):
+        from ..io import read_recording
+
+        df = read_recording(df)
+    table = as_polars(df)
+    objects = load_objects(table)
+    if objects.n_frames == 0:
+        raise ValueError("the table has no usable object rows: there is nothing to draw")
+    statics = load_static_occluders(static_occluder_polys)
+    keep = [c for c in ("frame", "total_nanos", "idx", "x", "y", "vel_x", "vel_y") if c in table.columns]
+    if lanes is True:
+        lanes = getattr(df, "map", None)
+    return Source(objects, statics, table.select(keep), lane_shapes(lanes))
+
+
+def lane_shapes(lanes: Any) -> list[tuple[Any, Any]]:
+    """``(surface polygon or None, centre line or None)`` per lane of a map, or per geometry of a sequence."""
+    if lanes is None or lanes is False:
+        return []
+    if hasattr(lanes, "lanes"):
+        out = []
+        for lane in lanes.lanes.values():
+            surface = getattr(lane, "polygon", None)
+            centre = getattr(lane, "centerline", None)
+            out.append((surface if isinstance(surface, shapely.Geometry) else None, centre))
+        return out
+    out = []
+    for g in lanes:
+        if not isinstance(g, shapely.Geometry):
+            raise ValueError(f"lanes must be shapely geometries or a map with lanes, not {type(g).__name__}")
+        out.append((g, None) if isinstance(g, shapely.Polygon | shapely.MultiPolygon) else (None, g))
+    return out
+
+
+@dataclass
+class FrameView:
+    """What the ego sees in one frame.
+
+    Attributes
+    ----------
+    frame, total_nanos : int
+    idx : ndarray, shape (n,), int64
+        The objects of the frame, ascending.
+    rings : list of ndarray, shape (k, 2)
+        Their outlines, metres.
+    position : ndarray, shape (n, 2)
+        Bounding-box centres, metres.
+    yaw : ndarray, shape (n,)
+        Headings, radians counter-clockwise from +x.
+    ego_row : int
+        Row of the ego in these arrays.
+    visibility : ndarray, shape (n,)
+        Visibility of each object from the ego (NaN for the ego itself).
+    occluders, static_occluders : dict[int, list[int]]
+        Per target idx, the idx of the objects (positions of the static occluders) hit before it.
+    region : shapely.Polygon
+        The region visible from the ego's centre, bounded ``margin`` metres around the scene.
+    """
+
+    frame: int
+    total_nanos: int
+    idx: np.ndarray
+    rings: list[np.ndarray]
+    position: np.ndarray
+    yaw: np.ndarray
+    ego_row: int
+    visibility: np.ndarray
+    occluders: dict[int, list[int]]
+    static_occluders: dict[int, list[int]]
+    region: shapely.Polygon
+
+    @property
+    def observer(self) -> np.ndarray:
+        """The viewpoint: the centre of the ego's bounding box, metres."""
+        return self.position[self.ego_row]
+
+    def ego_size(self) -> tuple[float, float]:
+        """Length and width of the ego's outline along and across its heading, metres."""
+        ring = self.rings[self.ego_row] - self.observer
+        c, s = math.cos(self.yaw[self.ego_row]), math.sin(self.yaw[self.ego_row])
+        along, across = ring @ np.array([c, s]), ring @ np.array([-s, c])
+        return float(np.ptp(along)), float(np.ptp(across))
+
+
+class FrameViewer:
+    """Computes :class:`FrameView` of one ego frame after frame, with one engine for all of them."""
+
+    def __init__(self, source: Source, ego_idx: int, engine: str = "visilibity", margin: float = 200.0) -> None:
+        if ego_idx not in set(np.unique(source.objects.idx).tolist()):
+            raise ValueError(f"ego idx {ego_idx} never occurs in the table")
+        self.source, self.ego_idx = source, int(ego_idx)
+        self.engine = get_engine(engine)(source.statics)
+        self.region_engine = self.engine if isinstance(self.engine, VisiLibityEngine) else None
+        self.margin = margin
+
+    def view(self, k: int) -> FrameView:
+        """The view of the ``k``-th frame (0-based position)."""
+        src = self.source
+        fo = src.objects.frame_objects(k)
+        egos = np.array([self.ego_idx])
+        rows = observer_rows(fo, egos)
+        if len(rows) == 0:
+            raise ValueError(f"ego idx {self.ego_idx} is not present in frame {fo.frame}")
+        builder = TableBuilder()
+        with warnings.catch_warnings():  # containment is told by get_visibility_df; a picture need not repeat it
+            warnings.simplefilter("ignore")
+            observe_frame(self.engine, src.statics, fo, egos, builder, ContainmentLog())
+        table = to_polars(builder.arrays(), with_ego=False)
+        vis = dict(zip(table["idx"].to_list(), table["visibility"].to_list(), strict=True))
+        occ = dict(zip(table["idx"].to_list(), table["occluder_idxs"].to_list(), strict=True))
+        static = dict(zip(table["idx"].to_list(), table["static_occluder_idxs"].to_list(), strict=True))
+        (view,) = viewpoints(fo, rows, src.statics)
+        if self.region_engine is None:
+            self.region_engine = VisiLibityEngine(src.statics)
+        self.region_engine.box_margin = self.margin
+        region = self.region_engine.visible_region(fo, view)
+        return FrameView(
+            frame=fo.frame,
+            total_nanos=fo.total_nanos,
+            idx=fo.idx.copy(),
+            rings=[fo.rings.ring(i).copy() for i in range(len(fo))],
+            position=fo.position.copy(),
+            yaw=fo.yaw.copy(),
+            ego_row=int(rows[0]),
+            visibility=np.array([vis.get(i, np.nan) for i in fo.idx.tolist()]),
+            occluders={i: list(v) for i, v in occ.items()},
+            static_occluders={i: list(v) for i, v in static.items()},
+            region=region,
+        )
+
+
+def sensor_list(sensors: Any, view: FrameView) -> tuple[Sensor, ...]:
+    """``sensors`` as given to the plotting functions (layout name, JSON path, Sensor(s)), sized to the ego."""
+    if sensors is None:
+        return ()
+    length, width = view.ego_size()
+    return resolve_sensors(sensors, length, width)

@@ -1,0 +1,133 @@
+"""The front ends' 3D mode in one place: which engine, which static occluders (heights, meshes, map objects),
+and the ``can_see`` column.
+
+``mode="3d"`` computes, per (frame, target), the solid-angle fraction of the target's directions along which it
+is hit first, within range and inside the view, from the ego's eye (its centre at :data:`DRIVER_EYE_HEIGHT` above
+the ground under it, ``z - height / 2``), plus ``can_see`` (Scenic's yes/no: some such direction exists).
+Static occluders get heights (``static_occluder_heights``: z of their tops; none: :data:`.statics3d.DEFAULT_HEIGHT`),
+meshes (``static_meshes``: files trimesh loads) and an OpenDRIVE map's road objects (``map_occluders``). In 2D,
+footprints with a height below the eye (:func:`.statics3d.blocks_in_2d`) are left out; the table still numbers
+static occluders by their position in the full list (the user's, then the map's, then the meshes).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+from typing import Any, Literal
+
+import numpy as np
+import polars as pl
+import shapely
+
+from .engines import ENGINES, ENGINES_3D
+from .sensors import DRIVER_EYE_HEIGHT
+from .statics import StaticOccluders, load_static_occluders
+from .statics3d import check_heights, static_solids
+
+Mode = Literal["2d", "3d"]
+DEFAULT_ENGINES = {"2d": "visilibity", "3d": "raycast3d"}
+
+
+def check_mode(mode: str) -> Mode:
+    """``mode`` if it is "2d" or "3d" (any case), else a ValueError."""
+    m = str(mode).lower()
+    if m not in DEFAULT_ENGINES:
+        raise ValueError(f"mode must be '2d' or '3d', not {mode!r}")
+    return m  # type: ignore[return-value]
+
+
+def resolve_engine(engine: str | None, mode: Mode) -> str:
+    """The engine for ``mode``: the given name (checked against that mode's registry) or the mode's default."""
+    if engine is None:
+        return DEFAULT_ENGINES[mode]
+    names = ENGINES_3D if mode == "3d" else ENGINES
+    if engine not in names:
+        other = "3d" if mode == "2d" else "2d"
+        hint = f" ({engine!r} is a {other} engine: pass mode={other!r})" if engine in {**ENGINES, **ENGINES_3D} else ""
+        raise ValueError(f"unknown engine {engine!r} for mode {mode!r}; available: {sorted(names)}{hint}")
+    return engine
+
+
+def load_statics(
+    polys: Sequence[Any] | Any | None,
+    mode: Mode,
+    heights: Sequence[float] | float | None = None,
+    meshes: Sequence[Any] = (),
+    map_path: str | os.PathLike | bool | None = None,
+    recording: Any = None,
+) -> tuple[StaticOccluders, np.ndarray | None]:
+    """Static occluders for ``mode``, and (2D only, when some were left out by the height rule) the position in
+    the full list of each static occluder the engines see. ``map_path`` True: the OpenDRIVE map of
+    ``recording`` (an ``omega_prime.Recording``)."""
+    from .mapobjects import read_map_objects
+
+    user = [] if polys is None else [polys] if isinstance(polys, shapely.Geometry) else list(polys)
+    n_user = len(user)
+    tops = check_heights(heights, n_user)
+    bases = np.full(n_user, np.nan)
+    above_road = tops.copy()
+    map_objects = [] if map_path is None else read_map_objects(*map_source(map_path, recording))
+    geoms = user + [m.footprint for m in map_objects]
+    tops = np.concatenate([tops, [m.top for m in map_objects]])
+    bases = np.concatenate([bases, [m.base for m in map_objects]])
+    above_road = np.concatenate([above_road, [m.height_above_road for m in map_objects]])
+    meshes = list(meshes or ())
+    if mode == "2d":
+        if meshes:
+            raise ValueError("static_meshes are 3D occluders: pass mode='3d'")
+        keep = np.flatnonzero(above_road >= DRIVER_EYE_HEIGHT)
+        statics = load_static_occluders([geoms[k] for k in keep])
+        return statics, (keep if len(keep) < len(geoms) else None)
+    statics = load_static_occluders(geoms)
+    solids = static_solids(statics, tops, meshes, np.where(np.isnan(bases), -1.0, bases))
+    return replace(statics, solids=solids), None
+
+
+def map_source(map_path: str | os.PathLike | bool, recording: Any) -> tuple[str | os.PathLike, str | None]:
+    """``(path, xml)`` for :func:`.mapobjects.read_map_objects`: a file, or (``True``) the recording's own map."""
+    if map_path is True:
+        xml = getattr(getattr(recording, "map", None), "odr_xml", None)
+        if not isinstance(xml, str):
+            raise ValueError("map_occluders=True needs a recording that carries an OpenDRIVE map; pass the .xodr path")
+        return "the recording's OpenDRIVE map", xml
+    if map_path is False:
+        raise ValueError("map_occluders must be a path, True (the recording's map) or None")
+    return map_path, None
+
+
+@dataclass(frozen=True)
+class Finisher:
+    """What the 3D mode and the 2D height rule add to the engines' columns, where a chunk ran: static occluder
+    positions in the full list (``positions``: the full position of each static the engines saw, None: same) and
+    the ``can_see`` column (``three_d``). Called like a sink, it passes the columns on to ``inner``."""
+
+    positions: np.ndarray | None
+    three_d: bool
+    inner: Callable[[int, Any], Any] | None = None
+
+    def columns(self, columns: dict | None) -> dict | None:
+        if columns is None:
+            return None
+        out = dict(columns)
+        if self.positions is not None:
+            lengths, values = out["static_occluder_idxs"]
+            out["static_occluder_idxs"] = (lengths, self.positions[values])
+        if self.three_d:
+            out["can_see"] = np.asarray(out["visibility"]) > 0.0
+        return out
+
+    def __call__(self, k: int, columns: dict | None) -> Any:
+        return self.inner(k, self.columns(columns))  # type: ignore[misc]
+
+    def write_empty(self) -> None:
+        self.inner.write_empty()  # type: ignore[union-attr]
+
+
+def with_can_see(table: pl.DataFrame, mode: Mode) -> pl.DataFrame:
+    """In 3D, the ``can_see`` column (bool: some direction sees the target, ``visibility > 0``) after
+    ``visibility``; in 2D the table as it is."""
+    if mode != "3d":
+        return table
+    return table.with_columns(can_see=pl.col("visibility") > 0.0)

@@ -1,0 +1,61 @@
+"""``omega-prime-visibility animate`` and ``report`` as a user calls them: files written, one-line errors."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from conftest import REPO
+from PIL import Image
+from test_cli import assert_error, files_under
+
+MCAP = REPO / "highway_merge.mcap"
+
+
+def cli(*args: str | Path) -> subprocess.CompletedProcess:
+    cmd = [sys.executable, "-m", "omega_prime_visibility.cli", *map(str, args)]
+    return subprocess.run(cmd, capture_output=True, text=True)
+
+
+def test_animate_writes_a_gif_of_the_asked_frames(tmp_path) -> None:
+    out = cli("animate", MCAP, "--ego", "0", "--frames", "30:36:2", "--target", "2", "--no-progress",
+              "-o", tmp_path / "merge.gif")  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == f"wrote {tmp_path / 'merge.gif'}"
+    with Image.open(tmp_path / "merge.gif") as im:
+        assert im.n_frames == 3  # frames 30, 32, 34
+    assert files_under(tmp_path) == {Path("merge.gif")}
+
+
+def test_report_writes_one_html_file(tmp_path) -> None:
+    out = cli("report", MCAP, "--frames", "0:10", "--no-progress", "-o", tmp_path / "r.html")  # host vehicle
+    assert out.returncode == 0, out.stderr
+    page = (tmp_path / "r.html").read_text()
+    assert "Visibility report: highway_merge.mcap" in page and "seen from idx 0; 10 frames" in page
+
+
+@pytest.mark.parametrize(
+    ("args", "fragments"),
+    [
+        (("animate", MCAP, "-o", "x.avi"), ("x.avi", ".gif or .mp4")),
+        (("report", MCAP, "-o", "x.pdf"), ("x.pdf", ".html")),
+        (("animate", MCAP, "--frames", "30-40", "-o", "x.gif"), ("--frames", "'30-40'")),
+        (("animate", MCAP, "--ego", "0,1", "-o", "x.gif"), ("one idx",)),
+        (("animate", MCAP, "--engine", "nope", "-o", "x.gif"), ("unknown engine 'nope'",)),
+    ],
+)
+def test_bad_arguments_fail_before_computing(tmp_path, args, fragments) -> None:
+    out = subprocess.run(
+        [sys.executable, "-m", "omega_prime_visibility.cli", *map(str, args)], capture_output=True, text=True,
+        cwd=tmp_path,
+    )  # fmt: skip
+    assert_error(out, *fragments)
+    assert files_under(tmp_path) == set()
+
+
+def test_frames_that_do_not_occur_are_one_line(tmp_path) -> None:
+    out = cli("animate", MCAP, "--frames", "300:400", "-o", tmp_path / "x.gif")
+    assert_error(out, "frame range 300 to 400 (stop excluded) is empty", "frames 0 to 200")
+    assert files_under(tmp_path) == set()

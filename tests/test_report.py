@@ -1,0 +1,143 @@
+"""The HTML report: self-contained, its data agrees with get_visibility_df, and it works in a real browser."""
+
+from __future__ import annotations
+
+import json
+import re
+import warnings
+
+import numpy as np
+import polars as pl
+import pytest
+from chromium import Browser, find_chromium
+from conftest import REPO
+from PIL import Image
+
+from omega_prime_visibility import get_visibility_df
+from omega_prime_visibility.io import read_recording
+from omega_prime_visibility.plot import write_report
+from omega_prime_visibility.plot.report import visibility_colour
+
+MCAP = REPO / "highway_merge.mcap"
+
+
+@pytest.fixture(scope="module")
+def recording():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return read_recording(MCAP)
+
+
+@pytest.fixture(scope="module")
+def report(recording, tmp_path_factory):
+    return write_report(recording, 0, tmp_path_factory.mktemp("report") / "merge.html", progress=False)
+
+
+@pytest.fixture(scope="module")
+def expected(recording) -> pl.DataFrame:
+    return get_visibility_df(recording, 0, engine="sweep", progress=False)
+
+
+def embedded(page: str, name: str):
+    return json.loads(re.search(rf'<script id="{name}" type="application/json">(.*?)</script>', page, re.S).group(1))
+
+
+def test_report_is_one_file_that_needs_no_network(report) -> None:
+    page = report.read_text()
+    assert "<script src" not in page and "<link" not in page and "cdn.jsdelivr" not in page
+    assert "window.vegaEmbed=" in page  # the vega libraries are inside
+    assert 0.5e6 < len(page) < 5e6
+
+
+def test_report_scene_and_summary_agree_with_the_table(report, expected) -> None:
+    page = report.read_text()
+    scene = embedded(page, "scene-data")
+    assert [f["frame"] for f in scene["frames"]] == list(range(201))
+    for f in (scene["frames"][0], scene["frames"][150]):
+        want = dict(expected.filter(pl.col("frame") == f["frame"]).select("idx", "visibility").rows())
+        got = {o["idx"]: o["vis"] for o in f["objects"] if not o["ego"]}
+        assert got == pytest.approx(want, abs=1e-4)
+        assert all(o["fill"] == visibility_colour(o["vis"]) for o in f["objects"] if not o["ego"])
+    summary = re.search(r'<table id="summary">(.*?)</table>', page, re.S).group(1)
+    rows = re.findall(r"<tr><td>(\d+)</td><td>(\d+)</td><td>([0-9.]+)</td>", summary)
+    means = expected.group_by("idx").agg(pl.col("visibility").mean()).sort("idx").rows()
+    assert [(int(i), int(n)) for i, n, _ in rows] == [(i, 201) for i, _ in means]
+    assert [float(m) for _, _, m in rows] == pytest.approx([m for _, m in means], abs=6e-4)
+    timeline = embedded(page, "timeline-data")
+    assert timeline["mode"] == "vega-lite"
+    bands, rule = timeline["spec"]["layer"]
+    assert bands["encoding"]["color"]["field"] == "visibility"
+    assert rule["mark"]["type"] == "rule" and rule["encoding"]["x"]["datum"] == {"expr": "now"}
+
+
+def test_report_shows_a_given_status_table(recording, expected, tmp_path) -> None:
+    status = expected.with_columns(
+        status=pl.when(pl.col("visibility") == 0).then(pl.lit("occluded")).otherwise(pl.lit("visible"))
+    )
+    out = write_report(recording, 0, tmp_path / "s.html", frames=slice(0, 20), table=status, progress=False)
+    page = out.read_text()
+    assert embedded(page, "timeline-data")["spec"]["layer"][0]["encoding"]["color"]["field"] == "status"
+    assert "occluded: 20" in page  # idx 2 is hidden in frames 0 to 19: the summary counts them
+
+
+def test_report_through_sensors(recording, tmp_path) -> None:
+    out = write_report(recording, 0, tmp_path / "s.html", frames=slice(0, 10), sensors="roof", progress=False)
+    page = out.read_text()
+    assert embedded(page, "timeline-data")["spec"]["layer"][0]["encoding"]["color"]["field"] == "status"
+    summary = re.search(r'<table id="summary">(.*?)</table>', page, re.S).group(1)
+    assert "<th>sensor</th>" in summary and "<td>roof</td>" in summary
+    assert "<td>occluded: 10</td>" in summary  # idx 2, behind the truck in all ten frames
+
+
+def test_report_bad_input(recording, tmp_path) -> None:
+    with pytest.raises(ValueError, match=r"must end in \.html"):
+        write_report(recording, 0, tmp_path / "r.htm")
+    with pytest.raises(ValueError, match=r"frame range 500 to 600 .* is empty"):
+        write_report(recording, 0, tmp_path / "r.html", frames=slice(500, 600))
+    assert list(tmp_path.iterdir()) == []
+
+
+def red_pixels(png, box) -> int:
+    """Pixels of the scene box close to the colour of visibility 0."""
+    with Image.open(png) as im:
+        x, y, w, h = (round(v) for v in box)
+        scene = np.asarray(im.convert("RGB"))[y : y + h, x : x + w].astype(int)
+    red = np.array([int(visibility_colour(0.0)[i : i + 2], 16) for i in (1, 3, 5)])
+    return int((np.abs(scene - red).sum(axis=2) < 30).sum())
+
+
+def test_report_in_a_headless_browser(report, expected, tmp_path) -> None:
+    binary = find_chromium()
+    if binary is None:
+        pytest.skip("no chromium binary found (Debian: apt-get install chromium; .ci/run installs it as root)")
+    with Browser(binary) as browser:
+        browser.open(report.as_uri())
+        assert browser.wait_for("document.body.dataset.timeline") == "ready"  # vega-embed drew the timeline
+        assert browser.evaluate("document.querySelectorAll('#timeline svg .mark-rect path').length") > 10
+        box = browser.evaluate(
+            "(r => [r.x, r.y, r.width, r.height])(document.getElementById('scene').getBoundingClientRect())"
+        )
+        assert browser.evaluate("window.devicePixelRatio") == 1
+        rule = """document.querySelector('#timeline line[stroke="#222222"]').getBoundingClientRect().x"""
+        rule_before = browser.evaluate(rule)
+        before = browser.screenshot(tmp_path / "frame0.png")
+        # frame 0: the merging car idx 2 is hidden behind the truck, drawn in the colour of visibility 0
+        assert red_pixels(before, box) > 20
+        browser.evaluate(
+            "(() => { const s = document.getElementById('slider'); s.value = 150;"
+            " s.dispatchEvent(new Event('input')); })()"
+        )
+        assert browser.evaluate("document.getElementById('frame-label').textContent").startswith(
+            "frame 150, t = 15.00 s"
+        )
+        fill = browser.evaluate("document.querySelector('#scene polygon[data-idx=\"2\"]').getAttribute('fill')")
+        want = expected.filter((pl.col("frame") == 150) & (pl.col("idx") == 2))["visibility"].item()
+        assert fill == visibility_colour(round(want, 4))
+        # the timeline's rule moved from 0 s to 15 s: three quarters of the 20.1 s axis
+        plot_width = browser.evaluate("document.querySelector('#timeline .mark-rect').getBoundingClientRect().width")
+        browser.wait_for(f"{rule} !== {rule_before}", timeout=10)  # Vega redraws asynchronously
+        assert browser.evaluate(rule) - rule_before == pytest.approx(plot_width * 15 / 20.1, abs=2)
+        after = browser.screenshot(tmp_path / "frame150.png")
+        # frame 150: everyone in view is visible: no hidden colour left in the scene
+        assert red_pixels(after, box) == 0
+        assert browser.console_errors() == []
