@@ -103,7 +103,8 @@ def _compute_and_write(task: FileTask) -> int:
     from .output import atomic_write
 
     options = task.options
-    recording = read_recording(task.recording, options.map_for(Path(task.recording)))
+    map_path = options.map_for(Path(task.recording))
+    recording = read_recording(task.recording, map_path)
     ego = options.ego
     if ego is None:
         if recording.host_vehicle_idx is None:
@@ -115,7 +116,9 @@ def _compute_and_write(task: FileTask) -> int:
         ego = int(recording.host_vehicle_idx)
     statics = None if options.static is None else _static_occluders(options.static, os.stat(options.static).st_mtime_ns)
     ego_idx = list(ego) if isinstance(ego, tuple) else ego
-    table = get_visibility_df(recording, ego_idx, statics, workers=task.workers, progress=False, **options.api_kwargs())
+    table = get_visibility_df(
+        recording, ego_idx, statics, workers=task.workers, progress=False, **options.api_kwargs(map_path)
+    )
     arrow = table.to_arrow()
     metadata = {
         **(arrow.schema.metadata or {}),
@@ -184,7 +187,7 @@ def run_batch(
         Show a progress bar over files.
     **options
         The fields of :class:`FileOptions`: ``ego`` (default: each recording's host vehicle), ``engine``,
-        ``static`` (GeoJSON or WKT file), ``map``.
+        ``static`` (GeoJSON or WKT file), ``map``, ``sensors``, ``mode``, ``map_occluders``.
 
     Returns
     -------

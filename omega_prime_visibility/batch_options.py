@@ -24,8 +24,8 @@ class FileOptions:
     ----------
     ego : int, tuple of int, "all" or None
         Observer idx; None takes each recording's host vehicle (a file without one fails, asking for an ego).
-    engine : str
-        Engine name (see ``omega_prime_visibility.ENGINES``).
+    engine : str, optional
+        Engine name (``omega_prime_visibility.ENGINES``, or ``ENGINES_3D`` in 3D); by default the mode's default.
     static : str, optional
         GeoJSON or WKT file of static occluders (metres, recording frame), see :func:`io.read_static_occluders`.
     map : str, optional
@@ -34,7 +34,9 @@ class FileOptions:
     sensors : str, optional
         A sensor layout name (``"roof"``, ``"typical"``) or a sensors JSON file (see :mod:`sensors`).
     mode : {"2d", "3d"}
-        Bird's-eye view, or oriented 3D boxes (see :mod:`threed`); ``engine`` names an engine of that mode.
+        Bird's-eye view (exact) or boxes with heights (see ``get_visibility_df``).
+    map_occluders : bool
+        The map's road objects as static occluders (the ``map`` file for OSI traces, else the recording's own).
 
     Examples
     --------
@@ -52,6 +54,7 @@ class FileOptions:
     map: str | None = field(default=None, metadata={"file": True})
     sensors: str | None = field(default=None, metadata={"file": True, "names": tuple(LAYOUTS)})
     mode: str = "2d"
+    map_occluders: bool = False
 
     def __post_init__(self) -> None:
         from .sensors import resolve_sensors
@@ -76,9 +79,11 @@ class FileOptions:
                     raise ValueError(f"the {f.name} file {path} {what}")
                 object.__setattr__(self, f.name, str(path.resolve()))
 
-    def api_kwargs(self) -> dict[str, Any]:
-        """Keywords for ``get_visibility_df`` besides the recording, the ego and the static occluders."""
-        return {"engine": self.engine, "sensors": self.sensors, "mode": self.mode}
+    def api_kwargs(self, map_path: str | None = None) -> dict[str, Any]:
+        """Keywords for ``get_visibility_df`` besides the recording, the ego and the static occluders, for a
+        recording read with ``map_path``."""
+        map_occluders = (map_path or True) if self.map_occluders else None
+        return {"engine": self.engine, "sensors": self.sensors, "mode": self.mode, "map_occluders": map_occluders}
 
     def fingerprint(self) -> str:
         """JSON of the options, with the SHA-256 of every file option's content (an edited file recomputes)."""

@@ -61,7 +61,13 @@ def load_recording(path: Path, map_path: Path | None = None):
 
 # options shared by run and batch
 Ego = Annotated[str, typer.Option(help="observer idx, comma-separated idx, or 'all'; default: host vehicle")]
-Engine = Annotated[str, typer.Option(help=f"one of {sorted(ENGINES)}")]
+Engine = Annotated[
+    str | None, typer.Option(help=f"2D: one of {sorted(ENGINES)} (default visilibity); 3D: {sorted(ENGINES_3D)}")
+]
+Mode = Annotated[str, typer.Option(help="2d (bird's-eye view, exact) or 3d (boxes with heights, ray cast)")]
+MapOccluders = Annotated[
+    bool, typer.Option("--map-occluders", help="road objects of the map (--map, or the recording's) as occluders")
+]
 Static = Annotated[Path | None, typer.Option("--static", help="static occluders: GeoJSON or WKT file (metres)")]
 Sensors = Annotated[str | None, typer.Option(help="look through sensors: 'roof', 'typical' or a sensors .json file")]
 
@@ -80,9 +86,7 @@ def load_static(path: Path | None) -> list | None:
 def run(
     recording: Annotated[Path, typer.Argument(help="omega-prime MCAP (or OSI trace with --map)")],
     ego: Ego = "",
-    engine: Annotated[
-        str | None, typer.Option(help=f"2D: one of {sorted(ENGINES)} (default visilibity); 3D: {sorted(ENGINES_3D)}")
-    ] = None,
+    engine: Engine = None,
     output: Annotated[Path | None, typer.Option("-o", "--output", help="write .parquet or .csv here")] = None,
     map_path: Annotated[Path | None, typer.Option("--map", help="OpenDRIVE map for OSI traces")] = None,
     static: Static = None,
@@ -90,10 +94,8 @@ def run(
     progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
     rows: Annotated[int, typer.Option(help="rows to print when no output is given")] = 20,
     sensors: Sensors = None,
-    mode: Annotated[str, typer.Option(help="2d (bird's-eye view, exact) or 3d (boxes with heights, ray cast)")] = "2d",
-    map_occluders: Annotated[
-        bool, typer.Option("--map-occluders", help="road objects of the map (--map, or the recording's) as occluders")
-    ] = False,
+    mode: Mode = "2d",
+    map_occluders: MapOccluders = False,
 ) -> None:
     """Compute the visibility table of one recording; print it with a per-target summary, or write it."""
     from .api import describe_idx, get_visibility_df
@@ -113,8 +115,8 @@ def run(
         except ValueError as e:
             raise fail(str(e)) from None
     ego_idx = parse_ego(ego) if ego else None
-    statics = load_static(static)
     sensor_set = parse_sensors(sensors)
+    statics = load_static(static)
     r = load_recording(recording, map_path)
     if ego_idx is None and r.host_vehicle_idx is None:
         present = np.unique(r._df["idx"].to_numpy())
@@ -292,16 +294,15 @@ def batch(
     inputs: Annotated[list[str], typer.Argument(help="recordings, folders (searched recursively) and glob patterns")],
     output: Annotated[Path, typer.Option("-o", "--output", help="folder for the results and the summary")],
     ego: Ego = "",
-    engine: Annotated[
-        str | None, typer.Option(help=f"2D: one of {sorted(ENGINES)} (default visilibity); 3D: {sorted(ENGINES_3D)}")
-    ] = None,
+    engine: Engine = None,
     static: Static = None,
     map_path: Annotated[
         Path | None, typer.Option("--map", help="OpenDRIVE map for the OSI traces, or a JSON list of [trace, map]")
     ] = None,
     workers: Annotated[int | None, typer.Option(help="local processes over files (default: the cores)")] = None,
     sensors: Sensors = None,
-    mode: Annotated[str, typer.Option(help="2d (bird's-eye view, exact) or 3d (boxes with heights, ray cast)")] = "2d",
+    mode: Mode = "2d",
+    map_occluders: MapOccluders = False,
     scheduler: Annotated[str | None, typer.Option(help="dask scheduler address, e.g. tcp://host:8786")] = None,
     scheduler_file: Annotated[Path | None, typer.Option(help="dask scheduler file (dask scheduler --help)")] = None,
     overwrite: Annotated[bool, typer.Option(help="recompute results that are current")] = False,
@@ -314,8 +315,7 @@ def batch(
     from .batch import SUMMARY_NAME, BatchInterrupted, run_batch
 
     options = {"ego": parse_ego(ego) if ego else None, "engine": engine, "static": static, "map": map_path}
-    options["sensors"] = sensors
-    options["mode"] = mode
+    options.update(sensors=sensors, mode=mode, map_occluders=map_occluders)
     try:
         summary = run_batch(
             inputs,

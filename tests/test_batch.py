@@ -20,7 +20,7 @@ import shapely
 from conftest import REPO, SHARED_DATA
 from polars.testing import assert_frame_equal
 
-from omega_prime_visibility import get_visibility_df, run_batch
+from omega_prime_visibility import VisibilityInputWarning, get_visibility_df, run_batch
 from omega_prime_visibility.batch_files import OPTIONS_KEY, find_recordings
 from omega_prime_visibility.io import RecordingReadError, read_recording, read_static_occluders
 
@@ -136,6 +136,20 @@ def test_sensors_option(tmp_path) -> None:
     assert "sensor" not in pl.read_parquet(out / "highway_merge.mcap.parquet").columns
     with pytest.raises(ValueError, match="unknown sensor layout 'lidar'"):
         run_batch(MCAP, out, sensors="lidar", progress=False)
+
+
+def test_mode_3d_option(tmp_path) -> None:
+    summary = run_batch(MCAP, tmp_path, ego=0, mode="3d", progress=False)
+    assert summary["status"].to_list() == ["done"], summary["error"][0]
+    with pytest.warns(VisibilityInputWarning, match="heights look like a copy of the widths"):
+        expected = get_visibility_df(read_recording(MCAP), 0, mode="3d", progress=False)
+    assert "heights look like a copy of the widths" in summary["warnings"][0]  # the worker's warning, kept
+    assert_frame_equal(pl.read_parquet(tmp_path / "highway_merge.mcap.parquet"), expected)
+    assert b'"mode": "3d"' in pq.read_metadata(tmp_path / "highway_merge.mcap.parquet").metadata[OPTIONS_KEY]
+    # the 2D table is another one: recomputed
+    assert run_batch(MCAP, tmp_path, ego=0, progress=False)["status"].to_list() == ["done"]
+    with pytest.raises(ValueError, match="unknown engine 'sweep' for mode '3d'"):
+        run_batch(MCAP, tmp_path, mode="3d", engine="sweep", progress=False)
 
 
 def test_static_occluder_files(tmp_path) -> None:
