@@ -81,9 +81,7 @@ def viewpoints(
         headings = objects.yaw[rows]
     else:
         owners = np.repeat(rows, len(sensors))
-        poses = [sensor_poses(s, objects.position[rows], objects.yaw[rows]) for s in sensors]
-        positions = np.stack([p for p, _ in poses], axis=1).reshape(-1, 2)
-        headings = np.stack([h for _, h in poses], axis=1).reshape(-1)
+        positions, headings = sensor_poses(sensors, objects.position[rows], objects.yaw[rows])
     transparent = covers_points(positions, objects.rings)
     transparent[np.arange(len(owners)), owners] = True
     static_transparent = statics.containing(positions)

@@ -254,16 +254,23 @@ def fitted_sensors(
     return resolve_sensors(spec)
 
 
-def sensor_poses(sensor: Sensor, position: np.ndarray, heading: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """World positions (metres) and headings (radians, counter-clockwise from +x) of ``sensor`` on observers at
-    ``position`` (shape (m, 2)) facing ``heading`` (shape (m,)).
+def sensor_poses(
+    sensors: Sensor | Sequence[Sensor], position: np.ndarray, heading: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """World positions (metres) and headings (radians, counter-clockwise from +x) of ``sensors`` on observers at
+    ``position`` (shape (m, 2)) facing ``heading`` (shape (m,)): shape (m * s, 2) and (m * s,), observer by
+    observer, each with its sensors in order (one Sensor: shape (m, 2) and (m,)).
 
     >>> p, h = sensor_poses(Sensor("s", x=2.0, yaw=math.pi / 2), np.array([[10.0, 0.0]]), np.array([math.pi / 2]))
     >>> np.round(p, 12).tolist(), round(float(h[0]), 12)
     ([[10.0, 2.0]], 3.14159265359)
     """
-    position = np.asarray(position, dtype=np.float64).reshape(-1, 2)
-    heading = np.asarray(heading, dtype=np.float64).reshape(-1)
+    sensors = [sensors] if isinstance(sensors, Sensor) else sensors
+    position = np.asarray(position, dtype=np.float64).reshape(-1, 1, 2)
+    heading = np.asarray(heading, dtype=np.float64).reshape(-1, 1)
+    mount = np.array([(s.x, s.y, s.yaw) for s in sensors], dtype=np.float64).reshape(1, -1, 3)
     c, s = np.cos(heading), np.sin(heading)
-    world = position + np.stack([c * sensor.x - s * sensor.y, s * sensor.x + c * sensor.y], axis=1)
-    return world, heading + sensor.yaw
+    dx = c * mount[..., 0] - s * mount[..., 1]
+    dy = s * mount[..., 0] + c * mount[..., 1]
+    world = position + np.stack([dx, dy], axis=-1)
+    return world.reshape(-1, 2), (heading + mount[..., 2]).reshape(-1)

@@ -315,9 +315,11 @@ def frame_rows(
         Each viewpoint's sensor code (its position in the list of sensors).
     """
     k, n = len(observations), len(idx)
-    if k == 1 and sensors is None:  # one observer all around (the usual case): its rows as they are
-        columns = observation_rows(observations[0], int(owns[0]), idx)
+    if k == 1:  # one viewpoint (the usual case): its rows as they are
+        columns = observation_rows(observations[0], int(owns[0]), idx, with_view=sensors is not None)
         columns["idx_ego"] = np.full(len(columns["idx"]), idx[owns[0]] if owns[0] >= 0 else -1, dtype=np.int64)
+        if sensors is not None:
+            columns["sensor"] = np.full(len(columns["idx"]), sensors[0], dtype=np.int64)
         return columns
     occ = [o.occluders for o in observations]
     st = [o.static_occluders for o in observations]
