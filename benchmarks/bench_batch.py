@@ -70,7 +70,7 @@ def overhead(repeats: int) -> tuple[float, float]:
     """Median seconds of ``process_file`` and of ``get_visibility_df`` alone, bundled recording, warm process."""
     from omega_prime_visibility import get_visibility_df
     from omega_prime_visibility.batch import FileTask, process_file
-    from omega_prime_visibility.batch_options import FileOptions
+    from omega_prime_visibility.batch.options import FileOptions
     from omega_prime_visibility.io import read_recording
 
     options = FileOptions(ego=0)

@@ -21,7 +21,7 @@ from conftest import REPO, SHARED_DATA
 from polars.testing import assert_frame_equal
 
 from omega_prime_visibility import VisibilityInputWarning, get_visibility_df, run_batch
-from omega_prime_visibility.batch_files import OPTIONS_KEY, find_recordings
+from omega_prime_visibility.batch.files import OPTIONS_KEY, find_recordings
 from omega_prime_visibility.io import RecordingReadError, read_recording, read_static_occluders
 
 MCAP = REPO / "highway_merge.mcap"
@@ -186,7 +186,7 @@ def test_osi_trace_without_host_vehicle_asks_for_ego(tmp_path, shared_data) -> N
 
 
 def test_map_list_for_traces(tmp_path) -> None:
-    from omega_prime_visibility.batch_options import FileOptions
+    from omega_prime_visibility.batch.options import FileOptions
 
     (tmp_path / "maps").mkdir()
     (tmp_path / "maps" / "town.xodr").write_text("<OpenDRIVE/>")

@@ -17,8 +17,8 @@ from typing import Any
 
 import polars as pl
 
-from .batch_files import OPTIONS_KEY, RECORDING_KEY, find_recordings, is_current, prepare_output_dir, remove_leftovers
-from .batch_options import FileOptions, is_int
+from .files import OPTIONS_KEY, RECORDING_KEY, find_recordings, is_current, prepare_output_dir, remove_leftovers
+from .options import FileOptions, is_int
 
 SUMMARY_NAME = "_batch_summary.parquet"
 SUMMARY_SCHEMA = {
@@ -98,9 +98,9 @@ def _compute_and_write(task: FileTask) -> int:
     import numpy as np
     import pyarrow.parquet as pq
 
-    from .api import describe_idx, get_visibility_df
-    from .io import read_recording
-    from .output import atomic_write
+    from ..api import describe_idx, get_visibility_df
+    from ..io import read_recording
+    from ..output import atomic_write
 
     options = task.options
     map_path = options.map_for(Path(task.recording))
@@ -136,7 +136,7 @@ def _compute_and_write(task: FileTask) -> int:
 def _static_occluders(path: str, mtime_ns: int) -> list:
     """Read once per process and file version (a worker computes many files with the same occluders, and a dask
     worker outlives a batch)."""
-    from .io import read_static_occluders
+    from ..io import read_static_occluders
 
     return read_static_occluders(path)
 
@@ -214,8 +214,8 @@ def run_batch(
     """
     from tqdm.auto import tqdm
 
-    from . import batch_exec
-    from .output import atomic_write
+    from ..output import atomic_write
+    from . import execute
 
     try:
         file_options = FileOptions(**options)
@@ -248,7 +248,7 @@ def run_batch(
             results[str(result)] = FileResult(str(recording), str(result), "skipped", rows)
         else:
             tasks.append(FileTask(str(recording), str(result), file_options, fingerprint))
-    n_workers = workers or batch_exec.available_cores()
+    n_workers = workers or execute.available_cores()
     bar = tqdm(total=len(pairs), initial=len(results), desc="recordings", unit="file", disable=not progress)
 
     def report(result: FileResult) -> None:
@@ -258,16 +258,16 @@ def run_batch(
     interrupted = False
     own_client = None
     try:
-        with batch_exec.sigterm_as_interrupt():
+        with execute.sigterm_as_interrupt():
             if remote:
-                client = client or (own_client := batch_exec.connect(scheduler, scheduler_file))
-                batch_exec.run_dask(tasks, client, report)
+                client = client or (own_client := execute.connect(scheduler, scheduler_file))
+                execute.run_dask(tasks, client, report)
             elif len(tasks) == 1:  # one file: its frames over the cores, as get_visibility_df does
-                batch_exec.run_here([FileTask(**{**asdict_shallow(tasks[0]), "workers": n_workers})], report)
+                execute.run_here([FileTask(**{**asdict_shallow(tasks[0]), "workers": n_workers})], report)
             elif n_workers == 1:
-                batch_exec.run_here(tasks, report)
+                execute.run_here(tasks, report)
             else:
-                batch_exec.run_local(tasks, n_workers, report)
+                execute.run_local(tasks, n_workers, report)
     except KeyboardInterrupt:
         interrupted = True
     finally:

@@ -16,9 +16,9 @@ from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
 from pathlib import Path
 
-from . import batch
-from .batch import FileResult, FileTask, process_file
-from .batch_files import remove_leftovers
+from . import run as batch
+from .files import remove_leftovers
+from .run import FileResult, FileTask, process_file
 
 Report = Callable[[FileResult], None]
 PRELOAD = ["omega_prime", "omega_prime_visibility.api", "omega_prime_visibility.io", "omega_prime_visibility.batch"]

@@ -10,7 +10,7 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
-from .sensors import LAYOUTS
+from ..sensors import LAYOUTS
 
 
 @dataclass(frozen=True)
@@ -57,8 +57,8 @@ class FileOptions:
     map_occluders: bool = False
 
     def __post_init__(self) -> None:
-        from .sensors import resolve_sensors
-        from .threed import check_mode, resolve_engine
+        from ..sensors import resolve_sensors
+        from ..threed import check_mode, resolve_engine
 
         ego = self.ego
         if isinstance(ego, list | tuple) and ego and all(is_int(v) for v in ego):
@@ -95,8 +95,8 @@ class FileOptions:
 
     def check(self) -> None:
         """Read the option files once before any work, so a bad file fails the run instead of every recording."""
-        from .io import RecordingReadError, read_static_occluders
-        from .statics import load_static_occluders
+        from ..io import RecordingReadError, read_static_occluders
+        from ..statics import load_static_occluders
 
         try:
             if self.static is not None:
