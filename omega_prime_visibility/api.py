@@ -19,8 +19,8 @@ from tqdm.auto import tqdm
 from .engines import get_engine
 from .output import PartWriter, atomic_directory, check_output_path
 from .pipeline import ContainmentLog, chunks, run
-from .scene import ObjectTable, OnInvalid, as_lazy, load_objects
-from .sensors import Sensor, fitted_sensors, resolve_sensors
+from .scene import ObjectTable, OnInvalid, as_lazy, load_objects, observer_sizes
+from .sensors import Sensor, fitted_layout, is_layout, resolve_sensors
 from .table import STATUSES, empty_table, to_polars
 from .threed import Finisher, check_mode, load_statics, resolve_engine, with_can_see
 
@@ -205,7 +205,7 @@ def get_visibility_df(
         output = check_output_path(output)
     mode = check_mode(mode)
     engine = resolve_engine(engine, mode)
-    resolve_sensors(sensors)  # a bad layout name or file fails before the table is read
+    sensor_set = resolve_sensors(sensors)  # a bad layout name or file fails before the table is read
     objects = load_objects(df, on_invalid=on_invalid, three_d=mode == "3d")
     if sensors is not None and not _has_yaw(df):
         raise ValueError("sensors need the observers' heading: the moving-object table has no 'yaw' column")
@@ -213,7 +213,8 @@ def get_visibility_df(
         static_occluder_polys, mode, static_occluder_heights, static_meshes, map_occluders, df
     )
     egos, with_ego = resolve_egos(ego_idx, objects)
-    sensor_set = fitted_sensors(sensors, observer_sizes(objects, egos) if isinstance(sensors, str) else {})
+    if is_layout(sensors):  # fitted to each observer's own size
+        sensor_set = fitted_layout(sensors, observer_sizes(objects, egos))
     get_engine(engine)  # unknown names fail here, not in a worker
     if chunk_frames < 1:
         raise ValueError(f"chunk_frames must be at least 1, not {chunk_frames}")
@@ -253,24 +254,6 @@ def get_visibility_df(
     return (
         pl.concat(tables, rechunk=True) if tables else with_can_see(empty_table(with_ego, sensor_set is not None), mode)
     )
-
-
-def observer_sizes(objects: ObjectTable, egos: np.ndarray) -> dict[int, tuple[float, float]]:
-    """Each observer's length and width (metres): the median extent of its outline along and across its
-    heading, over the frames where it occurs."""
-    rings = objects.rings
-    heading = np.repeat(objects.yaw, objects.rings.sizes)
-    rel = rings.coords - np.repeat(objects.position, objects.rings.sizes, axis=0)
-    along = rel[:, 0] * np.cos(heading) + rel[:, 1] * np.sin(heading)
-    across = -rel[:, 0] * np.sin(heading) + rel[:, 1] * np.cos(heading)
-    first = rings.offsets[:-1]
-    length = np.maximum.reduceat(along, first) - np.minimum.reduceat(along, first) if len(first) else np.zeros(0)
-    width = np.maximum.reduceat(across, first) - np.minimum.reduceat(across, first) if len(first) else np.zeros(0)
-    sizes = {}
-    for ego in np.asarray(egos).tolist():
-        mine = objects.idx == ego
-        sizes[ego] = (float(np.median(length[mine])), float(np.median(width[mine])))
-    return sizes
 
 
 def sensor_names(sensors: Any) -> list[str] | None:

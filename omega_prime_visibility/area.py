@@ -18,11 +18,11 @@ import numpy as np
 import polars as pl
 import shapely
 
-from .api import SensorSpec, observer_sizes, resolve_egos
+from .api import SensorSpec, resolve_egos
 from .engines.sweep import SweepEngine
 from .pipeline import observer_rows, viewpoints
-from .scene import FrameObjects, ObjectTable, OnInvalid, load_objects
-from .sensors import Sensor, fitted_sensors, resolve_sensors
+from .scene import FrameObjects, ObjectTable, OnInvalid, load_objects, observer_sizes
+from .sensors import Sensor, fitted_layout, is_layout, resolve_sensors
 from .statics import StaticOccluders, load_static_occluders
 
 ARC_STEP = math.radians(1.0)
@@ -72,12 +72,13 @@ def _regions(
 def _prepare(df: Any, ego_idx: int, sensors: SensorSpec, static_occluder_polys, on_invalid: OnInvalid):
     if isinstance(ego_idx, bool) or not isinstance(ego_idx, int | np.integer):
         raise ValueError(f"ego_idx must be one idx (an int), not {ego_idx!r}")
-    resolve_sensors(sensors)  # a bad layout name or file fails before the table is read
+    sensor_set = resolve_sensors(sensors)  # a bad layout name or file fails before the table is read
     objects = load_objects(df, on_invalid=on_invalid)
     egos, _ = resolve_egos(int(ego_idx), objects)
     statics = load_static_occluders(static_occluder_polys)
-    fitted = fitted_sensors(sensors, observer_sizes(objects, egos) if isinstance(sensors, str) else {})
-    return objects, statics, fitted[int(ego_idx)] if isinstance(fitted, dict) else fitted
+    if is_layout(sensors):  # fitted to the ego's own size, as get_visibility_df does
+        sensor_set = fitted_layout(sensors, observer_sizes(objects, egos))[int(ego_idx)]
+    return objects, statics, sensor_set
 
 
 def visible_area(

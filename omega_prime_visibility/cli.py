@@ -204,13 +204,26 @@ def single_ego(ego: str) -> int | None:
     return value
 
 
-def host_or(ego_idx: int | None, recording) -> int:
-    """``ego_idx``, or the recording's host vehicle when it is None."""
-    if ego_idx is not None:
-        return ego_idx
-    if recording.host_vehicle_idx is None:
-        raise fail("the recording names no host vehicle: pass --ego IDX")
-    return int(recording.host_vehicle_idx)
+def picture_inputs(
+    recording: Path, output: Path, suffixes: tuple[str, ...], engine: str, frames: str, ego: str, map_path: Path | None
+):
+    """A picture command's checks that need no computing (engine, output path, frames, ego), then the recording
+    and its ego (``--ego``, else the host vehicle): ``(recording, ego_idx, frames)``."""
+    from .output import check_output_path
+
+    if engine not in ENGINES:
+        raise fail(f"unknown engine {engine!r}; available: {sorted(ENGINES)}")
+    try:
+        check_output_path(output, suffixes)
+    except ValueError as e:
+        raise fail(str(e)) from None
+    span, ego_idx = parse_frames(frames), single_ego(ego)
+    r = load_recording(recording, map_path)
+    if ego_idx is None:
+        if r.host_vehicle_idx is None:
+            raise fail("the recording names no host vehicle: pass --ego IDX")
+        ego_idx = int(r.host_vehicle_idx)
+    return r, ego_idx, span
 
 
 FramesOption = Annotated[str, typer.Option(help="START:STOP[:STEP] frame numbers (stop excluded); default all")]
@@ -234,18 +247,9 @@ def animate(
     progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
 ) -> None:
     """Render the scene seen from the ego, frame by frame, to an animated GIF or an MP4 video."""
-    from .output import check_output_path
     from .plot import animate as render
 
-    if engine not in ENGINES:
-        raise fail(f"unknown engine {engine!r}; available: {sorted(ENGINES)}")
-    try:
-        check_output_path(output, (".gif", ".mp4"))
-    except ValueError as e:
-        raise fail(str(e)) from None
-    span, ego_idx = parse_frames(frames), single_ego(ego)
-    r = load_recording(recording, map_path)
-    ego_idx = host_or(ego_idx, r)
+    r, ego_idx, span = picture_inputs(recording, output, (".gif", ".mp4"), engine, frames, ego, map_path)
     try:
         render(r, ego_idx, output, frames=span, fps=fps, follow=follow, view_range=view_range, target=target,
                sensors=sensors, engine=engine, progress=progress)  # fmt: skip
@@ -269,18 +273,10 @@ def report(
     progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
 ) -> None:
     """Write an interactive HTML report (frame slider, timeline, per-target summary) that works offline."""
-    from .output import check_output_path
     from .plot import write_report
 
-    if engine not in ENGINES:
-        raise fail(f"unknown engine {engine!r}; available: {sorted(ENGINES)}")
-    try:
-        check_output_path(output, (".html",))
-    except ValueError as e:
-        raise fail(str(e)) from None
-    span, ego_idx, sensor_set = parse_frames(frames), single_ego(ego), parse_sensors(sensors)
-    r = load_recording(recording, map_path)
-    ego_idx = host_or(ego_idx, r)
+    sensor_set = parse_sensors(sensors)
+    r, ego_idx, span = picture_inputs(recording, output, (".html",), engine, frames, ego, map_path)
     try:
         write_report(r, ego_idx, output, frames=span, view_range=view_range, engine=engine, progress=progress,
                      title=recording.name, sensors=sensor_set)  # fmt: skip

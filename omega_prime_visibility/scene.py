@@ -361,3 +361,24 @@ def load_objects(data: Any, *, on_invalid: OnInvalid = "warn", three_d: bool = F
     if boxes3d is not None:
         boxes3d = boxes3d[ok]
     return ObjectTable(frame, total_nanos, idx, position, yaw, rings, frame_starts, boxes3d)
+
+
+def observer_sizes(objects: ObjectTable, egos: np.ndarray) -> dict[int, tuple[float, float]]:
+    """Each observer's length and width (metres): the median extent of its outline along and across its
+    heading, over the frames where it occurs (observers that never occur are left out)."""
+    rows = np.flatnonzero(np.isin(objects.idx, egos))
+    rings = objects.rings.take(rows)
+    heading = np.repeat(objects.yaw[rows], rings.sizes)
+    rel = rings.coords - np.repeat(objects.position[rows], rings.sizes, axis=0)
+    along = rel[:, 0] * np.cos(heading) + rel[:, 1] * np.sin(heading)
+    across = -rel[:, 0] * np.sin(heading) + rel[:, 1] * np.cos(heading)
+    first = rings.offsets[:-1]
+    if len(first) == 0:
+        return {}
+    length = np.maximum.reduceat(along, first) - np.minimum.reduceat(along, first)
+    width = np.maximum.reduceat(across, first) - np.minimum.reduceat(across, first)
+    owner = objects.idx[rows]
+    order = np.argsort(owner, kind="stable")
+    idx, starts = np.unique(owner[order], return_index=True)
+    groups = np.split(order, starts[1:])
+    return {int(i): (float(np.median(length[g])), float(np.median(width[g]))) for i, g in zip(idx, groups, strict=True)}

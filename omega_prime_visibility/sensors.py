@@ -239,19 +239,20 @@ def resolve_sensors(
     return check_sensors(spec)
 
 
-def fitted_sensors(
-    spec: str | os.PathLike | Sensor | Sequence[Sensor] | None, sizes: dict[int, tuple[float, float]]
-) -> dict[int, tuple[Sensor, ...]] | tuple[Sensor, ...] | None:
-    """Sensors per observer: a layout name (:data:`LAYOUTS`) fitted to each observer's ``(length, width)`` in
-    ``sizes`` (metres, by idx); anything else (:func:`resolve_sensors`) is the same for every observer.
+def is_layout(spec: object) -> bool:
+    """Whether ``spec`` names a ready-made layout (:data:`LAYOUTS`)."""
+    return isinstance(spec, str) and spec in LAYOUTS
 
-    >>> fitted = fitted_sensors("typical", {0: (4.0, 1.8), 7: (12.0, 2.5)})
+
+def fitted_layout(name: str, sizes: dict[int, tuple[float, float]]) -> dict[int, tuple[Sensor, ...]]:
+    """The layout ``name`` (:data:`LAYOUTS`) per observer, fitted to each one's ``(length, width)`` in ``sizes``
+    (metres, by idx).
+
+    >>> fitted = fitted_layout("typical", {0: (4.0, 1.8), 7: (12.0, 2.5)})
     >>> [s.x for s in fitted[7] if s.name == "front_radar"], [s.x for s in fitted[0] if s.name == "front_radar"]
     ([6.0], [2.0])
     """
-    if isinstance(spec, str) and spec in LAYOUTS:
-        return {idx: check_sensors(LAYOUTS[spec](length, width)) for idx, (length, width) in sizes.items()}
-    return resolve_sensors(spec)
+    return {idx: check_sensors(LAYOUTS[name](length, width)) for idx, (length, width) in sizes.items()}
 
 
 def sensor_poses(

@@ -19,8 +19,8 @@ import shapely
 from ..engines import get_engine
 from ..engines.visilibity import VisiLibityEngine
 from ..pipeline import ContainmentLog, observe_frame, observer_rows, viewpoints
-from ..scene import ObjectTable, as_polars, load_objects
-from ..sensors import Sensor, resolve_sensors
+from ..scene import ObjectTable, as_polars, load_objects, observer_sizes
+from ..sensors import Sensor, fitted_layout, is_layout, resolve_sensors
 from ..statics import StaticOccluders, load_static_occluders
 from ..table import TableBuilder, to_polars
 
@@ -185,13 +185,6 @@ class FrameView:
         """The viewpoint: the centre of the ego's bounding box, metres."""
         return self.position[self.ego_row]
 
-    def ego_size(self) -> tuple[float, float]:
-        """Length and width of the ego's outline along and across its heading, metres."""
-        ring = self.rings[self.ego_row] - self.observer
-        c, s = math.cos(self.yaw[self.ego_row]), math.sin(self.yaw[self.ego_row])
-        along, across = ring @ np.array([c, s]), ring @ np.array([-s, c])
-        return float(np.ptp(along)), float(np.ptp(across))
-
 
 class FrameViewer:
     """Computes :class:`FrameView` of one ego frame after frame, with one engine for all of them."""
@@ -240,9 +233,11 @@ class FrameViewer:
         )
 
 
-def sensor_list(sensors: Any, view: FrameView) -> tuple[Sensor, ...]:
-    """``sensors`` as given to the plotting functions (layout name, JSON path, Sensor(s)), sized to the ego."""
+def sensor_list(sensors: Any, source: Source, ego_idx: int) -> tuple[Sensor, ...]:
+    """``sensors`` as given to the plotting functions (layout name, JSON path, Sensor(s)); a layout name is fitted
+    to the ego's own size, as :func:`~omega_prime_visibility.get_visibility_df` fits it."""
     if sensors is None:
         return ()
-    length, width = view.ego_size()
-    return resolve_sensors(sensors, length, width)
+    if is_layout(sensors):
+        return fitted_layout(sensors, observer_sizes(source.objects, np.array([ego_idx])))[int(ego_idx)]
+    return resolve_sensors(sensors)

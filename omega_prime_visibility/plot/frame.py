@@ -51,7 +51,8 @@ class FramePainter:
         colors = require("matplotlib.colors")
         self.patches = require("matplotlib.patches")
         self.ax, self.source, self.ego_idx, self.target = ax, source, int(ego_idx), target
-        self.sensors, self.view_range = sensors, view_range
+        self.sensors = sensor_list(sensors, source, ego_idx)  # resolved once, not per frame
+        self.view_range = view_range
         self.cmap, self.norm = plt.get_cmap(cmap), colors.Normalize(0.0, 1.0)
         self._dynamic: list[Any] = []
         self._static_patches: dict[int, list[Any]] = {}
@@ -169,12 +170,12 @@ class FramePainter:
             add(self._label(text, view.rings[i], view.position[i]))
         observer = view.observer
         add(ax.plot(*observer, marker="*", color="white", mec="black", ms=10, zorder=4)[0])
-        sensors = sensor_list(self.sensors, view)
+        sensors = self.sensors
         for k, s in enumerate(sensors):
             add_all = self._draw_sensor(s, view, SENSOR_COLOURS[k % len(SENSOR_COLOURS)])
             self._dynamic.extend(add_all)
         if self._legend:
-            self._legend = False  # sensors are sized to the ego, so the legend waits for the first frame
+            self._legend = False  # drawn once, with the first frame
             handles = self._legend_handles(sensors)
             engine = ax.figure.get_layout_engine()
             if engine is not None and type(engine).__name__ == "ConstrainedLayoutEngine":

@@ -23,7 +23,7 @@ import numpy as np
 import shapely
 
 from ...boxes3d import _slab
-from ...kernels import reserve
+from ...kernels import push_pair
 
 MISS = -1
 """Label of a ray that misses the target (it matches any label when cells are compared)."""
@@ -201,11 +201,7 @@ def label(dirs, node_slot, eyes, slot_view, slot_target, view, centres, rots, ha
             continue  # where the target is seen first, nothing lies in front of it
         if first >= n_boxes and code[a] == first and listed[first] != s:
             listed[first] = s
-            pair_slot = reserve(pair_slot, k, k + 1)
-            pair_occ = reserve(pair_occ, k, k + 1)
-            pair_slot[k] = s
-            pair_occ[k] = first
-            k += 1
+            pair_slot, pair_occ, k = push_pair(pair_slot, pair_occ, k, s, first)
         for c in range(cand_offsets[s], cand_offsets[s + 1]):
             cone = cand_cone[c]
             if dirs[a, 0] * cone[0] + dirs[a, 1] * cone[1] + dirs[a, 2] * cone[2] < cone[3]:
@@ -216,11 +212,7 @@ def label(dirs, node_slot, eyes, slot_view, slot_target, view, centres, rots, ha
             tb = _slab(eye, dirs[a], centres[b], rots[b], halves[b])[0]
             if tb < tt - 1e-9:
                 listed[b] = s
-                pair_slot = reserve(pair_slot, k, k + 1)
-                pair_occ = reserve(pair_occ, k, k + 1)
-                pair_slot[k] = s
-                pair_occ[k] = b
-                k += 1
+                pair_slot, pair_occ, k = push_pair(pair_slot, pair_occ, k, s, b)
     return code, in_fov, in_range, pair_slot[:k], pair_occ[:k]
 
 

@@ -67,7 +67,7 @@ class VisiLibityEngine:
         self._origin: np.ndarray | None = None
         self._prepared: dict[tuple[float, float], dict] = {}
         self.box_margin = BOX_MARGIN  # metres of free space around all bodies (the visibility polygon's limit)
-        self._source_edges: tuple[np.ndarray, np.ndarray] | None = None  # for limited viewpoints (see ...view)
+        self._source_edges = statics.source_edges()  # every static edge grouped by source, world frame
 
     # -- static geometry, converted once relative to the origin ------------------------------------------------
     def _use_origin(self, observer: np.ndarray) -> np.ndarray:
@@ -98,12 +98,9 @@ class VisiLibityEngine:
         self._origin = origin.copy()
         shifted = shapely.transform(st.geometries, lambda c: c - origin) if st.n_sources else st.geometries
         self._static_shapes = np.array([*map(self._area_of, shifted), None], dtype=object)[:-1]
-        a, b = edges(st.rings)
-        seg = np.concatenate([np.stack([a, b], axis=1), st.segments]) - origin
-        src = np.concatenate([st.ring_source[ring_ids(st.rings.offsets)], st.segment_source]).astype(np.int64)
-        order = np.argsort(src, kind="stable")
-        self._static_segments = np.ascontiguousarray(seg[order].reshape(-1, 2, 2))
-        self._static_segment_source = src[order]
+        seg, offsets = self._source_edges
+        self._static_segments = np.ascontiguousarray(seg - origin)
+        self._static_segment_source = np.repeat(np.arange(st.n_sources, dtype=np.int64), np.diff(offsets))
         self._static_cache: dict[bytes, tuple] = {}
 
     def _static_parts(self, static_blocking: np.ndarray) -> tuple:
@@ -179,8 +176,6 @@ class VisiLibityEngine:
         st_offsets, st = group_pairs(target[~is_obj], body[~is_obj] - n, n)
         observation = Observation.from_parts(visible, width, occ_offsets, occ, st_offsets, st, transparent)
         if viewpoint.limited:
-            if self._source_edges is None:
-                self._source_edges = self.statics.source_edges()
             observation = restrict_observation(observation, seen, objects.rings, *self._source_edges, viewpoint)
         return observation
 
