@@ -55,6 +55,22 @@ def tables(data: Path) -> Iterator[tuple[str, pl.DataFrame]]:
                 yield f"crowded-{seed}-{label}-{engine}", out
         yield f"crowded-{seed}-all-sweep", get_visibility_df(boxes, "all", engine="sweep", workers=1, progress=False)
     yield "tidy-all-sweep", get_visibility_df(synthetic_highway(50, 100), "all", engine="sweep", progress=False)
+    try:  # sensors (from stop 21 on)
+        from omega_prime_visibility import Sensor
+    except ImportError:
+        return
+    offset = [Sensor("nose", x=2.0, y=0.4, yaw=0.3), Sensor("tail", x=-2.0)]  # all around, without range
+    boxes = with_polygons(crowded_highway(50, 60, seed=4))
+    for sensors in ("roof", "typical"):
+        for engine in ("visilibity", "sweep"):
+            out = get_visibility_df(boxes, 0, engine=engine, progress=False, workers=1, sensors=sensors)
+            yield f"crowded-4-{sensors}-{engine}", out
+    yield "crowded-4-offset-sweep", get_visibility_df(boxes, 0, engine="sweep", progress=False, sensors=offset)
+    yield "crowded-4-all-roof-sweep", get_visibility_df(boxes, "all", engine="sweep", progress=False, sensors="roof")
+    bundled = omega_prime.Recording.from_file(str(REPO / "highway_merge.mcap"), compute_polygons=True)._df
+    for engine in ("visilibity", "sweep"):
+        out = get_visibility_df(bundled, "all", [WALL], engine=engine, progress=False, workers=1, sensors=offset)
+        yield f"bundled-all-offset-wall-{engine}", out
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -301,6 +301,50 @@ def _covers_points(points, coords, offsets, tolerance):
     return out
 
 
+@numba.njit(cache=True)
+def _covers_points_by_frame(points, point_starts, coords, offsets, frame_starts, tolerance):
+    counts = np.zeros(len(points) + 1, dtype=np.int64)
+    for f in range(len(frame_starts) - 1):
+        for p in range(point_starts[f], point_starts[f + 1]):
+            counts[p + 1] = counts[p] + frame_starts[f + 1] - frame_starts[f]
+    out = np.empty(counts[-1], dtype=np.bool_)
+    for f in range(len(frame_starts) - 1):
+        p0, p1 = point_starts[f], point_starts[f + 1]
+        if p1 > p0:
+            s, e = frame_starts[f], frame_starts[f + 1]
+            inside = _covers_points(points[p0:p1], coords, offsets[s : e + 1], tolerance)
+            out[counts[p0] : counts[p1]] = inside.ravel()
+    return out, counts
+
+
+def covers_points_by_frame(
+    points: np.ndarray, point_starts: np.ndarray, rings: Rings, frame_starts: np.ndarray, tolerance: float = 1e-9
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`covers_points` for the points of many frames in one compiled call: the points
+    ``point_starts[f]:point_starts[f + 1]`` against the rings ``frame_starts[f]:frame_starts[f + 1]``.
+
+    Returns the flat answers (bool) and their offsets (shape (k + 1,)): point ``p``'s answers for the rings of
+    its frame, in order, are ``covered[offsets[p]:offsets[p + 1]]``.
+
+    Examples
+    --------
+    >>> squares = Rings(np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]] * 2), np.array([0, 4, 8]))
+    >>> covered, offsets = covers_points_by_frame(
+    ...     np.array([[1.0, 1.0], [3.0, 1.0]]), np.array([0, 1, 2]), squares, np.array([0, 1, 2]))
+    >>> covered.tolist(), offsets.tolist()
+    ([True, False], [0, 1, 2])
+    """
+    covered, offsets = _covers_points_by_frame(
+        np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2),
+        np.asarray(point_starts, dtype=np.int64),
+        np.ascontiguousarray(rings.coords, dtype=np.float64),
+        np.asarray(rings.offsets, dtype=np.int64),
+        np.asarray(frame_starts, dtype=np.int64),
+        float(tolerance),
+    )
+    return covered, offsets
+
+
 def covers_points(points: np.ndarray, rings: Rings, tolerance: float = 1e-9) -> np.ndarray:
     """:func:`covers_point` for several points at once (one compiled call), shape (k, n) bool.
 

@@ -3,7 +3,9 @@ named column arrays.
 
 :func:`viewpoints` says where each observer looks from and what is transparent to it, :func:`observe_frame` runs
 the engine on one frame, :func:`run_chunk` on a chunk of frames with a fresh engine (so results never depend on
-the chunking), and :func:`run` spreads chunks over any :class:`concurrent.futures.Executor` (a process pool, a
+the chunking); when every viewpoint sees all around without range and the engine offers ``observe_chunk``, the
+chunk goes through it in one piece (:func:`chunk_viewpoints`, :func:`.rows.chunk_rows`: no per-frame Python, the
+same numbers), and :func:`run` spreads chunks over any :class:`concurrent.futures.Executor` (a process pool, a
 dask client's executor, or none). Workers return plain numpy arrays and never touch polars.
 """
 
@@ -17,12 +19,13 @@ from typing import Any
 
 import numpy as np
 
-from .engines import Engine, Viewpoint, get_engine
-from .geometry import covers_points
+from .engines import ChunkViewpoints, Engine, Viewpoint, get_engine
+from .geometry import covers_points, covers_points_by_frame
+from .rows import chunk_rows, frame_rows
 from .scene import FrameObjects, ObjectTable, VisibilityInputWarning
-from .sensors import Sensor, sensor_poses
+from .sensors import TWO_PI, Sensor, sensor_poses
 from .statics import StaticOccluders
-from .table import Columns, TableBuilder, frame_rows
+from .table import Columns, TableBuilder
 
 SensorSet = Sequence[Sensor] | dict[int, Sequence[Sensor]]
 """Sensors for every observer, or per observer idx (same names, same order)."""
@@ -39,6 +42,15 @@ class ContainmentLog:
         for i in idx.tolist():
             self.frames[(ego, i)] += 1
             self.first.setdefault((ego, i), frame)
+
+    def add_pairs(self, ego: np.ndarray, idx: np.ndarray, frame: np.ndarray) -> None:
+        """Add many ``(observer idx, containing idx, frame)`` triples, in frame order."""
+        if not len(ego):
+            return
+        keys, first, counts = np.unique(np.stack([ego, idx]), axis=1, return_index=True, return_counts=True)
+        for (e, i), at, c in zip(keys.T.tolist(), first.tolist(), counts.tolist(), strict=True):
+            self.frames[(e, i)] += c
+            self.first.setdefault((e, i), int(frame[at]))
 
     def merge(self, other: ContainmentLog) -> None:
         self.frames.update(other.frames)
@@ -98,6 +110,58 @@ def viewpoints(
     ]
 
 
+def sensors_per_observer(sensors: SensorSet | None) -> int:
+    """Viewpoints per observer: its number of sensors, or 1 without sensors."""
+    if sensors is None:
+        return 1
+    return len(next(iter(sensors.values())) if isinstance(sensors, dict) else sensors)
+
+
+def unlimited(sensors: SensorSet | None) -> bool:
+    """Whether every sensor (if any) sees all around without range, so viewpoints see as bare points."""
+    if sensors is None:
+        return True
+    sets = sensors.values() if isinstance(sensors, dict) else [sensors]
+    return all(s.fov >= TWO_PI and not np.isfinite(s.range) for one in sets for s in one)
+
+
+def chunk_viewpoints(
+    objects: ObjectTable, egos: np.ndarray, statics: StaticOccluders, sensors: SensorSet | None = None
+) -> tuple[ChunkViewpoints, np.ndarray]:
+    """:func:`viewpoints` for every frame of a chunk at once, for viewpoints that see all around without range
+    (:func:`unlimited`); also the chunk row of each viewpoint's observer.
+
+    The same viewpoints in the same order (frame by frame, observer by observer, each with its sensors in order)
+    and the same transparency.
+    """
+    is_ego = np.isin(objects.idx, egos)
+    rows = np.flatnonzero(is_ego)  # ascending: by frame, then idx
+    per_observer = sensors_per_observer(sensors)
+    owners = np.repeat(rows, per_observer)
+    if sensors is None:
+        positions = objects.position[rows]
+    elif isinstance(sensors, dict):  # each observer with its own sensors
+        positions = np.empty((len(owners), 2))
+        for ego, own in sensors.items():
+            mine = np.flatnonzero(objects.idx[rows] == ego)
+            if len(mine):
+                at = (mine[:, None] * per_observer + np.arange(per_observer)).ravel()
+                positions[at] = sensor_poses(own, objects.position[rows[mine]], objects.yaw[rows[mine]])[0]
+    else:
+        positions = sensor_poses(sensors, objects.position[rows], objects.yaw[rows])[0]
+    frame_of_row = np.repeat(np.arange(objects.n_frames), np.diff(objects.frame_starts))
+    view_starts = np.zeros(objects.n_frames + 1, dtype=np.int64)
+    np.cumsum(np.bincount(frame_of_row[owners], minlength=objects.n_frames), out=view_starts[1:])
+    own = owners - objects.frame_starts[frame_of_row[owners]]
+    transparent, target_offsets = covers_points_by_frame(positions, view_starts, objects.rings, objects.frame_starts)
+    transparent[target_offsets[:-1] + own] = True
+    inside, source = statics.containing_pairs(positions)
+    static_offsets = np.zeros(len(owners) + 1, dtype=np.int64)
+    np.cumsum(np.bincount(inside, minlength=len(owners)), out=static_offsets[1:])
+    views = ChunkViewpoints(view_starts, positions, own, target_offsets, transparent, static_offsets, source)
+    return views, owners
+
+
 def observer_rows(objects: FrameObjects, egos: np.ndarray) -> np.ndarray:
     """Row numbers, in this frame, of the observers ``egos`` (idx) that are present in it."""
     n = len(objects)
@@ -128,8 +192,7 @@ def observe_frame(
             inside = view.transparent.copy()
             inside[view.own] = False
             containment.add(int(objects.idx[view.own]), objects.idx[inside], objects.frame)
-    per_observer = 0 if sensors is None else len(next(iter(sensors.values())) if isinstance(sensors, dict) else sensors)
-    sensor_codes = None if sensors is None else np.tile(np.arange(per_observer), len(rows))
+    sensor_codes = None if sensors is None else np.tile(np.arange(sensors_per_observer(sensors)), len(rows))
     columns = frame_rows(observations, owns, objects.idx, sensor_codes)
     builder.add(columns, frame=objects.frame, total_nanos=objects.total_nanos)
 
@@ -143,11 +206,30 @@ def run_chunk(
 ) -> tuple[Columns | None, ContainmentLog]:
     """All frames of ``objects`` with a fresh engine; plain arrays by column name, and the containment log."""
     eng = get_engine(engine)(statics)
-    builder = TableBuilder()
     containment = ContainmentLog()
+    if hasattr(eng, "observe_chunk") and unlimited(sensors):  # the whole chunk in compiled loops
+        views, owners = chunk_viewpoints(objects, egos, statics, sensors)
+        observation = eng.observe_chunk(objects, views)
+        per_observer = sensors_per_observer(sensors)
+        sensor_codes = None if sensors is None else np.tile(np.arange(per_observer), len(views) // per_observer)
+        _log_containment(containment, objects, views, owners)
+        return chunk_rows(observation, views, owners, objects.idx, objects.frame, objects.total_nanos, sensor_codes), (
+            containment
+        )
+    builder = TableBuilder()
     for k in range(objects.n_frames):
         observe_frame(eng, statics, objects.frame_objects(k), egos, builder, containment, sensors)
     return builder.arrays(), containment
+
+
+def _log_containment(log: ContainmentLog, objects: ObjectTable, views: ChunkViewpoints, owners: np.ndarray) -> None:
+    """Log the objects that contain a viewpoint other than its own body."""
+    hits = np.flatnonzero(views.transparent)
+    view = np.searchsorted(views.target_offsets, hits, side="right") - 1
+    first_row = owners[view] - views.own[view]  # chunk row of the first object of the viewpoint's frame
+    row = first_row + hits - views.target_offsets[view]
+    other = row != owners[view]
+    log.add_pairs(objects.idx[owners[view[other]]], objects.idx[row[other]], objects.frame[row[other]])
 
 
 def _run_chunk_star(args: tuple) -> tuple[Any, ContainmentLog]:

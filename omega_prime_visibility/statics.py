@@ -50,16 +50,22 @@ class StaticOccluders:
 
     def containing(self, points: np.ndarray) -> np.ndarray:
         """Whether each occluder contains or touches each of ``points`` (shape (k, 2), metres), shape
-        (k, n_sources) bool; only occluders whose bounding box holds a point are tested exactly (the boxes are
-        closed), so a large map costs little."""
+        (k, n_sources) bool (see :meth:`containing_pairs`)."""
         points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
         inside = np.zeros((len(points), self.n_sources), dtype=bool)
-        if self.n_sources:
-            near = points_in_boxes(points, self.bounds)
-            if near.any():
-                v, s = np.nonzero(near)
-                inside[v, s] = shapely.intersects(self.geometries[s], shapely.points(points[v]))
+        inside[self.containing_pairs(points)] = True
         return inside
+
+    def containing_pairs(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(point, source)`` pairs (int64, ordered by point, then source) of occluders containing or touching
+        the points (shape (k, 2), metres); only occluders whose bounding box holds a point are tested exactly (the
+        boxes are closed), so a large map costs little."""
+        points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+        if not self.n_sources or not len(points):
+            return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+        v, s = np.nonzero(points_in_boxes(points, self.bounds))
+        hit = shapely.intersects(self.geometries[s], shapely.points(points[v])) if len(v) else np.zeros(0, bool)
+        return v[hit].astype(np.int64), s[hit].astype(np.int64)
 
     def source_edges(self) -> tuple[np.ndarray, np.ndarray]:
         """Every edge (ring edges and wall segments), shape (s, 2, 2) metres, grouped by source: the edges and

@@ -6,15 +6,18 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import polars as pl
+import pytest
 import shapely
 from conftest import boxes_table
 
 from omega_prime_visibility import get_visibility_df
 from omega_prime_visibility.engines import get_engine
-from omega_prime_visibility.pipeline import chunks, run, viewpoints
+from omega_prime_visibility.pipeline import ContainmentLog, chunks, observe_frame, run, run_chunk, viewpoints
+from omega_prime_visibility.rows import frame_rows, observation_rows
 from omega_prime_visibility.scene import load_objects
+from omega_prime_visibility.sensors import Sensor, roof
 from omega_prime_visibility.statics import load_static_occluders
-from omega_prime_visibility.table import frame_rows, observation_rows, to_polars
+from omega_prime_visibility.table import LIST_COLUMNS, TableBuilder, to_polars
 
 
 def moving_scene(frames: int) -> pl.DataFrame:
@@ -79,3 +82,56 @@ def test_frame_rows_are_the_rows_of_each_observation_in_turn() -> None:
         for part in (0, 1):
             assert np.array_equal(batch[name][part], np.concatenate([c[name][part] for c in one_by_one]))
     assert batch["occluder_idxs"][1].size and batch["static_occluder_idxs"][1].size  # both kinds occur
+
+
+def random_traffic(rng: np.random.Generator, frames: int, n: int) -> pl.DataFrame:
+    """Overlapping boxes in a 24 m square, some frames without some objects (observers included)."""
+    parts = []
+    for f in range(frames):
+        boxes = [
+            (*rng.uniform(-12, 12, 2), rng.uniform(1, 6), rng.uniform(0.5, 3), rng.uniform(-np.pi, np.pi))
+            for _ in range(n)
+        ]
+        table = boxes_table(boxes, f)
+        parts.append(table.filter(pl.Series(rng.random(n) > 0.15)))
+    return pl.concat(parts)
+
+
+def frame_by_frame(objects, statics, egos, sensors):
+    """The columns and containment log of the per-frame path (what every engine without ``observe_chunk`` uses)."""
+    engine = get_engine("sweep")(statics)
+    builder, log = TableBuilder(), ContainmentLog()
+    for k in range(objects.n_frames):
+        observe_frame(engine, statics, objects.frame_objects(k), egos, builder, log, sensors)
+    return builder.arrays(), log
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_the_chunk_path_gives_the_columns_of_the_frame_by_frame_path(seed: int) -> None:
+    # observers inside other boxes and inside static occluders, unlimited sensors off the centre, per-ego sensors
+    rng = np.random.default_rng(seed)
+    objects = load_objects(random_traffic(rng, 12, 14))
+    statics = load_static_occluders(
+        [shapely.box(-3, -3, 3, 3), shapely.LineString([(-15, 10), (15, 12)]), shapely.box(25, -5, 30, 5)]
+    )
+    off_centre = [Sensor("a", x=1.5, y=-0.5, yaw=0.4), Sensor("b", x=-2.0)]
+    per_ego = {0: roof(), 3: [Sensor("roof", x=0.7)], 5: roof()}
+    contained = 0
+    for egos, sensors in [([0], None), ([0, 3, 5], None), ([0, 3, 5], off_centre), ([0, 3, 5], per_ego)]:
+        egos = np.array(egos)
+        expected, expected_log = frame_by_frame(objects, statics, egos, sensors)
+        columns, log = run_chunk(objects, statics, egos, "sweep", sensors)
+        assert columns.keys() == expected.keys()
+        for name, values in expected.items():
+            pairs = zip(columns[name], values, strict=True) if name in LIST_COLUMNS else [(columns[name], values)]
+            for got, want in pairs:
+                assert got.dtype == want.dtype and np.array_equal(got, want), name
+        assert log.frames == expected_log.frames and log.first == expected_log.first
+        contained += len(log.frames)
+    assert contained  # some observer is inside some box
+
+
+def test_the_chunk_path_without_any_observer_gives_no_rows() -> None:
+    objects = load_objects(moving_scene(4))
+    columns, log = run_chunk(objects, load_static_occluders(None), np.array([99]), "sweep")
+    assert columns is None and not log.frames

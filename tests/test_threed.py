@@ -20,9 +20,9 @@ from conftest import REPO
 from omega_prime_visibility import VisibilityInputWarning, get_visibility_df
 from omega_prime_visibility.engines import get_engine
 from omega_prime_visibility.pipeline import viewpoints
+from omega_prime_visibility.rows import observation_rows
 from omega_prime_visibility.scene import load_objects
 from omega_prime_visibility.statics import load_static_occluders
-from omega_prime_visibility.table import observation_rows
 
 EGO = (0.0, 0.0, 4.5, 1.8, 1.5)  # x, y, length, width, height; the eye is 1.25 m above the ground
 

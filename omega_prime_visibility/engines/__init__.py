@@ -6,7 +6,11 @@ Every engine has the same contract, so the front end never asks which one it run
 - ``engine.observe(objects, viewpoints)`` returns one :class:`Observation` per :class:`Viewpoint` of the frame
   (engines may share work between the viewpoints of a frame);
 - ``Engine.measure`` says what its angles are: ``"radians"`` for the 2D engines (a 3D engine measures solid
-  angles, ``"steradians"``, with the same occluder layout).
+  angles, ``"steradians"``, with the same occluder layout);
+- optionally, ``engine.observe_chunk(objects, viewpoints)`` observes a whole chunk of frames at once from
+  :class:`ChunkViewpoints` that see all around without range, returning one :class:`ChunkObservation` with the
+  same numbers ``observe`` gives frame by frame (an engine with a compiled loop over frames offers it, so that
+  small scenes pay no per-frame Python).
 
 What the numbers mean in the table (the policy keyed on the :class:`Reason` codes) lives in :mod:`..table`.
 A new engine is one module and one line in :data:`ENGINES`.
@@ -167,6 +171,69 @@ def _reason_codes(occluder_offsets, static_offsets, transparent):
         else:
             reason[i] = _IN_VIEW
     return reason
+
+
+@dataclass(frozen=True, slots=True)
+class ChunkViewpoints:
+    """The viewpoints of a chunk of frames, frame by frame, each seeing all around without range.
+
+    Viewpoint ``v`` of frame position ``f`` (``frame_starts[f] <= v < frame_starts[f + 1]``) has a *target* for
+    every object of its frame: targets ``target_offsets[v]`` to ``target_offsets[v + 1] - 1``, in the frame's row
+    order.
+
+    Attributes
+    ----------
+    frame_starts : ndarray, shape (f + 1,), int64
+        First viewpoint of each frame of the chunk.
+    position : ndarray, shape (v, 2), float64
+        Metres, in the recording's frame.
+    own : ndarray, shape (v,), int64
+        Row number, within its frame, of the observing object (it gets no row), or -1.
+    target_offsets : ndarray, shape (v + 1,), int64
+    transparent : ndarray, shape (t,), bool
+        Per target: neither blocks nor occludes (:attr:`Viewpoint.transparent`).
+    static_offsets : ndarray, shape (v + 1,), int64
+    static_inside : ndarray, int64
+        Static occluder sources containing viewpoint ``v``: ``static_inside[static_offsets[v]:static_offsets[v + 1]]``.
+    """
+
+    frame_starts: np.ndarray
+    position: np.ndarray
+    own: np.ndarray
+    target_offsets: np.ndarray
+    transparent: np.ndarray
+    static_offsets: np.ndarray
+    static_inside: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.own)
+
+
+@dataclass(frozen=True, slots=True)
+class ChunkObservation:
+    """What every viewpoint of a :class:`ChunkViewpoints` sees: the fields of :class:`Observation` for all its
+    targets one after another (shape (t,)), their occluder lists as CSR over the targets.
+
+    Attributes
+    ----------
+    visible_angle, angular_extent : ndarray, shape (t,), float64
+    reason : ndarray, shape (t,), int8
+    occluder_offsets : ndarray, shape (t + 1,), int64
+        Target ``t``'s occluders are ``occluders[occluder_offsets[t]:occluder_offsets[t + 1]]``: row numbers within
+        its frame, ascending.
+    occluders : ndarray, int64
+    static_offsets : ndarray, shape (t + 1,), int64
+    static_occluders : ndarray, int64
+        Positions in the user's static occluder list, ascending per target.
+    """
+
+    visible_angle: np.ndarray
+    angular_extent: np.ndarray
+    reason: np.ndarray
+    occluder_offsets: np.ndarray
+    occluders: np.ndarray
+    static_offsets: np.ndarray
+    static_occluders: np.ndarray
 
 
 class Engine(Protocol):

@@ -5,37 +5,18 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-import numba
 import numpy as np
 
 from ...geometry import edges, ring_ids
 from ...kernels import ring_index
-from ...scene import FrameObjects
+from ...scene import FrameObjects, ObjectTable
 from ...sensors import TWO_PI
 from ...statics import StaticOccluders
 from ...view import objects_in_view, restrict_observation
-from .. import Observation, Reason, Viewpoint
+from .. import ChunkObservation, ChunkViewpoints, Observation, Viewpoint
+from .chunk import bearing_arguments, observe_frames
 from .crossings import build_static_grid, prepare_frame, static_crossings
-from .observe import observe_frame, outline_one
-
-_IN_VIEW, _OCCLUDED, _CONTAINS_OBSERVER = int(Reason.IN_VIEW), int(Reason.OCCLUDED), int(Reason.CONTAINS_OBSERVER)
-
-
-@numba.njit(cache=True)
-def _reason_codes_stacked(occ_offsets, static_offsets, transparent):
-    """The :class:`..Reason` code of every (observer, object), as :meth:`..Observation.from_parts` gives them one
-    observer at a time: offsets shape (k, n + 1), ``transparent`` (k, n); shape (k, n), int8."""
-    k, n = transparent.shape
-    reason = np.empty((k, n), dtype=np.int8)
-    for o in range(k):
-        for i in range(n):
-            if transparent[o, i]:
-                reason[o, i] = _CONTAINS_OBSERVER
-            elif occ_offsets[o, i + 1] > occ_offsets[o, i] or static_offsets[o, i + 1] > static_offsets[o, i]:
-                reason[o, i] = _OCCLUDED
-            else:
-                reason[o, i] = _IN_VIEW
-    return reason
+from .observe import observe_frame, outline_one, reason_codes
 
 
 class SweepEngine:
@@ -90,6 +71,39 @@ class SweepEngine:
             observations[k] = restrict_observation(observations[k], one, objects.rings, *self._source_edges, view)
         return observations
 
+    def observe_chunk(self, objects: ObjectTable, viewpoints: ChunkViewpoints) -> ChunkObservation:
+        """What every viewpoint of a chunk of frames sees, all around without range, in two compiled calls (see
+        :mod:`.chunk`); the numbers of :meth:`observe` frame by frame."""
+        coords = np.ascontiguousarray(objects.rings.coords, dtype=np.float64)
+        offsets = np.ascontiguousarray(objects.rings.offsets, dtype=np.int64)
+        frame_starts = np.ascontiguousarray(objects.frame_starts, dtype=np.int64)
+        positions = np.ascontiguousarray(viewpoints.position, dtype=np.float64).reshape(-1, 2)
+        view_starts = np.ascontiguousarray(viewpoints.frame_starts, dtype=np.int64)
+        following, cross_offsets, cross_first, cross_second, arg_offsets, y, x = bearing_arguments(
+            coords, offsets, frame_starts, view_starts, positions, self._st_a, self._st_b, *self._grid, *self._ss
+        )
+        out = observe_frames(
+            coords,
+            offsets,
+            frame_starts,
+            view_starts,
+            positions,
+            np.ascontiguousarray(viewpoints.target_offsets, dtype=np.int64),
+            np.ascontiguousarray(viewpoints.transparent, dtype=np.bool_),
+            np.ascontiguousarray(viewpoints.static_offsets, dtype=np.int64),
+            np.ascontiguousarray(viewpoints.static_inside, dtype=np.int64),
+            self.statics.n_sources,
+            following,
+            cross_offsets,
+            cross_first,
+            cross_second,
+            arg_offsets,
+            np.arctan2(y, x),
+            self._static_edges,
+            self._grid,
+        )
+        return ChunkObservation(*out)
+
     def _frame_inputs(self, objects: FrameObjects, observers: np.ndarray) -> tuple:
         """The kernels' per-frame inputs: the frame's edge arrays (a tuple of :class:`.pieces.FrameEdges`' fields)
         and every observer's bearings."""
@@ -125,7 +139,7 @@ class SweepEngine:
             np.ascontiguousarray(limits, dtype=np.float64).reshape(len(observers), 3),
         )
         visible, width, occ_off, occ, occ_cut, st_off, st, st_cut = out
-        reason = _reason_codes_stacked(occ_off, st_off, transparent)
+        reason = reason_codes(occ_off, st_off, transparent)
         occ_cut, st_cut = occ_cut.tolist(), st_cut.tolist()
         return [
             Observation(

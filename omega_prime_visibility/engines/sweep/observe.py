@@ -11,6 +11,7 @@ import math
 import numba
 import numpy as np
 
+from .. import Reason
 from .crossings import statics_near
 from .heap_sweep import visible_angles
 from .occluders import ObjectsSeen, occluders
@@ -25,6 +26,8 @@ from .pieces import (
     object_extents,
     shifted_object_edges,
 )
+
+_IN_VIEW, _OCCLUDED, _CONTAINS_OBSERVER = int(Reason.IN_VIEW), int(Reason.OCCLUDED), int(Reason.CONTAINS_OBSERVER)
 
 
 @numba.njit(cache=True)
@@ -159,3 +162,20 @@ def outline_one(
     cut_offsets, cuts = crossing_cuts(kept, record_edge, records, frame.cross_first, frame.cross_second)
     pieces, _ = cut_pieces(kept, record_edge, records, cut_offsets, cuts)
     return visible_outline(pieces, wedge_start, fov, radius, step)
+
+
+@numba.njit(cache=True)
+def reason_codes(occ_offsets, static_offsets, transparent):
+    """The :class:`..Reason` code of every (observer, object), as :meth:`..Observation.from_parts` gives them one
+    observer at a time: offsets shape (k, n + 1), ``transparent`` (k, n); shape (k, n), int8."""
+    k, n = transparent.shape
+    reason = np.empty((k, n), dtype=np.int8)
+    for o in range(k):
+        for i in range(n):
+            if transparent[o, i]:
+                reason[o, i] = _CONTAINS_OBSERVER
+            elif occ_offsets[o, i + 1] > occ_offsets[o, i] or static_offsets[o, i + 1] > static_offsets[o, i]:
+                reason[o, i] = _OCCLUDED
+            else:
+                reason[o, i] = _IN_VIEW
+    return reason

@@ -1,0 +1,385 @@
+"""Row assembly: what the engines observed, as the table's named flat column arrays (:mod:`.table` says what
+they mean), one compiled call per frame (:func:`frame_rows`) or per chunk of frames (:func:`chunk_rows`).
+
+List columns come out as ``(lengths, values)`` pairs; occluder row numbers become ``idx`` values here.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numba
+import numpy as np
+
+from .engines import ChunkObservation, ChunkViewpoints, Observation, Reason
+from .table import Columns, view_of, visibility_of
+
+_CONTAINS_OBSERVER = int(Reason.CONTAINS_OBSERVER)
+
+
+@numba.njit(cache=True)
+def _rows(
+    own,
+    reason,
+    visible_angle,
+    angular_extent,
+    occluder_offsets,
+    occluders,
+    static_offsets,
+    statics,
+    idx,
+    in_view_angle,
+    in_fov_angle,
+    with_view,
+):
+    """Rows for every object but the observer's own (row number ``own``), see :func:`observation_rows`."""
+    n = len(reason)
+    n_rows = n - 1 if 0 <= own < n else n
+    row_idx = np.empty(n_rows, dtype=np.int64)
+    visibility = np.empty(n_rows)
+    in_view = np.empty(n_rows if with_view else 0)
+    status = np.empty(n_rows if with_view else 0, dtype=np.int8)
+    occluder_counts = np.zeros(n_rows, dtype=np.int64)
+    static_counts = np.zeros(n_rows, dtype=np.int64)
+    row = 0
+    for i in range(n):
+        if i == own:
+            continue
+        row_idx[row] = idx[i]
+        if with_view:
+            visibility[row], in_view[row], status[row] = view_of(
+                reason[i], visible_angle[i], angular_extent[i], in_view_angle[i], in_fov_angle[i]
+            )
+        else:
+            visibility[row] = visibility_of(reason[i], visible_angle[i], angular_extent[i])
+        if reason[i] != _CONTAINS_OBSERVER:  # a transparent target lists no occluders
+            occluder_counts[row] = occluder_offsets[i + 1] - occluder_offsets[i]
+            static_counts[row] = static_offsets[i + 1] - static_offsets[i]
+        row += 1
+    occluder_idxs = np.empty(occluder_counts.sum(), dtype=np.int64)
+    static_idxs = np.empty(static_counts.sum(), dtype=np.int64)
+    row = 0
+    occluder_at = 0
+    static_at = 0
+    for i in range(n):
+        if i == own:
+            continue
+        for q in range(occluder_counts[row]):
+            occluder_idxs[occluder_at + q] = idx[occluders[occluder_offsets[i] + q]]
+        for q in range(static_counts[row]):
+            static_idxs[static_at + q] = statics[static_offsets[i] + q]
+        occluder_at += occluder_counts[row]
+        static_at += static_counts[row]
+        row += 1
+    return row_idx, visibility, occluder_counts, occluder_idxs, static_counts, static_idxs, in_view, status
+
+
+def observation_rows(observation: Observation, own: int, idx: np.ndarray, with_view: bool = False) -> Columns:
+    """The table's target columns for one observation: ``idx``, ``visibility`` and the occluder lists, and with
+    ``with_view`` also ``in_view`` and ``status`` codes (positions in :data:`STATUSES`).
+
+    Parameters
+    ----------
+    observation : Observation
+        What one viewpoint sees of the ``n`` objects of a frame.
+    own : int
+        Row number of the observing object, which gets no row (-1: none).
+    idx : ndarray, shape (n,), int64
+        The objects' idx; occluder row numbers become idx values.
+    """
+    extent = observation.angular_extent
+    in_view_angle = extent if observation.in_view_angle is None else observation.in_view_angle
+    in_fov_angle = extent if observation.in_fov_angle is None else observation.in_fov_angle
+    row_idx, visibility, occ_n, occ, st_n, st, in_view, status = _rows(
+        own,
+        observation.reason,
+        observation.visible_angle,
+        observation.angular_extent,
+        observation.occluder_offsets,
+        observation.occluders,
+        observation.static_offsets,
+        observation.static_occluders,
+        idx,
+        in_view_angle,
+        in_fov_angle,
+        with_view,
+    )
+    columns: Columns = {
+        "idx": row_idx,
+        "visibility": visibility,
+        "occluder_idxs": (occ_n, occ),
+        "static_occluder_idxs": (st_n, st),
+    }
+    if with_view:
+        columns["in_view"] = in_view
+        columns["status"] = status
+    return columns
+
+
+@numba.njit(cache=True)
+def _frame_rows(
+    owns,
+    reason,
+    visible_angle,
+    angular_extent,
+    occ_offsets,
+    occ,
+    occ_cut,
+    st_offsets,
+    st,
+    st_cut,
+    idx,
+    in_view_angle,
+    in_fov_angle,
+    with_view,
+    sensor,
+):
+    """:func:`_rows` for the ``k`` observations of one frame, given stacked (``(k, n)``, ``(k, n + 1)``) and
+    concatenated (cut at ``occ_cut``, ``st_cut``) arrays; the rows of all of them in order, their ``idx_ego`` and,
+    with ``with_view``, their ``sensor`` code (``sensor[o]`` for observation ``o``)."""
+    parts = []
+    n_rows = 0
+    n_occ = 0
+    n_st = 0
+    for o in range(len(owns)):
+        part = _rows(
+            owns[o],
+            reason[o],
+            visible_angle[o],
+            angular_extent[o],
+            occ_offsets[o],
+            occ[occ_cut[o] : occ_cut[o + 1]],
+            st_offsets[o],
+            st[st_cut[o] : st_cut[o + 1]],
+            idx,
+            in_view_angle[o],
+            in_fov_angle[o],
+            with_view,
+        )
+        parts.append(part)
+        n_rows += len(part[0])
+        n_occ += len(part[3])
+        n_st += len(part[5])
+    row_idx = np.empty(n_rows, dtype=np.int64)
+    idx_ego = np.empty(n_rows, dtype=np.int64)
+    visibility = np.empty(n_rows)
+    occ_n = np.empty(n_rows, dtype=np.int64)
+    occ_idxs = np.empty(n_occ, dtype=np.int64)
+    st_n = np.empty(n_rows, dtype=np.int64)
+    st_idxs = np.empty(n_st, dtype=np.int64)
+    in_view = np.empty(n_rows if with_view else 0)
+    status = np.empty(n_rows if with_view else 0, dtype=np.int8)
+    sensor_code = np.empty(n_rows if with_view else 0, dtype=np.int64)
+    at = 0
+    occ_at = 0
+    st_at = 0
+    for o in range(len(owns)):
+        part_idx, part_visibility, part_occ_n, part_occ, part_st_n, part_st, part_in_view, part_status = parts[o]
+        m = len(part_idx)
+        row_idx[at : at + m] = part_idx
+        idx_ego[at : at + m] = idx[owns[o]]
+        visibility[at : at + m] = part_visibility
+        occ_n[at : at + m] = part_occ_n
+        st_n[at : at + m] = part_st_n
+        occ_idxs[occ_at : occ_at + len(part_occ)] = part_occ
+        st_idxs[st_at : st_at + len(part_st)] = part_st
+        if with_view:
+            in_view[at : at + m] = part_in_view
+            status[at : at + m] = part_status
+            sensor_code[at : at + m] = sensor[o]
+        at += m
+        occ_at += len(part_occ)
+        st_at += len(part_st)
+    return idx_ego, row_idx, visibility, occ_n, occ_idxs, st_n, st_idxs, in_view, status, sensor_code
+
+
+@numba.njit(cache=True)
+def _chunk_rows(
+    targets, own, first_row, idx, visible_angle, angular_extent, reason, occ_offsets, occ, st_offsets, st, with_view
+):
+    """:func:`_rows` for every viewpoint of a chunk (see :class:`..engines.ChunkObservation`); the rows of all
+    of them in order and their number per viewpoint."""
+    k = len(own)
+    parts = []
+    counts = np.zeros(k, dtype=np.int64)
+    n_occ = 0
+    n_st = 0
+    for o in range(k):
+        t0, t1 = targets[o], targets[o + 1]
+        part = _rows(
+            own[o],
+            reason[t0:t1],
+            visible_angle[t0:t1],
+            angular_extent[t0:t1],
+            occ_offsets[t0 : t1 + 1],
+            occ,
+            st_offsets[t0 : t1 + 1],
+            st,
+            idx[first_row[o] : first_row[o] + t1 - t0],
+            angular_extent[t0:t1],
+            angular_extent[t0:t1],
+            with_view,
+        )
+        parts.append(part)
+        counts[o] = len(part[0])
+        n_occ += len(part[3])
+        n_st += len(part[5])
+    n_rows = counts.sum()
+    row_idx = np.empty(n_rows, dtype=np.int64)
+    visibility = np.empty(n_rows)
+    occ_n = np.empty(n_rows, dtype=np.int64)
+    occ_idxs = np.empty(n_occ, dtype=np.int64)
+    st_n = np.empty(n_rows, dtype=np.int64)
+    st_idxs = np.empty(n_st, dtype=np.int64)
+    in_view = np.empty(n_rows if with_view else 0)
+    status = np.empty(n_rows if with_view else 0, dtype=np.int8)
+    at = 0
+    occ_at = 0
+    st_at = 0
+    for o in range(k):
+        part_idx, part_visibility, part_occ_n, part_occ, part_st_n, part_st, part_in_view, part_status = parts[o]
+        m = len(part_idx)
+        row_idx[at : at + m] = part_idx
+        visibility[at : at + m] = part_visibility
+        occ_n[at : at + m] = part_occ_n
+        st_n[at : at + m] = part_st_n
+        occ_idxs[occ_at : occ_at + len(part_occ)] = part_occ
+        st_idxs[st_at : st_at + len(part_st)] = part_st
+        if with_view:
+            in_view[at : at + m] = part_in_view
+            status[at : at + m] = part_status
+        at += m
+        occ_at += len(part_occ)
+        st_at += len(part_st)
+    return counts, row_idx, visibility, occ_n, occ_idxs, st_n, st_idxs, in_view, status
+
+
+def chunk_rows(
+    observation: ChunkObservation,
+    viewpoints: ChunkViewpoints,
+    owners: np.ndarray,
+    idx: np.ndarray,
+    frame: np.ndarray,
+    total_nanos: np.ndarray,
+    sensors: np.ndarray | None = None,
+) -> Columns | None:
+    """The table's columns for a whole chunk of viewpoints that see all around without range, in one compiled
+    call: what :class:`TableBuilder` collects from :func:`frame_rows` frame by frame (None when there are no rows).
+
+    Parameters
+    ----------
+    observation, viewpoints
+        From :meth:`..engines.sweep.SweepEngine.observe_chunk` and :func:`..pipeline.chunk_viewpoints`.
+    owners : ndarray of int64, shape (v,)
+        Each viewpoint's observer, as a row number of the chunk.
+    idx, frame, total_nanos : ndarray of int64
+        Per row of the chunk.
+    sensors : ndarray of int64, shape (v,), optional
+        Each viewpoint's sensor code.
+    """
+    first_row = owners - viewpoints.own
+    counts, row_idx, visibility, occ_n, occ, st_n, st, in_view, status = _chunk_rows(
+        viewpoints.target_offsets,
+        viewpoints.own,
+        first_row,
+        idx,
+        observation.visible_angle,
+        observation.angular_extent,
+        observation.reason,
+        observation.occluder_offsets,
+        observation.occluders,
+        observation.static_offsets,
+        observation.static_occluders,
+        sensors is not None,
+    )
+    if not len(row_idx):
+        return None
+    columns: Columns = {
+        "frame": np.repeat(frame[owners], counts),
+        "total_nanos": np.repeat(total_nanos[owners], counts),
+        "idx_ego": np.repeat(idx[owners], counts),
+        "idx": row_idx,
+        "visibility": visibility,
+        "occluder_idxs": (occ_n, occ),
+        "static_occluder_idxs": (st_n, st),
+    }
+    if sensors is not None:
+        columns.update({"sensor": np.repeat(sensors, counts), "in_view": in_view, "status": status})
+    return columns
+
+
+def stacked(arrays: Sequence[np.ndarray], shape: tuple[int, int], dtype: type) -> np.ndarray:
+    """``arrays`` (equal lengths) as the rows of one array of ``shape`` (faster than ``np.stack``)."""
+    if not len(arrays):
+        return np.zeros(shape, dtype=dtype)
+    return np.concatenate(arrays).astype(dtype, copy=False).reshape(shape)
+
+
+def frame_rows(
+    observations: Sequence[Observation], owns: np.ndarray, idx: np.ndarray, sensors: np.ndarray | None = None
+) -> Columns:
+    """:func:`observation_rows` for all observations of one frame at once (one compiled call), in order, with an
+    ``idx_ego`` column (the observer of each row) and, given ``sensors``, ``sensor``, ``in_view`` and ``status``.
+
+    Parameters
+    ----------
+    observations : sequence of Observation
+        What each viewpoint of the frame sees of its ``n`` objects.
+    owns : ndarray of int64, shape (k,)
+        Row number of each viewpoint's observing object (it gets no row; -1: none).
+    idx : ndarray, shape (n,), int64
+        The objects' idx.
+    sensors : ndarray of int64, shape (k,), optional
+        Each viewpoint's sensor code (its position in the list of sensors).
+    """
+    k, n = len(observations), len(idx)
+    if k == 1:  # one viewpoint (the usual case): its rows as they are
+        columns = observation_rows(observations[0], int(owns[0]), idx, with_view=sensors is not None)
+        columns["idx_ego"] = np.full(len(columns["idx"]), idx[owns[0]] if owns[0] >= 0 else -1, dtype=np.int64)
+        if sensors is not None:
+            columns["sensor"] = np.full(len(columns["idx"]), sensors[0], dtype=np.int64)
+        return columns
+    occ = [o.occluders for o in observations]
+    st = [o.static_occluders for o in observations]
+    occ_cut = np.zeros(k + 1, dtype=np.int64)
+    np.cumsum([len(a) for a in occ], out=occ_cut[1:])
+    st_cut = np.zeros(k + 1, dtype=np.int64)
+    np.cumsum([len(a) for a in st], out=st_cut[1:])
+    extent = stacked([o.angular_extent for o in observations], (k, n), np.float64)
+    with_view = sensors is not None
+    if with_view:
+        in_view_angle = stacked(
+            [o.angular_extent if o.in_view_angle is None else o.in_view_angle for o in observations], (k, n), np.float64
+        )
+        in_fov_angle = stacked(
+            [o.angular_extent if o.in_fov_angle is None else o.in_fov_angle for o in observations], (k, n), np.float64
+        )
+    else:
+        in_view_angle = in_fov_angle = extent
+    idx_ego, row_idx, visibility, occ_n, occ_idxs, st_n, st_idxs, in_view, status, sensor = _frame_rows(
+        np.asarray(owns, dtype=np.int64),
+        stacked([o.reason for o in observations], (k, n), np.int8),
+        stacked([o.visible_angle for o in observations], (k, n), np.float64),
+        extent,
+        stacked([o.occluder_offsets for o in observations], (k, n + 1), np.int64),
+        np.concatenate(occ).astype(np.int64, copy=False) if k else np.zeros(0, dtype=np.int64),
+        occ_cut,
+        stacked([o.static_offsets for o in observations], (k, n + 1), np.int64),
+        np.concatenate(st).astype(np.int64, copy=False) if k else np.zeros(0, dtype=np.int64),
+        st_cut,
+        idx,
+        in_view_angle,
+        in_fov_angle,
+        with_view,
+        np.zeros(k, dtype=np.int64) if sensors is None else np.asarray(sensors, dtype=np.int64),
+    )
+    columns: Columns = {
+        "idx_ego": idx_ego,
+        "idx": row_idx,
+        "visibility": visibility,
+        "occluder_idxs": (occ_n, occ_idxs),
+        "static_occluder_idxs": (st_n, st_idxs),
+    }
+    if with_view:
+        columns.update({"sensor": sensor, "in_view": in_view, "status": status})
+    return columns
