@@ -157,8 +157,17 @@ def _check_columns(df: pl.DataFrame) -> bool:
     return use_polygon
 
 
-def _float(df: pl.DataFrame, name: str) -> np.ndarray:
-    return df[name].cast(pl.Float64).fill_null(np.nan).to_numpy()
+def _floats(df: pl.DataFrame, names: tuple[str, ...]) -> dict[str, np.ndarray]:
+    """The columns ``names`` that ``df`` has, as float64 arrays with NaN for nulls (float64 columns without
+    nulls as they are: no polars call)."""
+    out = {}
+    for name in dict.fromkeys(names):
+        if name in df.columns:
+            column = df[name]
+            if column.dtype != pl.Float64 or column.null_count():
+                column = column.cast(pl.Float64).fill_null(np.nan)
+            out[name] = column.to_numpy()
+    return out
 
 
 def _repaired_outline(geometry: Any) -> shapely.Polygon | None:
@@ -188,14 +197,15 @@ def _type_ids(polygons: np.ndarray) -> np.ndarray:
 
 
 def _polygon_rings(
-    polygons: np.ndarray, candidate: np.ndarray, boxes: Rings | None, on_invalid: OnInvalid
+    polygons: np.ndarray, candidate: np.ndarray, boxes: tuple[np.ndarray, ...] | None, on_invalid: OnInvalid
 ) -> tuple[Rings, np.ndarray, list[str], list[str], np.ndarray]:
     """Exterior rings of the usable outlines among the ``candidate`` rows.
 
-    Invalid or multi-part outlines are replaced by the row's ``length, width, yaw`` box where ``boxes`` (one
-    ring per row, NaN where unusable) has one, else repaired (:func:`_repaired_outline`); with
-    ``on_invalid="raise"`` they raise instead. Returns the rings of the usable rows (in row order), the mask of
-    usable rows, the reasons for skipped rows, notes on replaced outlines and the rows whose outline was replaced.
+    Invalid or multi-part outlines are replaced by the row's box where ``boxes`` (``x, y, length, width, yaw``
+    per row, for :func:`~.geometry.box_rings`; NaN where unusable) gives one, else repaired
+    (:func:`_repaired_outline`); with ``on_invalid="raise"`` they raise instead. Returns the rings of the usable
+    rows (in row order), the mask of usable rows, the reasons for skipped rows, notes on replaced outlines and the
+    rows whose outline was replaced.
 
     Read at array speed: the coordinates of all polygons come out of one ``shapely.get_coordinates`` call, and
     outlines that are strictly convex quadrilaterals (as boxes are) are known valid and large enough without
@@ -228,9 +238,13 @@ def _polygon_rings(
             f"{int(broken[0])}: {shapely.is_valid_reason(geoms[broken[0]])}"
         )
     outline = geoms.copy()
-    from_box = [i for i in broken if boxes is not None and np.isfinite(boxes.ring(i)).all()]
-    for i in from_box:
-        outline[i] = shapely.Polygon(boxes.ring(i))
+    from_box = []
+    if boxes is not None and len(broken):  # the boxes of the broken rows only
+        broken_boxes = box_rings(*(values[broken] for values in boxes))
+        for k, i in enumerate(broken.tolist()):
+            if np.isfinite(broken_boxes.ring(k)).all():
+                outline[i] = shapely.Polygon(broken_boxes.ring(k))
+                from_box.append(i)
     replaced_by_box = set(from_box)
     repaired = [i for i in broken if i not in replaced_by_box]
     for i in repaired:
@@ -298,15 +312,20 @@ def load_objects(data: Any, *, on_invalid: OnInvalid = "warn", three_d: bool = F
     for name in ("frame", "total_nanos", "idx"):
         if df[name].null_count():
             raise ValueError(f"column {name!r} has {df[name].null_count()} null value(s)")
-    df = df.sort("frame", "idx")
     frame = df["frame"].cast(pl.Int64).to_numpy()
     idx = df["idx"].cast(pl.Int64).to_numpy()
+    step, idx_step = np.diff(frame), np.diff(idx)
+    if not ((step > 0) | ((step == 0) & (idx_step >= 0))).all():  # recordings usually come sorted already
+        df = df.sort("frame", "idx")
+        frame = df["frame"].cast(pl.Int64).to_numpy()
+        idx = df["idx"].cast(pl.Int64).to_numpy()
     dup = (np.diff(frame) == 0) & (np.diff(idx) == 0)
     if dup.any():
         k = int(np.flatnonzero(dup)[0])
         raise ValueError(f"object idx {idx[k]} appears more than once in frame {frame[k]}: (frame, idx) must be unique")
-    x, y = _float(df, "x"), _float(df, "y")
-    yaw = _float(df, "yaw") if "yaw" in df.columns else np.zeros(df.height)
+    floats = _floats(df, ("x", "y", "yaw", *BOX_COLUMNS))
+    x, y = floats["x"], floats["y"]
+    yaw = floats.get("yaw", np.zeros(df.height))
     good = np.isfinite(x) & np.isfinite(y)
     problems = []
     if (~good).any():
@@ -316,12 +335,12 @@ def load_objects(data: Any, *, on_invalid: OnInvalid = "warn", three_d: bool = F
     if use_polygon:
         boxes = None
         if all(c in df.columns for c in BOX_COLUMNS):
-            length, width = _float(df, "length"), _float(df, "width")
-            boxes = box_rings(x, y, np.where(length * width >= MIN_AREA, length, np.nan), width, yaw)
+            length, width = floats["length"], floats["width"]
+            boxes = (x, y, np.where(length * width >= MIN_AREA, length, np.nan), width, yaw)
         rings, ok, reasons, notes, replaced = _polygon_rings(df["polygon"].to_numpy(), good, boxes, on_invalid)
         problems += reasons
     else:
-        length, width = _float(df, "length"), _float(df, "width")
+        length, width = floats["length"], floats["width"]
         pose_ok = np.isfinite(yaw) & np.isfinite(length) & np.isfinite(width)
         if (good & ~pose_ok).any():
             problems.append(f"{int((good & ~pose_ok).sum())} NaN or infinite yaw/length/width")
