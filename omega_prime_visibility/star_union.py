@@ -1,0 +1,245 @@
+"""The area of a union of star-shaped polygons, without building the union (compiled).
+
+Each polygon ``P_j`` is star-shaped around its centre ``c_j`` (a sensor's position) and given counter-clockwise
+with its vertices in bearing order around ``c_j`` (what :func:`.engines.sweep.outline.visible_outline` gives; a
+field of view narrower than 2π starts with the apex ``c_j`` itself). By Green's theorem the union's area is
+``1/2 ∮ x dy - y dx`` along its boundary, and that boundary is made of the pieces of the polygons' edges that no
+other polygon covers. So each edge is split where other polygons' edges cross it (or, lying along it, begin and
+end), and each piece counts when its midpoint lies outside every other polygon; a piece along another polygon's
+edge in the same direction counts for the lower-numbered polygon only, one in the opposite direction (the two
+polygons on either side) for neither.
+
+The star shape makes both steps cheap: the edges of ``P_j`` that can meet a segment are those whose bearings from
+``c_j`` overlap the segment's, and whether a point lies in ``P_j`` is decided by the one edge at its bearing, both
+found by binary search in the vertices' bearings. Points within :data:`ON_EDGE` (relative to the coordinates'
+magnitude) of an edge count as on it: two sensors seeing the same face of a road user give two copies of the face's
+line that differ by rounding (1e-13 m), and must be recognised as one boundary.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from .kernels import TWO_PI
+
+ON_EDGE = 1e-10
+"""Distance (relative to ``1 +`` the largest coordinate, metres) within which a point counts as on an edge."""
+PARALLEL = 1e-12
+"""Sine of the angle below which two edges are taken as parallel (their crossing is not computed)."""
+BEARING_MARGIN = 1e-9
+"""Radians by which the bearing window of candidate edges is widened (extra candidates only cost time)."""
+
+
+@numba.njit(cache=True, inline="always")
+def _cross(ax, ay, bx, by):
+    return ax * by - ay * bx
+
+
+@numba.njit(cache=True)
+def _bearings(points, start, count, center, base, wedge, fov):
+    """Bearings (radians from ``base``, non-decreasing, ``count + 1`` of them: the last closes the ring) of one
+    polygon's vertices around its centre; a wedge's apex gets 0 and its closing edge ``fov``."""
+    theta = np.empty(count + 1)
+    first = 1 if wedge else 0
+    if wedge:
+        theta[0] = 0.0
+    previous = 0.0
+    for k in range(first, count):
+        b = math.atan2(points[start + k, 1] - center[1], points[start + k, 0] - center[0]) - base
+        if k == first:  # on the ray at ``base`` (up to rounding): the representative nearest 0
+            value = _remainder(b, TWO_PI)
+        else:  # consecutive vertices are less than π apart (an edge seen from outside it spans less than π)
+            value = previous + _remainder(b - previous, TWO_PI)
+        previous = max(previous, value) if k > first else value
+        theta[k] = previous
+    theta[count] = max(fov if wedge else TWO_PI, theta[count - 1])
+    return theta
+
+
+@numba.njit(cache=True, inline="always")
+def _remainder(angle, period):
+    """``angle`` less the nearest multiple of ``period`` (``math.remainder``, which numba lacks)."""
+    return angle - period * math.floor(angle / period + 0.5)
+
+
+@numba.njit(cache=True, inline="always")
+def _angle(x, y, center, base):
+    """Bearing of (x, y) around ``center`` in ``[0, 2π)`` from ``base``."""
+    a = math.atan2(y - center[1], x - center[0]) - base
+    a -= TWO_PI * math.floor(a / TWO_PI)
+    return a if a < TWO_PI else 0.0
+
+
+@numba.njit(cache=True)
+def _segment_distance(px, py, ax, ay, bx, by):
+    dx, dy = bx - ax, by - ay
+    length2 = dx * dx + dy * dy
+    t = 0.0 if length2 == 0.0 else max(0.0, min(1.0, ((px - ax) * dx + (py - ay) * dy) / length2))
+    ex, ey = ax + t * dx - px, ay + t * dy - py
+    return math.sqrt(ex * ex + ey * ey)
+
+
+@numba.njit(cache=True)
+def _covered(mx, my, dx, dy, i, j, points, start, count, center, base, wedge, theta, tol):
+    """Whether polygon ``j`` covers the point (mx, my) of an edge of polygon ``i`` running along (dx, dy): inside
+    it, or on one of its edges in the opposite direction, or in the same direction when ``j < i``."""
+    a = _angle(mx, my, center, base)
+    k = np.searchsorted(theta, a, side="right") - 1
+    k = min(max(k, 0), count - 1)
+    for step in range(-1, 2):  # the edge at the bearing and its neighbours (radial edges at the same bearing)
+        e = (k + step) % count
+        ax, ay = points[start + e, 0], points[start + e, 1]
+        f = start + (e + 1) % count
+        bx, by = points[f, 0], points[f, 1]
+        if (ax != bx or ay != by) and _segment_distance(mx, my, ax, ay, bx, by) <= tol:
+            return (bx - ax) * dx + (by - ay) * dy < 0.0 or j < i
+    if wedge and a > theta[count]:
+        return False
+    if theta[k + 1] <= theta[k] and k > 0:  # a radial edge (only where the bearing is past the last vertex)
+        k -= 1
+    ax, ay = points[start + k, 0], points[start + k, 1]
+    f = start + (k + 1) % count
+    return _cross(points[f, 0] - ax, points[f, 1] - ay, mx - ax, my - ay) > 0.0
+
+
+@numba.njit(cache=True)
+def _add_splits(splits, n, ax, ay, bx, by, cx, cy, ex, ey, tol):
+    """Append to ``splits`` the parameters along a-b where c-e crosses it or, lying along it, begins or ends."""
+    rx, ry = bx - ax, by - ay
+    sx, sy = ex - cx, ey - cy
+    d = _cross(rx, ry, sx, sy)
+    len_r = math.sqrt(rx * rx + ry * ry)
+    len_s = math.sqrt(sx * sx + sy * sy)
+    if abs(d) > PARALLEL * len_r * len_s:
+        t = _cross(cx - ax, cy - ay, sx, sy) / d
+        u = _cross(cx - ax, cy - ay, rx, ry) / d
+        slack = tol / len_s
+        if 0.0 < t < 1.0 and -slack <= u <= 1.0 + slack:
+            splits[n] = t
+            n += 1
+    if abs(_cross(rx, ry, cx - ax, cy - ay)) <= tol * len_r or abs(_cross(rx, ry, ex - ax, ey - ay)) <= tol * len_r:
+        for px, py in ((cx, cy), (ex, ey)):  # along a-b: its ends split a-b (extra splits are harmless)
+            t = ((px - ax) * rx + (py - ay) * ry) / (len_r * len_r)
+            if 0.0 < t < 1.0:
+                splits[n] = t
+                n += 1
+    return n
+
+
+@numba.njit(cache=True)
+def star_union_area(points, starts, centers, bases, fovs):
+    """Area (square metres) of the union of star-shaped polygons.
+
+    Parameters
+    ----------
+    points : ndarray, shape (n, 2)
+        The polygons' vertices, one after the other, each counter-clockwise in bearing order around its centre
+        (metres; best near the origin, e.g. relative to the observer, for rounding); a polygon with a field of
+        view narrower than 2π starts with its apex, its centre.
+    starts : ndarray, shape (p + 1,), int64
+        Polygon ``j`` is ``points[starts[j]:starts[j + 1]]``.
+    centers : ndarray, shape (p, 2)
+        The centres the polygons are star-shaped around, same frame as ``points``.
+    bases, fovs : ndarray, shape (p,)
+        Bearing (radians) where each polygon's vertices start, and its angular extent (radians, ``>= 2π``: all
+        around, then ``bases`` is the bearing of its first vertex).
+    """
+    p = len(starts) - 1
+    tol = ON_EDGE * (1.0 + np.abs(points).max()) if len(points) else 0.0
+    wedges = fovs < TWO_PI
+    thetas = np.zeros(len(points) + p)  # polygon j's bearings at starts[j] + j
+    boxes = np.empty((p, 4))
+    for j in range(p):
+        s, c = starts[j], starts[j + 1] - starts[j]
+        if c >= 3:
+            thetas[s + j : s + j + c + 1] = _bearings(points, s, c, centers[j], bases[j], wedges[j], fovs[j])
+            boxes[j, 0], boxes[j, 1] = points[s : s + c, 0].min() - tol, points[s : s + c, 1].min() - tol
+            boxes[j, 2], boxes[j, 3] = points[s : s + c, 0].max() + tol, points[s : s + c, 1].max() + tol
+    splits = np.empty(64)
+    twice = 0.0
+    for i in range(p):
+        si, ci = starts[i], starts[i + 1] - starts[i]
+        if ci < 3:
+            continue
+        for k in range(ci):
+            ax, ay = points[si + k, 0], points[si + k, 1]
+            bx, by = points[si + (k + 1) % ci, 0], points[si + (k + 1) % ci, 1]
+            if ax == bx and ay == by:
+                continue
+            lo_x, hi_x, lo_y, hi_y = min(ax, bx), max(ax, bx), min(ay, by), max(ay, by)
+            splits[0], splits[1] = 0.0, 1.0
+            n = 2
+            for j in range(p):
+                sj, cj = starts[j], starts[j + 1] - starts[j]
+                if j == i or cj < 3:
+                    continue
+                if hi_x < boxes[j, 0] or lo_x > boxes[j, 2] or hi_y < boxes[j, 1] or lo_y > boxes[j, 3]:
+                    continue
+                theta = thetas[sj + j : sj + j + cj + 1]
+                first, last = _candidates(ax, ay, bx, by, centers[j], bases[j], theta, tol)
+                for q in range(first, last):
+                    e = q % cj
+                    if splits.shape[0] < n + 3:
+                        splits = np.concatenate((splits, np.empty(splits.shape[0])))
+                    f = (e + 1) % cj
+                    n = _add_splits(
+                        splits, n, ax, ay, bx, by, points[sj + e, 0], points[sj + e, 1], points[sj + f, 0],
+                        points[sj + f, 1], tol,
+                    )  # fmt: skip
+                if wedges[j]:  # the two edges through the apex, whatever the bearings
+                    for e in (0, cj - 1):
+                        if splits.shape[0] < n + 3:
+                            splits = np.concatenate((splits, np.empty(splits.shape[0])))
+                        f = (e + 1) % cj
+                        n = _add_splits(
+                            splits, n, ax, ay, bx, by, points[sj + e, 0], points[sj + e, 1], points[sj + f, 0],
+                            points[sj + f, 1], tol,
+                        )  # fmt: skip
+            ts = np.sort(splits[:n])
+            dx, dy = bx - ax, by - ay
+            for q in range(n - 1):
+                t0, t1 = ts[q], ts[q + 1]
+                if t1 <= t0:
+                    continue
+                tm = 0.5 * (t0 + t1)
+                mx, my = ax + tm * dx, ay + tm * dy
+                hidden = False
+                for j in range(p):
+                    sj, cj = starts[j], starts[j + 1] - starts[j]
+                    if j == i or cj < 3:
+                        continue
+                    if mx < boxes[j, 0] or mx > boxes[j, 2] or my < boxes[j, 1] or my > boxes[j, 3]:
+                        continue
+                    theta = thetas[sj + j : sj + j + cj + 1]
+                    if _covered(mx, my, dx, dy, i, j, points, sj, cj, centers[j], bases[j], wedges[j], theta, tol):
+                        hidden = True
+                        break
+                if not hidden:
+                    twice += _cross(ax + t0 * dx, ay + t0 * dy, ax + t1 * dx, ay + t1 * dy)
+    return 0.5 * twice
+
+
+@numba.njit(cache=True)
+def _candidates(ax, ay, bx, by, center, base, theta, tol):
+    """Range ``[first, last)`` of edge numbers (modulo the edge count) of a star polygon whose bearings from its
+    centre overlap those of segment a-b; all edges when a-b passes within ``tol`` of the centre."""
+    count = len(theta) - 1
+    if _segment_distance(center[0], center[1], ax, ay, bx, by) <= 1e3 * tol:
+        return 0, count
+    a = _angle(ax, ay, center, base)
+    b = _angle(bx, by, center, base)
+    span = _remainder(b - a, TWO_PI)
+    lo = (a if span >= 0.0 else b) - BEARING_MARGIN
+    hi = lo + abs(span) + 2.0 * BEARING_MARGIN
+    if lo < 0.0:  # the window wraps past the start: two ranges, given as one through the end
+        lo += TWO_PI
+        hi += TWO_PI
+    first = max(np.searchsorted(theta, lo, side="left") - 1, 0)
+    if hi <= TWO_PI:
+        last = min(np.searchsorted(theta, hi, side="right"), count)
+        return first, max(last, first)
+    last = min(np.searchsorted(theta, hi - TWO_PI, side="right"), count)
+    return first, count + last
