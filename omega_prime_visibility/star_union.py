@@ -83,31 +83,39 @@ def _segment_distance(px, py, ax, ay, bx, by):
 
 
 @numba.njit(cache=True)
-def _covered(mx, my, dx, dy, i, j, points, start, count, center, base, wedge, theta, tol):
+def _covered(mx, my, dx, dy, i, j, points, start, count, center, base, wedge, theta, o, tol):
     """Whether polygon ``j`` covers the point (mx, my) of an edge of polygon ``i`` running along (dx, dy): inside
     it, or on one of its edges in the opposite direction, or in the same direction when ``j < i``."""
     a = _angle(mx, my, center, base)
-    k = np.searchsorted(theta, a, side="right") - 1
-    k = min(max(k, 0), count - 1)
-    for step in range(-1, 2):  # the edge at the bearing and its neighbours (radial edges at the same bearing)
-        e = (k + step) % count
-        ax, ay = points[start + e, 0], points[start + e, 1]
-        f = start + (e + 1) % count
-        bx, by = points[f, 0], points[f, 1]
-        if (ax != bx or ay != by) and _segment_distance(mx, my, ax, ay, bx, by) <= tol:
-            return (bx - ax) * dx + (by - ay) * dy < 0.0 or j < i
-    if wedge and a > theta[count]:
-        return False
-    if theta[k + 1] <= theta[k] and k > 0:  # a radial edge (only where the bearing is past the last vertex)
-        k -= 1
-    ax, ay = points[start + k, 0], points[start + k, 1]
-    f = start + (k + 1) % count
-    return _cross(points[f, 0] - ax, points[f, 1] - ay, mx - ax, my - ay) > 0.0
+    k = min(max(_search(theta, o, count, a, True) - 1, 0), count - 1)
+    outside = wedge and a > theta[o + count]
+    main = k - 1 if theta[o + k + 1] <= theta[o + k] and k > 0 else k  # past the last vertex: not the radial edge
+    ax, ay = points[start + main, 0], points[start + main, 1]
+    f = start + (main + 1) % count
+    ex, ey = points[f, 0] - ax, points[f, 1] - ay
+    side = _cross(ex, ey, mx - ax, my - ay)
+    # near the edge's line, or near a bearing where radial edges meet it: which edge is it on, if any
+    r = math.sqrt((mx - center[0]) ** 2 + (my - center[1]) ** 2)
+    near = outside or side * side <= tol * tol * (ex * ex + ey * ey)
+    near = near or (a - theta[o + k]) * r <= 2.0 * tol or (theta[o + k + 1] - a) * r <= 2.0 * tol
+    if near:
+        for step in range(-1, 2):  # the edge at the bearing and its neighbours (radial edges at the same bearing)
+            e = (k + step) % count
+            px, py = points[start + e, 0], points[start + e, 1]
+            g = start + (e + 1) % count
+            qx, qy = points[g, 0], points[g, 1]
+            if (px != qx or py != qy) and _segment_distance(mx, my, px, py, qx, qy) <= tol:
+                return (qx - px) * dx + (qy - py) * dy < 0.0 or j < i
+    return not outside and side > 0.0
 
 
 @numba.njit(cache=True)
 def _add_splits(splits, n, ax, ay, bx, by, cx, cy, ex, ey, tol):
     """Append to ``splits`` the parameters along a-b where c-e crosses it or, lying along it, begins or ends."""
+    if max(cx, ex) < min(ax, bx) - tol or min(cx, ex) > max(ax, bx) + tol:
+        return n
+    if max(cy, ey) < min(ay, by) - tol or min(cy, ey) > max(ay, by) + tol:
+        return n
     rx, ry = bx - ax, by - ay
     sx, sy = ex - cx, ey - cy
     d = _cross(rx, ry, sx, sy)
@@ -158,32 +166,48 @@ def star_union_area(points, starts, centers, bases, fovs):
             thetas[s + j : s + j + c + 1] = _bearings(points, s, c, centers[j], bases[j], wedges[j], fovs[j])
             boxes[j, 0], boxes[j, 1] = points[s : s + c, 0].min() - tol, points[s : s + c, 1].min() - tol
             boxes[j, 2], boxes[j, 3] = points[s : s + c, 0].max() + tol, points[s : s + c, 1].max() + tol
+    angles = np.full((len(points), p), np.nan)  # bearing of vertex v around centre j, computed when first needed
     splits = np.empty(64)
+    spans = np.empty((64, 2))  # the pieces of the current edge covered so far, parameters along it
+    order = np.arange(p)
     twice = 0.0
     for i in range(p):
         si, ci = starts[i], starts[i + 1] - starts[i]
         if ci < 3:
             continue
         for k in range(ci):
-            ax, ay = points[si + k, 0], points[si + k, 1]
-            bx, by = points[si + (k + 1) % ci, 0], points[si + (k + 1) % ci, 1]
+            va, vb = si + k, si + (k + 1) % ci
+            ax, ay, bx, by = points[va, 0], points[va, 1], points[vb, 0], points[vb, 1]
             if ax == bx and ay == by:
                 continue
             lo_x, hi_x, lo_y, hi_y = min(ax, bx), max(ax, bx), min(ay, by), max(ay, by)
-            splits[0], splits[1] = 0.0, 1.0
-            n = 2
-            for j in range(p):
+            dx, dy = bx - ax, by - ay
+            m = 0
+            whole = False
+            for jj in range(p):
+                j = order[jj]  # the polygon that covered the last edge first: it likely covers this one too
                 sj, cj = starts[j], starts[j + 1] - starts[j]
                 if j == i or cj < 3:
                     continue
                 if hi_x < boxes[j, 0] or lo_x > boxes[j, 2] or hi_y < boxes[j, 1] or lo_y > boxes[j, 3]:
                     continue
-                theta = thetas[sj + j : sj + j + cj + 1]
-                first, last = _candidates(ax, ay, bx, by, centers[j], bases[j], theta, tol)
+                o = sj + j  # polygon j's bearings: thetas[o : o + cj + 1]
+                off = _cross(dx, dy, centers[j, 0] - ax, centers[j, 1] - ay)
+                through = off * off <= (1e3 * tol) ** 2 * (dx * dx + dy * dy)
+                if through and _segment_distance(centers[j, 0], centers[j, 1], ax, ay, bx, by) <= 1e3 * tol:
+                    first, last = 0, cj  # through the centre: bearings say nothing
+                else:
+                    if math.isnan(angles[va, j]):
+                        angles[va, j] = _angle(ax, ay, centers[j], bases[j])
+                    if math.isnan(angles[vb, j]):
+                        angles[vb, j] = _angle(bx, by, centers[j], bases[j])
+                    first, last = _candidates(angles[va, j], angles[vb, j], thetas, o, cj)
+                if splits.shape[0] < 3 * (last - first + 4):
+                    splits = np.empty(6 * (last - first + 4))
+                splits[0], splits[1] = 0.0, 1.0
+                n = 2
                 for q in range(first, last):
                     e = q % cj
-                    if splits.shape[0] < n + 3:
-                        splits = np.concatenate((splits, np.empty(splits.shape[0])))
                     f = (e + 1) % cj
                     n = _add_splits(
                         splits, n, ax, ay, bx, by, points[sj + e, 0], points[sj + e, 1], points[sj + f, 0],
@@ -191,55 +215,97 @@ def star_union_area(points, starts, centers, bases, fovs):
                     )  # fmt: skip
                 if wedges[j]:  # the two edges through the apex, whatever the bearings
                     for e in (0, cj - 1):
-                        if splits.shape[0] < n + 3:
-                            splits = np.concatenate((splits, np.empty(splits.shape[0])))
                         f = (e + 1) % cj
                         n = _add_splits(
                             splits, n, ax, ay, bx, by, points[sj + e, 0], points[sj + e, 1], points[sj + f, 0],
                             points[sj + f, 1], tol,
                         )  # fmt: skip
-            ts = np.sort(splits[:n])
-            dx, dy = bx - ax, by - ay
-            for q in range(n - 1):
-                t0, t1 = ts[q], ts[q + 1]
-                if t1 <= t0:
-                    continue
-                tm = 0.5 * (t0 + t1)
-                mx, my = ax + tm * dx, ay + tm * dy
-                hidden = False
-                for j in range(p):
-                    sj, cj = starts[j], starts[j + 1] - starts[j]
-                    if j == i or cj < 3:
+                _insertion_sort(splits, n)
+                if spans.shape[0] < m + n:
+                    grown = np.empty((2 * (m + n), 2))
+                    grown[:m] = spans[:m]
+                    spans = grown
+                for q in range(n - 1):
+                    t0, t1 = splits[q], splits[q + 1]
+                    if t1 <= t0:
                         continue
+                    tm = 0.5 * (t0 + t1)
+                    mx, my = ax + tm * dx, ay + tm * dy
                     if mx < boxes[j, 0] or mx > boxes[j, 2] or my < boxes[j, 1] or my > boxes[j, 3]:
                         continue
-                    theta = thetas[sj + j : sj + j + cj + 1]
-                    if _covered(mx, my, dx, dy, i, j, points, sj, cj, centers[j], bases[j], wedges[j], theta, tol):
-                        hidden = True
-                        break
-                if not hidden:
-                    twice += _cross(ax + t0 * dx, ay + t0 * dy, ax + t1 * dx, ay + t1 * dy)
+                    if _covered(mx, my, dx, dy, i, j, points, sj, cj, centers[j], bases[j], wedges[j], thetas, o, tol):
+                        spans[m, 0], spans[m, 1] = t0, t1
+                        m += 1
+                if m == 1 and spans[0, 0] == 0.0 and spans[0, 1] == 1.0:
+                    whole = True
+                    order[jj], order[0] = order[0], order[jj]
+                    break
+            if not whole:
+                twice += (1.0 - _covered_length(spans, m)) * _cross(ax, ay, bx, by)
     return 0.5 * twice
 
 
 @numba.njit(cache=True)
-def _candidates(ax, ay, bx, by, center, base, theta, tol):
-    """Range ``[first, last)`` of edge numbers (modulo the edge count) of a star polygon whose bearings from its
-    centre overlap those of segment a-b; all edges when a-b passes within ``tol`` of the centre."""
-    count = len(theta) - 1
-    if _segment_distance(center[0], center[1], ax, ay, bx, by) <= 1e3 * tol:
-        return 0, count
-    a = _angle(ax, ay, center, base)
-    b = _angle(bx, by, center, base)
+def _insertion_sort(values, n):
+    """Sort ``values[:n]`` in place (a few values: no allocation)."""
+    for a in range(1, n):
+        v = values[a]
+        b = a - 1
+        while b >= 0 and values[b] > v:
+            values[b + 1] = values[b]
+            b -= 1
+        values[b + 1] = v
+
+
+@numba.njit(cache=True)
+def _covered_length(spans, m):
+    """Total length of the union of the intervals ``spans[:m]``."""
+    if m == 0:
+        return 0.0
+    for a in range(1, m):  # insertion sort by start: few spans, mostly in order
+        lo, hi = spans[a, 0], spans[a, 1]
+        b = a - 1
+        while b >= 0 and spans[b, 0] > lo:
+            spans[b + 1] = spans[b]
+            b -= 1
+        spans[b + 1, 0], spans[b + 1, 1] = lo, hi
+    total = 0.0
+    lo, hi = spans[0, 0], spans[0, 1]
+    for q in range(1, m):
+        if spans[q, 0] > hi:
+            total += hi - lo
+            lo, hi = spans[q, 0], spans[q, 1]
+        else:
+            hi = max(hi, spans[q, 1])
+    return total + hi - lo
+
+
+@numba.njit(cache=True, inline="always")
+def _search(theta, o, count, value, right):
+    """``np.searchsorted(theta[o : o + count + 1], value, side)`` without the slice."""
+    lo, hi = 0, count + 1
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if theta[o + mid] < value or (right and theta[o + mid] == value):
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
+@numba.njit(cache=True)
+def _candidates(a, b, theta, o, count):
+    """Range ``[first, last)`` of edge numbers (modulo ``count``) of a star polygon (bearings
+    ``theta[o : o + count + 1]``) whose bearings overlap those of a segment with ends at bearings ``a``, ``b``."""
     span = _remainder(b - a, TWO_PI)
     lo = (a if span >= 0.0 else b) - BEARING_MARGIN
     hi = lo + abs(span) + 2.0 * BEARING_MARGIN
     if lo < 0.0:  # the window wraps past the start: two ranges, given as one through the end
         lo += TWO_PI
         hi += TWO_PI
-    first = max(np.searchsorted(theta, lo, side="left") - 1, 0)
+    first = max(_search(theta, o, count, lo, False) - 1, 0)
     if hi <= TWO_PI:
-        last = min(np.searchsorted(theta, hi, side="right"), count)
+        last = min(_search(theta, o, count, hi, True), count)
         return first, max(last, first)
-    last = min(np.searchsorted(theta, hi - TWO_PI, side="right"), count)
+    last = min(_search(theta, o, count, hi - TWO_PI, True), count)
     return first, count + last
