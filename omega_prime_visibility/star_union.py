@@ -29,34 +29,15 @@ ON_EDGE = 1e-10
 """Distance (relative to ``1 +`` the largest coordinate, metres) within which a point counts as on an edge."""
 PARALLEL = 1e-12
 """Sine of the angle below which two edges are taken as parallel (their crossing is not computed)."""
+FULL = 4.0
+"""A whole turn in the pseudo-bearings of :func:`_angle`."""
 BEARING_MARGIN = 1e-9
-"""Radians by which the bearing window of candidate edges is widened (extra candidates only cost time)."""
+"""Pseudo-bearing (about radians) by which the window of candidate edges is widened (extras only cost time)."""
 
 
 @numba.njit(cache=True, inline="always")
 def _cross(ax, ay, bx, by):
     return ax * by - ay * bx
-
-
-@numba.njit(cache=True)
-def _bearings(points, start, count, center, base, wedge, fov):
-    """Bearings (radians from ``base``, non-decreasing, ``count + 1`` of them: the last closes the ring) of one
-    polygon's vertices around its centre; a wedge's apex gets 0 and its closing edge ``fov``."""
-    theta = np.empty(count + 1)
-    first = 1 if wedge else 0
-    if wedge:
-        theta[0] = 0.0
-    previous = 0.0
-    for k in range(first, count):
-        b = math.atan2(points[start + k, 1] - center[1], points[start + k, 0] - center[0]) - base
-        if k == first:  # on the ray at ``base`` (up to rounding): the representative nearest 0
-            value = _remainder(b, TWO_PI)
-        else:  # consecutive vertices are less than π apart (an edge seen from outside it spans less than π)
-            value = previous + _remainder(b - previous, TWO_PI)
-        previous = max(previous, value) if k > first else value
-        theta[k] = previous
-    theta[count] = max(fov if wedge else TWO_PI, theta[count - 1])
-    return theta
 
 
 @numba.njit(cache=True, inline="always")
@@ -66,11 +47,43 @@ def _remainder(angle, period):
 
 
 @numba.njit(cache=True, inline="always")
-def _angle(x, y, center, base):
-    """Bearing of (x, y) around ``center`` in ``[0, 2π)`` from ``base``."""
-    a = math.atan2(y - center[1], x - center[0]) - base
-    a -= TWO_PI * math.floor(a / TWO_PI)
-    return a if a < TWO_PI else 0.0
+def _angle(x, y, center, turn):
+    """Pseudo-bearing of (x, y) around ``center``, in ``[0, 4)`` from the bearing whose cosine and sine are
+    ``turn``: a monotone function of the bearing (``FULL`` a whole turn, opposite directions 2 apart, slope
+    between 1/2 and 1 per radian) that needs no ``atan2``."""
+    vx, vy = x - center[0], y - center[1]
+    u = vx * turn[0] + vy * turn[1]
+    v = vy * turn[0] - vx * turn[1]
+    if v >= 0.0:
+        if u >= 0.0:
+            return v / (u + v) if u + v > 0.0 else 0.0
+        return 1.0 - u / (v - u)
+    if u < 0.0:
+        return 2.0 - v / (-u - v)
+    a = 3.0 + u / (u - v)
+    return a if a < FULL else 0.0
+
+
+@numba.njit(cache=True)
+def _bearings(points, start, count, center, turn, wedge, end):
+    """Pseudo-bearings (see :func:`_angle`; non-decreasing, ``count + 1`` of them: the last closes the ring) of
+    one polygon's vertices around its centre; a wedge's apex gets 0 and its closing edge ``end``, the
+    pseudo-bearing of the field of view's end."""
+    theta = np.empty(count + 1)
+    first = 1 if wedge else 0
+    if wedge:
+        theta[0] = 0.0
+    previous = 0.0
+    for k in range(first, count):
+        b = _angle(points[start + k, 0], points[start + k, 1], center, turn)
+        if k == first:  # on the ray at the start (up to rounding): the representative nearest 0
+            value = _remainder(b, FULL)
+        else:  # consecutive vertices are less than half a turn apart (an edge seen from outside spans less)
+            value = previous + _remainder(b - previous, FULL)
+        previous = max(previous, value) if k > first else value
+        theta[k] = previous
+    theta[count] = max(end if wedge else FULL, theta[count - 1])
+    return theta
 
 
 @numba.njit(cache=True)
@@ -83,10 +96,10 @@ def _segment_distance(px, py, ax, ay, bx, by):
 
 
 @numba.njit(cache=True)
-def _covered(mx, my, dx, dy, i, j, points, start, count, center, base, wedge, theta, o, tol):
+def _covered(mx, my, dx, dy, i, j, points, start, count, center, turn, wedge, theta, o, tol):
     """Whether polygon ``j`` covers the point (mx, my) of an edge of polygon ``i`` running along (dx, dy): inside
     it, or on one of its edges in the opposite direction, or in the same direction when ``j < i``."""
-    a = _angle(mx, my, center, base)
+    a = _angle(mx, my, center, turn)
     k = min(max(_search(theta, o, count, a, True) - 1, 0), count - 1)
     outside = wedge and a > theta[o + count]
     main = k - 1 if theta[o + k + 1] <= theta[o + k] and k > 0 else k  # past the last vertex: not the radial edge
@@ -97,6 +110,7 @@ def _covered(mx, my, dx, dy, i, j, points, start, count, center, base, wedge, th
     # near the edge's line, or near a bearing where radial edges meet it: which edge is it on, if any
     r = math.sqrt((mx - center[0]) ** 2 + (my - center[1]) ** 2)
     near = outside or side * side <= tol * tol * (ex * ex + ey * ey)
+    # pseudo-bearing gaps are at most the angles' gaps: this finds all points within 2 tol of a vertex's ray
     near = near or (a - theta[o + k]) * r <= 2.0 * tol or (theta[o + k + 1] - a) * r <= 2.0 * tol
     if near:
         for step in range(-1, 2):  # the edge at the bearing and its neighbours (radial edges at the same bearing)
@@ -158,12 +172,15 @@ def star_union_area(points, starts, centers, bases, fovs):
     p = len(starts) - 1
     tol = ON_EDGE * (1.0 + np.abs(points).max()) if len(points) else 0.0
     wedges = fovs < TWO_PI
+    turns = np.empty((p, 2))
+    turns[:, 0], turns[:, 1] = np.cos(bases), np.sin(bases)
     thetas = np.zeros(len(points) + p)  # polygon j's bearings at starts[j] + j
     boxes = np.empty((p, 4))
     for j in range(p):
         s, c = starts[j], starts[j + 1] - starts[j]
         if c >= 3:
-            thetas[s + j : s + j + c + 1] = _bearings(points, s, c, centers[j], bases[j], wedges[j], fovs[j])
+            end = _angle(math.cos(bases[j] + fovs[j]), math.sin(bases[j] + fovs[j]), np.zeros(2), turns[j])
+            thetas[s + j : s + j + c + 1] = _bearings(points, s, c, centers[j], turns[j], wedges[j], end)
             boxes[j, 0], boxes[j, 1] = points[s : s + c, 0].min() - tol, points[s : s + c, 1].min() - tol
             boxes[j, 2], boxes[j, 3] = points[s : s + c, 0].max() + tol, points[s : s + c, 1].max() + tol
     angles = np.full((len(points), p), np.nan)  # bearing of vertex v around centre j, computed when first needed
@@ -198,9 +215,9 @@ def star_union_area(points, starts, centers, bases, fovs):
                     first, last = 0, cj  # through the centre: bearings say nothing
                 else:
                     if math.isnan(angles[va, j]):
-                        angles[va, j] = _angle(ax, ay, centers[j], bases[j])
+                        angles[va, j] = _angle(ax, ay, centers[j], turns[j])
                     if math.isnan(angles[vb, j]):
-                        angles[vb, j] = _angle(bx, by, centers[j], bases[j])
+                        angles[vb, j] = _angle(bx, by, centers[j], turns[j])
                     first, last = _candidates(angles[va, j], angles[vb, j], thetas, o, cj)
                 if splits.shape[0] < 3 * (last - first + 4):
                     splits = np.empty(6 * (last - first + 4))
@@ -233,7 +250,7 @@ def star_union_area(points, starts, centers, bases, fovs):
                     mx, my = ax + tm * dx, ay + tm * dy
                     if mx < boxes[j, 0] or mx > boxes[j, 2] or my < boxes[j, 1] or my > boxes[j, 3]:
                         continue
-                    if _covered(mx, my, dx, dy, i, j, points, sj, cj, centers[j], bases[j], wedges[j], thetas, o, tol):
+                    if _covered(mx, my, dx, dy, i, j, points, sj, cj, centers[j], turns[j], wedges[j], thetas, o, tol):
                         spans[m, 0], spans[m, 1] = t0, t1
                         m += 1
                 if m == 1 and spans[0, 0] == 0.0 and spans[0, 1] == 1.0:
@@ -297,15 +314,15 @@ def _search(theta, o, count, value, right):
 def _candidates(a, b, theta, o, count):
     """Range ``[first, last)`` of edge numbers (modulo ``count``) of a star polygon (bearings
     ``theta[o : o + count + 1]``) whose bearings overlap those of a segment with ends at bearings ``a``, ``b``."""
-    span = _remainder(b - a, TWO_PI)
+    span = _remainder(b - a, FULL)
     lo = (a if span >= 0.0 else b) - BEARING_MARGIN
     hi = lo + abs(span) + 2.0 * BEARING_MARGIN
     if lo < 0.0:  # the window wraps past the start: two ranges, given as one through the end
-        lo += TWO_PI
-        hi += TWO_PI
+        lo += FULL
+        hi += FULL
     first = max(_search(theta, o, count, lo, False) - 1, 0)
-    if hi <= TWO_PI:
+    if hi <= FULL:
         last = min(_search(theta, o, count, hi, True), count)
         return first, max(last, first)
-    last = min(_search(theta, o, count, hi - TWO_PI, True), count)
+    last = min(_search(theta, o, count, hi - FULL, True), count)
     return first, count + last
