@@ -6,6 +6,11 @@ occluders are exact; the range circle is drawn as chords every :data:`ARC_STEP` 
 5e-5 relative). A sensor without a range sees up to a circle :data:`UNBOUNDED_MARGIN` metres beyond the farthest road
 user of the frame. :func:`visible_area_over_time` gives the areas per frame as a table, with the hidden part of
 the road when the recording's map has lane polygons (OpenDRIVE maps do) or a road outline is given.
+
+Without a road, :func:`visible_area_over_time` needs only the area and takes it from the same polygons without
+building their union (:mod:`.star_union`, compiled, about 0.6 ms per frame for the ``typical`` set against about
+2 ms for shapely's union); the two agree to about 1e-13 relative (the approximation is the same: exact edges,
+1° chords), so the error bound above holds for both.
 """
 
 from __future__ import annotations
