@@ -6,6 +6,11 @@ occluders are exact; the range circle is drawn as chords every :data:`ARC_STEP` 
 5e-5 relative). A sensor without a range sees up to a circle :data:`UNBOUNDED_MARGIN` metres beyond the farthest road
 user of the frame. :func:`visible_area_over_time` gives the areas per frame as a table, with the hidden part of
 the road when the recording's map has lane polygons (OpenDRIVE maps do) or a road outline is given.
+
+Without a road, :func:`visible_area_over_time` needs only the area and takes it from the same polygons without
+building their union (:mod:`.star_union`, compiled, about 0.6 ms per frame for the ``typical`` set against about
+2 ms for shapely's union); the two agree to about 1e-13 relative (the approximation is the same: exact edges,
+1° chords), so the error bound above holds for both.
 """
 
 from __future__ import annotations
@@ -19,10 +24,12 @@ import polars as pl
 import shapely
 
 from .api import SensorSpec, resolve_egos
+from .engines import Viewpoint
 from .engines.sweep import SweepEngine
 from .pipeline import observer_rows, viewpoints
 from .scene import FrameObjects, ObjectTable, OnInvalid, load_objects, observer_sizes
 from .sensors import Sensor, fitted_layout, is_layout, resolve_sensors
+from .star_union import star_union_area
 from .statics import StaticOccluders, load_static_occluders
 
 ARC_STEP = math.radians(1.0)
@@ -47,26 +54,48 @@ def road_outline(recording: Any) -> shapely.Geometry | None:
     return shapely.union_all(shapely.make_valid(np.array(polygons, dtype=object)))
 
 
-def _regions(
+def _outlines(
     engine: SweepEngine,
     objects: FrameObjects,
     statics: StaticOccluders,
     row: int,
     sensors: Sequence[Sensor] | None,
-) -> shapely.Geometry:
-    """The union of the regions the sensors of the object at row ``row`` see in this frame."""
+) -> list[tuple[np.ndarray, Viewpoint]]:
+    """The outline (world frame, metres, see :meth:`SweepEngine.visible_outline`) of the region each sensor of the
+    object at row ``row`` sees in this frame, with the sensor's viewpoint."""
     views = viewpoints(objects, np.array([row]), statics, sensors)
     coords = objects.rings.coords
-    polygons = []
+    out = []
     for view in views:
         radius = view.range
         if not math.isfinite(radius):
             radius = float(np.sqrt(((coords - view.position) ** 2).sum(axis=1).max())) + UNBOUNDED_MARGIN
-        outline = engine.visible_outline(objects, view, radius, ARC_STEP)
+        out.append((engine.visible_outline(objects, view, radius, ARC_STEP), view))
+    return out
+
+
+def _regions(outlines: list[tuple[np.ndarray, Viewpoint]]) -> shapely.Geometry:
+    """The union of the regions of :func:`_outlines`."""
+    polygons = []
+    for outline, _ in outlines:
         polygon = shapely.Polygon(outline) if len(outline) >= 3 else shapely.Polygon()
         # star-shaped by construction; only spikes of zero width along a ray can make it invalid
         polygons.append(polygon if shapely.is_valid(polygon) else shapely.make_valid(polygon))
     return polygons[0] if len(polygons) == 1 else shapely.union_all(polygons)
+
+
+def _union_area(outlines: list[tuple[np.ndarray, Viewpoint]], origin: np.ndarray) -> float:
+    """The area of :func:`_regions` (square metres) without building it (:mod:`.star_union`); ``origin`` is a
+    point near the regions (world frame, metres), taken as the origin to keep the coordinates small."""
+    points = [outline - origin for outline, _ in outlines]
+    starts = np.zeros(len(points) + 1, dtype=np.int64)
+    starts[1:] = np.cumsum([len(p) for p in points])
+    centers = np.array([view.position - origin for _, view in outlines], dtype=np.float64).reshape(-1, 2)
+    fovs = np.array([view.fov for _, view in outlines], dtype=np.float64)
+    # the outline starts at the field of view's start, or at bearing -π all around (see visible_outline)
+    bases = np.array([view.heading - 0.5 * view.fov for _, view in outlines], dtype=np.float64)
+    bases[fovs >= 2 * math.pi] = -math.pi
+    return star_union_area(np.concatenate(points).reshape(-1, 2), starts, centers, bases, fovs)
 
 
 def _prepare(df: Any, ego_idx: int, sensors: SensorSpec, static_occluder_polys, on_invalid: OnInvalid):
@@ -123,7 +152,7 @@ def visible_area(
     rows = observer_rows(one, np.array([ego_idx], dtype=np.int64))
     if len(rows) == 0:
         raise ValueError(f"ego idx {ego_idx} is not present in frame {frame}")
-    return _regions(SweepEngine(statics), one, statics, int(rows[0]), sensor_set)
+    return _regions(_outlines(SweepEngine(statics), one, statics, int(rows[0]), sensor_set))
 
 
 def visible_area_over_time(
@@ -151,11 +180,14 @@ def visible_area_over_time(
         rows = observer_rows(one, ego)
         if len(rows) == 0:
             continue
-        seen = _regions(engine, one, statics, int(rows[0]), sensor_set)
+        outlines = _outlines(engine, one, statics, int(rows[0]), sensor_set)
         frames.append(one.frame)
         nanos.append(one.total_nanos)
-        areas.append(seen.area)
-        if road is not None:
+        if road is None:  # only the area: no geometry needed
+            areas.append(_union_area(outlines, one.position[int(rows[0])]))
+        else:
+            seen = _regions(outlines)
+            areas.append(seen.area)
             hidden.append(shapely.difference(road, seen).area)
     table = {"frame": frames, "total_nanos": nanos, "visible_area": areas}
     if road is not None:
