@@ -22,7 +22,7 @@ from .pipeline import ContainmentLog, chunks, run
 from .scene import ObjectTable, OnInvalid, as_lazy, load_objects, observer_sizes
 from .sensors import Sensor, fitted_layout, is_layout, resolve_sensors
 from .table import STATUSES, empty_table, to_polars
-from .threed import Finisher, check_mode, load_statics, resolve_engine, with_can_see
+from .threed.mode import Finisher, check_mode, load_statics, resolve_engine, with_can_see
 
 EgoSpec = int | Sequence[int] | Literal["all"]
 SensorSpec = str | os.PathLike | Sensor | Sequence[Sensor] | None
@@ -162,7 +162,7 @@ def get_visibility_df(
     mode : {"2d", "3d"}
         ``"3d"``: oriented 3D boxes from ``z, length, width, height, roll, pitch, yaw`` seen from the ego's eye
         (its centre, 1.25 m above the ground under it); ``visibility`` is a solid-angle fraction and the table
-        gains ``can_see`` (see :mod:`omega_prime_visibility.threed`).
+        gains ``can_see`` (see :mod:`omega_prime_visibility.threed.mode`).
     static_occluder_heights : float or sequence of float, optional
         z (metres) of the tops of ``static_occluder_polys`` (one for all, or one each); in 2D those lower than the
         driver's eye height (1.25 m) are left out, in 3D they are walls of that height (none: 100 m).
@@ -171,7 +171,7 @@ def get_visibility_df(
     map_occluders : path or True, optional
         An OpenDRIVE map (True: the recording's own) whose road objects (``<object>``) become static occluders
         with their heights, numbered after ``static_occluder_polys``
-        (:func:`omega_prime_visibility.mapobjects.read_map_objects`).
+        (:func:`omega_prime_visibility.threed.mapobjects.read_map_objects`).
 
     Returns
     -------

@@ -102,7 +102,7 @@ def run(
     from .output import atomic_write, check_output_path
 
     # every check that needs no computing comes first, so a typo never costs a long run
-    from .threed import check_mode, resolve_engine
+    from .threed.mode import check_mode, resolve_engine
 
     try:
         mode = check_mode(mode)

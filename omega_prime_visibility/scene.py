@@ -47,7 +47,7 @@ class FrameObjects:
     rings : Rings
         One counter-clockwise outline per object.
     boxes3d : ndarray, shape (n, 9), or None
-        The objects' 3D boxes (:mod:`.boxes3d`), when loaded with ``three_d=True``.
+        The objects' 3D boxes (:mod:`.threed.boxes`), when loaded with ``three_d=True``.
     """
 
     frame: int
@@ -297,7 +297,7 @@ def load_objects(data: Any, *, on_invalid: OnInvalid = "warn", three_d: bool = F
         What to do with rows that cannot be used (NaN or infinite pose, zero-size or invalid outline): skip them
         with a :class:`VisibilityInputWarning` naming how many and which, or raise ``ValueError``.
     three_d : bool
-        Also read the 3D boxes (``z, height, roll, pitch`` with ``length, width, yaw``; see :mod:`.scene3d`);
+        Also read the 3D boxes (``z, height, roll, pitch`` with ``length, width, yaw``; see :mod:`.threed.scene`);
         rows with NaN 3D values are skipped like NaN poses.
 
     Raises
@@ -351,7 +351,7 @@ def load_objects(data: Any, *, on_invalid: OnInvalid = "warn", three_d: bool = F
         rings = box_rings(x[ok], y[ok], length[ok], width[ok], yaw[ok])
     boxes3d = None
     if three_d:
-        from .scene3d import read_boxes3d
+        from .threed.scene import read_boxes3d
 
         boxes3d, ok3d, problems3d = read_boxes3d(df, x, y, yaw)
         if (ok & ~ok3d).any():

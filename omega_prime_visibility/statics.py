@@ -32,8 +32,8 @@ class StaticOccluders:
         The occluders as given (validated).
     bounds : ndarray, shape (n_sources, 4)
         ``xmin, ymin, xmax, ymax`` of each occluder, metres.
-    solids : statics3d.StaticSolids or None
-        Their 3D triangles with heights, and meshes (``mode="3d"``; see :mod:`.statics3d`).
+    solids : threed.statics.StaticSolids or None
+        Their 3D triangles with heights, and meshes (``mode="3d"``; see :mod:`.threed.statics`).
     """
 
     rings: Rings

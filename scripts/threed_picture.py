@@ -14,7 +14,7 @@ import polars as pl
 from matplotlib.patches import Polygon
 
 from omega_prime_visibility import get_visibility_df
-from omega_prime_visibility.boxes3d import corners
+from omega_prime_visibility.threed.boxes import corners
 
 BOXES = {  # idx: (x, y, z, length, width, height, roll, pitch, yaw), name, colour
     0: ((0.0, 0.0, 0.75, 4.5, 1.8, 1.5, 0, 0, 0), "ego", "#1f77b4"),

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from omega_prime_visibility.boxes3d import (
+from omega_prime_visibility.threed.boxes import (
     contains,
     corners,
     eye_point,

@@ -9,7 +9,7 @@ import polars as pl
 import pytest
 
 from omega_prime_visibility import get_visibility_df
-from omega_prime_visibility.mapobjects import read_map_objects
+from omega_prime_visibility.threed.mapobjects import read_map_objects
 
 XODR = """<?xml version="1.0"?>
 <OpenDRIVE>

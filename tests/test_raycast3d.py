@@ -15,7 +15,7 @@ from omega_prime_visibility.engines.silhouette3d import box_visibility
 from omega_prime_visibility.geometry import box_rings
 from omega_prime_visibility.scene import FrameObjects
 from omega_prime_visibility.statics import load_static_occluders
-from omega_prime_visibility.statics3d import static_solids
+from omega_prime_visibility.threed.statics import static_solids
 
 EGO = [0.0, 0, 0.75, 4.5, 1.8, 1.5, 0, 0, 0]  # eye at its centre, 1.25 m above the ground
 EYE = np.array([0.0, 0, 1.25])

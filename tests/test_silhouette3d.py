@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 import shapely
 
-from omega_prime_visibility.boxes3d import frames, ray_entries
 from omega_prime_visibility.engines.silhouette3d import box_visibility, solid_angle, view_regions
+from omega_prime_visibility.threed.boxes import frames, ray_entries
 
 EYE = np.array([0.0, 0.0, 1.25])
 

@@ -1,4 +1,4 @@
-"""statics3d: footprints raised to heights (walls from below the ground), heights checked, meshes loaded."""
+"""threed.statics: footprints raised to heights (walls from below the ground), heights checked, meshes loaded."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import pytest
 import shapely
 
 from omega_prime_visibility.statics import load_static_occluders
-from omega_prime_visibility.statics3d import BASE, DEFAULT_HEIGHT, check_heights, static_solids
+from omega_prime_visibility.threed.statics import BASE, DEFAULT_HEIGHT, check_heights, static_solids
 
 
 def test_footprints_become_walls_of_their_height() -> None:

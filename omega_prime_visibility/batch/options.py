@@ -58,7 +58,7 @@ class FileOptions:
 
     def __post_init__(self) -> None:
         from ..sensors import resolve_sensors
-        from ..threed import check_mode, resolve_engine
+        from ..threed.mode import check_mode, resolve_engine
 
         ego = self.ego
         if isinstance(ego, list | tuple) and ego and all(is_int(v) for v in ego):

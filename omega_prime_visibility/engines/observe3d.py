@@ -7,7 +7,7 @@ from dataclasses import fields
 
 import numpy as np
 
-from ..boxes3d import eye_point, view_limits
+from ..threed.boxes import eye_point, view_limits
 from . import Observation, Reason, Viewpoint
 
 _HAS_VIEW_FIELDS = "in_view_angle" in {f.name for f in fields(Observation)}

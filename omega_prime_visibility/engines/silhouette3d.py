@@ -31,9 +31,9 @@ from typing import ClassVar
 import numpy as np
 import shapely
 
-from ..boxes3d import EDGES, contains, corners, farthest_distance, frames, nearest_distance, ray_entries
 from ..scene import FrameObjects
 from ..statics import StaticOccluders
+from ..threed.boxes import EDGES, contains, corners, farthest_distance, frames, nearest_distance, ray_entries
 from . import Observation, Viewpoint, group_pairs
 from .observe3d import eye_and_view, observation, own_body
 
@@ -199,13 +199,13 @@ def box_visibility(
     Parameters
     ----------
     boxes : ndarray, shape (n, 9)
-        Oriented boxes (:mod:`..boxes3d`), metres and radians.
+        Oriented boxes (:mod:`..threed.boxes`), metres and radians.
     eye : ndarray, shape (3,)
         The eye point, metres.
     transparent : ndarray of bool, shape (n,), optional
         Boxes that neither block nor are measured (the observer's own body); boxes containing the eye are added.
     view : (heading, half horizontal fov, lowest elevation, highest elevation)
-        Radians, as :func:`..boxes3d.view_limits` returns.
+        Radians, as :func:`..threed.boxes.view_limits` returns.
     max_range : float
         Metres; see the module docstring.
 

@@ -20,10 +20,10 @@ from typing import ClassVar
 
 import numpy as np
 
-from ...boxes3d import _TRIANGLES, contains, corners, frames
 from ...scene import FrameObjects
 from ...statics import StaticOccluders
-from ...statics3d import static_solids
+from ...threed.boxes import _TRIANGLES, contains, corners, frames
+from ...threed.statics import static_solids
 from .. import Observation, Viewpoint, group_pairs
 from ..observe3d import eye_and_view, observation, own_body
 from . import sampling

@@ -22,8 +22,8 @@ import numba
 import numpy as np
 import shapely
 
-from ...boxes3d import _slab
 from ...kernels import push_pair
+from ...threed.boxes import _slab
 
 MISS = -1
 """Label of a ray that misses the target (it matches any label when cells are compared)."""
@@ -39,7 +39,7 @@ def patches(corners_rel: np.ndarray, centres_rel: np.ndarray, boxes_rel: np.ndar
     centres_rel : ndarray, shape (m, 3)
         Their centres, relative to the eye.
     boxes_rel : ndarray, shape (m, 9)
-        The targets as boxes (:mod:`...boxes3d`), centres relative to the eye.
+        The targets as boxes (:mod:`...threed.boxes`), centres relative to the eye.
 
     Returns
     -------

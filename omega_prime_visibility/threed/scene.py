@@ -22,7 +22,7 @@ DEFAULTED_3D = ("z", "roll", "pitch")
 def read_boxes3d(
     df: pl.DataFrame, x: np.ndarray, y: np.ndarray, yaw: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, list[str]]:
-    """The 3D boxes (shape (n, 9), :mod:`.boxes3d`'s columns) of every row, which rows are usable, and the
+    """The 3D boxes (shape (n, 9), :mod:`.boxes`'s columns) of every row, which rows are usable, and the
     problems of the others (for the skip message)."""
     missing = [c for c in REQUIRED_3D if c not in df.columns]
     if missing:
@@ -65,6 +65,6 @@ def read_boxes3d(
 
 
 def _warning_category() -> type[Warning]:
-    from .scene import VisibilityInputWarning
+    from ..scene import VisibilityInputWarning
 
     return VisibilityInputWarning

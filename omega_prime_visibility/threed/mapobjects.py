@@ -11,7 +11,7 @@ Each object becomes a 2D footprint with a base and a top (metres, z up), placed 
   up; a railing's open space below its rail is not modelled);
 - objects without any extent (a pole given as a point) are left out, and so are those without a height.
 
-In 2D the documented height rule (:func:`.statics3d.blocks_in_2d`) keeps those whose top is at least the
+In 2D the documented height rule (:func:`.statics.blocks_in_2d`) keeps those whose top is at least the
 driver's eye height above the road (1.25 m): a 0.8 m railing does not hide a car from a driver.
 
 >>> objs = read_map_objects("../shared/data/e6mini.xodr")  # doctest: +SKIP

@@ -4,9 +4,9 @@ and the ``can_see`` column.
 ``mode="3d"`` computes, per (frame, target), the solid-angle fraction of the target's directions along which it
 is hit first, within range and inside the view, from the ego's eye (its centre at :data:`DRIVER_EYE_HEIGHT` above
 the ground under it, ``z - height / 2``), plus ``can_see`` (Scenic's yes/no: some such direction exists).
-Static occluders get heights (``static_occluder_heights``: z of their tops; none: :data:`.statics3d.DEFAULT_HEIGHT`),
+Static occluders get heights (``static_occluder_heights``: z of their tops; none: :data:`.statics.DEFAULT_HEIGHT`),
 meshes (``static_meshes``: files trimesh loads) and an OpenDRIVE map's road objects (``map_occluders``). In 2D,
-footprints with a height below the eye (:func:`.statics3d.blocks_in_2d`) are left out; the table still numbers
+footprints with a height below the eye (:func:`.statics.blocks_in_2d`) are left out; the table still numbers
 static occluders by their position in the full list (the user's, then the map's, then the meshes).
 """
 
@@ -21,10 +21,10 @@ import numpy as np
 import polars as pl
 import shapely
 
-from .engines import ENGINES, ENGINES_3D
-from .sensors import DRIVER_EYE_HEIGHT
-from .statics import StaticOccluders, load_static_occluders
-from .statics3d import check_heights, static_solids
+from ..engines import ENGINES, ENGINES_3D
+from ..sensors import DRIVER_EYE_HEIGHT
+from ..statics import StaticOccluders, load_static_occluders
+from .statics import check_heights, static_solids
 
 Mode = Literal["2d", "3d"]
 DEFAULT_ENGINES = {"2d": "visilibity", "3d": "raycast3d"}

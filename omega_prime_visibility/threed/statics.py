@@ -25,8 +25,8 @@ from typing import Any
 
 import numpy as np
 
-from .geometry import edges
-from .statics import StaticOccluders
+from ..geometry import edges
+from ..statics import StaticOccluders
 
 DEFAULT_HEIGHT = 100.0
 """Metres: the height of a static occluder given without one (taller than anything on the road)."""
