@@ -32,8 +32,12 @@ MCAP = REPO / "highway_merge.mcap"
 SCRIPT = Path(sys.executable).parent / "omega-prime-visibility"
 
 
+PER_FILE: dict[str, list[float]] = {}  # median seconds per file from each run's summary, by the run's options
+
+
 def batch(inputs: Path, out: Path, *extra: str) -> float:
-    """Seconds for one ``omega-prime-visibility batch`` run (a fresh output folder: everything computed)."""
+    """Seconds for one ``omega-prime-visibility batch`` run (a fresh output folder: everything computed); the
+    median of the summary's per-file seconds is kept in :data:`PER_FILE`."""
     shutil.rmtree(out, ignore_errors=True)
     start = time.perf_counter()
     run = subprocess.run(
@@ -44,6 +48,7 @@ def batch(inputs: Path, out: Path, *extra: str) -> float:
         raise RuntimeError(f"batch {' '.join(extra)} failed:\n{run.stderr.decode()[-2000:]}")
     summary = pl.read_parquet(out / "_batch_summary.parquet")
     assert (summary["status"] == "done").all(), summary
+    PER_FILE.setdefault(" ".join(extra), []).append(float(summary["seconds"].median()))
     return seconds
 
 
@@ -158,6 +163,15 @@ def main(argv: list[str] | None = None) -> None:
         print(
             f"  (two busy processes did {', '.join(f'{c:.2f}' for c in ceiling)} times the work of one in the same "
             "rounds: the most any 2-worker speed-up could reach on this machine at the time)"
+        )
+        per_one, per_two = min(PER_FILE["--workers 1"]), min(PER_FILE["--workers 2"])
+        start_one, start_two = one - n * per_one, two - n / 2 * per_two
+        print(
+            f"  per file (median of the summaries' seconds): {per_one:.3f} s with 1 worker, {per_two:.3f} s with 2; "
+            f"steady-state speed-up {2 * per_one / per_two:.2f}x (what long batches approach); start-up and "
+            f"wind-down outside the files: {start_one:.1f} s and {start_two:.1f} s, which bound the speed-up of "
+            f"{n} files at {one / (start_two + n / 2 * per_one):.2f}x even if two workers "
+            "each went as fast as one alone"
         )
         if times["dask"]:
             dask = min(times["dask"])
