@@ -340,3 +340,44 @@ def test_only_transparent_bodies_and_empty_frames() -> None:
 
 def test_registered() -> None:
     assert get_engine("sweep") is SweepEngine
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_object_occlusion_test_is_occludes_one(seed: int) -> None:
+    """The sweep's per-pair object test gives ``occludes_one``'s answer for every pair, also on coordinates snapped to
+    a coarse grid (shared vertices, edges through the observer, touching and overlapping boxes)."""
+    from omega_prime_visibility.engines.sweep.occluders import _occludes_object, _target_cuts, _vertex_bearings
+    from omega_prime_visibility.engines.sweep.pieces import object_extents, shifted_object_edges
+    from omega_prime_visibility.geometry import box_rings
+    from omega_prime_visibility.occlusion import occludes_one
+
+    rng = np.random.default_rng(seed)
+    n = 40
+    rings = box_rings(
+        rng.uniform(-12, 12, n), rng.uniform(-8, 8, n), rng.uniform(1, 6, n), rng.uniform(1, 3, n),
+        rng.choice([0.0, 0.5 * math.pi, rng.uniform(-3, 3)], n),
+    )  # fmt: skip
+    coords = np.round(rings.coords * (2 if seed % 2 else 1e6)) / (2 if seed % 2 else 1e6)
+    offsets = rings.offsets.astype(np.int64)
+    observer = np.array([[0.0, 0.0]]) if seed < 2 else coords[[3]]  # seeds 2, 3: on a box's corner
+    no_statics = np.zeros((0, 2))
+    grid = (np.zeros(3), np.ones(2, dtype=np.int64), np.zeros(2, dtype=np.int64), np.zeros(0, dtype=np.int64))
+    empty = np.zeros(0, dtype=np.int64)
+    nxt, _, _, y, x = prepare_frame(observer, coords, offsets, no_statics, no_statics, *grid, empty, empty)
+    seg = shifted_object_edges(coords, nxt, observer[0, 0], observer[0, 1])
+    start, width = object_extents(offsets, np.arctan2(y, x)[0])
+    bearing = np.empty(len(coords))
+    have = np.zeros(n, dtype=bool)
+    target_cuts, cuts = np.empty(6), np.empty(10)
+    for t in range(n):
+        _vertex_bearings(seg, offsets, t, bearing, have)
+        k = _target_cuts(offsets, bearing, t, start[t], width[t], target_cuts)
+        for j in range(n):
+            if j == t:
+                continue
+            _vertex_bearings(seg, offsets, j, bearing, have)
+            fast = _occludes_object(seg, offsets, bearing, j, t, start[t], width[t], target_cuts, k, cuts)
+            exact = occludes_one(
+                0.0, 0.0, seg, offsets[j], offsets[j + 1], offsets[t], offsets[t + 1], start[t], width[t]
+            )
+            assert fast == exact, (t, j)

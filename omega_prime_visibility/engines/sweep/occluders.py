@@ -22,8 +22,8 @@ from collections import namedtuple
 import numba
 import numpy as np
 
-from ...kernels import counting_sort, group_by_key, prefix_sum, reserve
-from ...occlusion import MIN_PIECE, occludes_one
+from ...kernels import counting_sort, group_by_key, prefix_sum, reserve, wrap_positive
+from ...occlusion import MIN_PIECE, RELATIVE_TOLERANCE, _edge_line_distance, _nearest_edge, occludes_one
 from .pieces import R_HI, R_LO
 
 PI = math.pi
@@ -101,6 +101,85 @@ def _occludes_static(objects, target, kept, record_edge, records, body_records, 
     if k == target_edges:
         return False
     return occludes_one(0.0, 0.0, scratch, target_edges, k, 0, target_edges, t_start, t_width)
+
+
+@numba.njit(cache=True)
+def _vertex_bearings(seg, offsets, i, bearing, have_bearing):
+    """Fill ``bearing`` (radians, scalar ``np.arctan2`` as ``occludes_one`` takes it) for object ``i``'s vertices,
+    once per observer: vertex ``v`` is the start of edge ``v`` (and the end of the edge before it)."""
+    if have_bearing[i]:
+        return
+    for v in range(offsets[i], offsets[i + 1]):
+        bearing[v] = np.arctan2(seg[v, 0, 1], seg[v, 0, 0])
+    have_bearing[i] = True
+
+
+@numba.njit(cache=True)
+def _target_cuts(offsets, bearing, t, extent_start, extent_width, cuts):
+    """The cuts that ``occludes_one`` makes in target ``t``'s extent for ``t`` itself: 0, the width and its vertices'
+    bearings relative to the extent start (radians, those below the width); written to ``cuts``, count returned."""
+    cuts[0] = 0.0
+    cuts[1] = extent_width
+    k = 2
+    for v in range(offsets[t], offsets[t + 1]):
+        rel = wrap_positive(bearing[v] - extent_start)
+        if rel < extent_width:
+            cuts[k] = rel
+            k += 1
+    return k
+
+
+@numba.njit(cache=True)
+def _occludes_object(seg, offsets, bearing, j, t, extent_start, extent_width, target_cuts, n_target_cuts, cuts):
+    """``occludes_one(0.0, 0.0, seg, offsets[j], offsets[j + 1], offsets[t], offsets[t + 1], extent_start,
+    extent_width)``, the same floating-point operations on the same operands, without its per-call work.
+
+    The vertex ``bearing`` (radians, :func:`_vertex_bearings`) and the target's own cuts (:func:`_target_cuts`)
+    are computed once per observer and target instead of once per pair; every vertex is cut at once instead of
+    once per edge end (equal cuts only make empty pieces, which are skipped); the directions at the cuts are
+    computed once for the two pieces they bound; ``cuts`` is work space (shape >= ``n_target_cuts`` + J's
+    vertices) sorted by insertion (few values, all >= +0.0: the same order as ``np.sort``).
+    """
+    k = n_target_cuts
+    cuts[:k] = target_cuts[:k]
+    for v in range(offsets[j], offsets[j + 1]):
+        rel = wrap_positive(bearing[v] - extent_start)
+        if rel < extent_width:
+            cuts[k] = rel
+            k += 1
+    for a in range(1, k):
+        value = cuts[a]
+        b = a - 1
+        while b >= 0 and cuts[b] > value:
+            cuts[b + 1] = cuts[b]
+            b -= 1
+        cuts[b + 1] = value
+    t_start, t_stop, j_start, j_stop = offsets[t], offsets[t + 1], offsets[j], offsets[j + 1]
+    cached = -1  # the cut whose direction (cached_x, cached_y) was computed last
+    cached_x, cached_y = 0.0, 0.0
+    for i in range(k - 1):
+        u0, u1 = cuts[i], cuts[i + 1]
+        if u1 - u0 < MIN_PIECE:
+            continue
+        if extent_width <= u0:
+            break
+        mid = extent_start + 0.5 * (u0 + u1)
+        dx, dy = np.cos(mid), np.sin(mid)
+        target_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, t_start, t_stop)
+        body_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, j_start, j_stop)
+        if target_edge < 0 or body_edge < 0:
+            continue
+        for end in range(i, i + 2):
+            if end == cached:
+                ex, ey = cached_x, cached_y
+            else:
+                ex, ey = np.cos(extent_start + cuts[end]), np.sin(extent_start + cuts[end])
+                cached, cached_x, cached_y = end, ex, ey
+            target_distance = _edge_line_distance(0.0, 0.0, ex, ey, seg, target_edge)
+            body_distance = _edge_line_distance(0.0, 0.0, ex, ey, seg, body_edge)
+            if body_distance < target_distance * (1.0 - RELATIVE_TOLERANCE):
+                return True
+    return False
 
 
 @numba.njit(cache=True)
@@ -271,6 +350,16 @@ def occluders(objects, n_src, kept, record_edge, records, statics, ox, oy):
     static_offsets = np.zeros(0, dtype=np.int64)  # records of each static body, built when first needed
     static_records = np.zeros(0, dtype=np.int64)
     scratch = np.empty((0, 2, 2))
+    m = len(objects.seg)
+    bearing = np.empty(m)  # vertex bearings, filled per object when first needed
+    have_bearing = np.zeros(n, dtype=np.bool_)
+    most = 0  # most vertices of a ring
+    for i in range(n):
+        most = max(most, objects.offsets[i + 1] - objects.offsets[i])
+    target_cuts = np.empty(most + 2)
+    n_target_cuts = -1
+    cut_target = -1  # the target whose cuts target_cuts holds
+    cuts = np.empty(2 * most + 2)
     occ_offsets = np.zeros(n + 1, dtype=np.int64)
     st_offsets = np.zeros(n + 1, dtype=np.int64)
     found_body = np.empty(n_pairs, dtype=np.int64)
@@ -285,11 +374,15 @@ def occluders(objects, n_src, kept, record_edge, records, statics, ox, oy):
             u += 1
         if not certain:
             if j < n:
-                offsets = objects.offsets
-                hit = occludes_one(
-                    0.0, 0.0, objects.seg, offsets[j], offsets[j + 1], offsets[t], offsets[t + 1],
-                    objects.start[t], objects.width[t],
-                )  # fmt: skip
+                offsets, t_start, t_width = objects.offsets, objects.start[t], objects.width[t]
+                if cut_target != t:
+                    _vertex_bearings(objects.seg, offsets, t, bearing, have_bearing)
+                    n_target_cuts = _target_cuts(offsets, bearing, t, t_start, t_width, target_cuts)
+                    cut_target = t
+                _vertex_bearings(objects.seg, offsets, j, bearing, have_bearing)
+                hit = _occludes_object(
+                    objects.seg, offsets, bearing, j, t, t_start, t_width, target_cuts, n_target_cuts, cuts
+                )
             else:
                 if len(static_offsets) == 0:
                     static_offsets, static_records = _records_by_static_body(record_edge, kept.body, n, n_src)
