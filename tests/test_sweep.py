@@ -346,7 +346,7 @@ def test_registered() -> None:
 def test_object_occlusion_test_is_occludes_one(seed: int) -> None:
     """The sweep's per-pair object test gives ``occludes_one``'s answer for every pair, also on coordinates snapped to
     a coarse grid (shared vertices, edges through the observer, touching and overlapping boxes)."""
-    from omega_prime_visibility.engines.sweep.occluders import _occludes_object, _target_cuts, _vertex_bearings
+    from omega_prime_visibility.engines.sweep.decide import _occludes_object, _target_cuts, _vertex_bearings
     from omega_prime_visibility.engines.sweep.pieces import object_extents, shifted_object_edges
     from omega_prime_visibility.geometry import box_rings
     from omega_prime_visibility.occlusion import occludes_one

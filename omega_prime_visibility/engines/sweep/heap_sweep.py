@@ -16,7 +16,7 @@ from ...view import limited_angle
 from .pieces import EX, EY, HI, LO, NUM, TWO_PI, UHX, UHY, ULX, ULY
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def nearer(pieces, a, b):
     """Whether piece ``a`` is nearer than piece ``b`` along the bisector of the directions both cover.
 
@@ -42,7 +42,7 @@ def nearer(pieces, a, b):
     return a < b
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def sift_up(pieces, heap, position, i):
     """Move the piece at heap slot ``i`` up to its place (nearest on top); keep ``position`` in step."""
     x = heap[i]
@@ -58,7 +58,7 @@ def sift_up(pieces, heap, position, i):
     position[x] = i
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def sift_down(pieces, heap, position, i, size):
     """Move the piece at heap slot ``i`` down to its place among the first ``size`` slots."""
     x = heap[i]

@@ -5,7 +5,7 @@ farthest point. Candidates are enumerated by sweeping the targets' extents (sort
 intervals (objects: their angular extent; statics: the records of their kept edges), sorted by start, and grouped
 by (target, body) with a counting sort. An object lying entirely nearer than ``T``'s nearest point with an extent
 overlapping ``T``'s by more than ``MIN_PIECE`` is accepted at once (the rule of the VisiLibity engine), so is a
-static edge with a safety margin; all other candidates are decided by the exact pairwise test of
+static edge with a safety margin; all other candidates are decided (:mod:`.decide`) by the exact pairwise test of
 :mod:`...occlusion` (``occludes_one``) on the same shifted segments. For a static body only its kept edges that
 meet ``T``'s extent nearer than ``T``'s farthest point are handed to that test: a ray from outside enters a body
 through a front-facing edge, so the others cannot decide anything, and a long guard rail would otherwise cost the
@@ -22,15 +22,15 @@ from collections import namedtuple
 import numba
 import numpy as np
 
-from ...kernels import counting_sort, group_by_key, prefix_sum, reserve, wrap_positive
-from ...occlusion import MIN_PIECE, RELATIVE_TOLERANCE, _edge_line_distance, _nearest_edge, occludes_one
+from ...kernels import counting_sort, group_by_key, prefix_sum, reserve
+from ...occlusion import MIN_PIECE
+from .decide import CANDIDATE_EPS, decided_pairs
 from .pieces import R_HI, R_LO
 
 PI = math.pi
 TWO_PI = 2.0 * math.pi
 STATIC_ACCEPT_ANGLE = 1e-9  # radians of overlap needed to accept a static edge without the exact test
 STATIC_ACCEPT_RELATIVE = 1e-7  # ... and it must lie nearer than (1 - this) times the target's nearest distance
-CANDIDATE_EPS = 1e-9  # radians; intervals this close count as overlapping (the exact test decides)
 
 #: The objects as one observer sees them: ``seg`` (m, 2, 2) their edges relative to the observer (metres),
 #: ``offsets`` (n + 1,) object ``i``'s edges are ``seg[offsets[i]:offsets[i + 1]]``, ``transparent`` (n,) bool,
@@ -52,134 +52,6 @@ def _records_by_static_body(record_edge, kept_body, n, n_src):
             static_records[k] = r
             k += 1
     return group_by_key(source, n_src, static_records[:k])
-
-
-@numba.njit(cache=True)
-def _occludes_static(objects, target, kept, record_edge, records, body_records, statics, ox, oy, scratch):
-    """The exact occlusion test of a static body against a target, on the body's edges that can matter.
-
-    A ray from outside enters a body through a front-facing edge, so only the body's kept edges whose bearing
-    interval meets the target's extent and that come nearer than the target's farthest point can be hit before
-    it; the others are left out (long guard rails would otherwise cost the exact test O(pieces * all edges)).
-
-    Parameters
-    ----------
-    objects : ObjectsSeen
-    target : int
-        Object number.
-    kept, record_edge, records
-        The kept edges and their records (:func:`.pieces.front_facing_edges`).
-    body_records : ndarray, shape (k,), int64
-        The static body's records, ascending.
-    statics : StaticEdges
-        Unshifted; the observer is at ``(ox, oy)``, metres.
-    scratch : ndarray, shape (>= m_target + k, 2, 2)
-        Work space for the segments handed to ``occludes_one``.
-    """
-    t_start, t_width, t_far = objects.start[target], objects.width[target], objects.far[target]
-    m = len(objects.seg)
-    k = 0
-    for e in range(objects.offsets[target], objects.offsets[target + 1]):
-        scratch[k] = objects.seg[e]
-        k += 1
-    target_edges = k
-    previous = -1
-    for r in body_records:
-        e = record_edge[r]
-        if e == previous or kept.distance[e, 0] >= t_far:
-            continue
-        x = (records[r, R_LO] - t_start) % TWO_PI
-        if not (x <= t_width + CANDIDATE_EPS or x + (records[r, R_HI] - records[r, R_LO]) >= TWO_PI - CANDIDATE_EPS):
-            continue
-        previous = e
-        s = kept.edge[e] - m
-        scratch[k, 0, 0] = statics.start[s, 0] - ox
-        scratch[k, 0, 1] = statics.start[s, 1] - oy
-        scratch[k, 1, 0] = statics.end[s, 0] - ox
-        scratch[k, 1, 1] = statics.end[s, 1] - oy
-        k += 1
-    if k == target_edges:
-        return False
-    return occludes_one(0.0, 0.0, scratch, target_edges, k, 0, target_edges, t_start, t_width)
-
-
-@numba.njit(cache=True)
-def _vertex_bearings(seg, offsets, i, bearing, have_bearing):
-    """Fill ``bearing`` (radians, scalar ``np.arctan2`` as ``occludes_one`` takes it) for object ``i``'s vertices,
-    once per observer: vertex ``v`` is the start of edge ``v`` (and the end of the edge before it)."""
-    if have_bearing[i]:
-        return
-    for v in range(offsets[i], offsets[i + 1]):
-        bearing[v] = np.arctan2(seg[v, 0, 1], seg[v, 0, 0])
-    have_bearing[i] = True
-
-
-@numba.njit(cache=True)
-def _target_cuts(offsets, bearing, t, extent_start, extent_width, cuts):
-    """The cuts that ``occludes_one`` makes in target ``t``'s extent for ``t`` itself: 0, the width and its vertices'
-    bearings relative to the extent start (radians, those below the width); written to ``cuts``, count returned."""
-    cuts[0] = 0.0
-    cuts[1] = extent_width
-    k = 2
-    for v in range(offsets[t], offsets[t + 1]):
-        rel = wrap_positive(bearing[v] - extent_start)
-        if rel < extent_width:
-            cuts[k] = rel
-            k += 1
-    return k
-
-
-@numba.njit(cache=True)
-def _occludes_object(seg, offsets, bearing, j, t, extent_start, extent_width, target_cuts, n_target_cuts, cuts):
-    """``occludes_one(0.0, 0.0, seg, offsets[j], offsets[j + 1], offsets[t], offsets[t + 1], extent_start,
-    extent_width)``, the same floating-point operations on the same operands, without its per-call work.
-
-    The vertex ``bearing`` (radians, :func:`_vertex_bearings`) and the target's own cuts (:func:`_target_cuts`)
-    are computed once per observer and target instead of once per pair; every vertex is cut at once instead of
-    once per edge end (equal cuts only make empty pieces, which are skipped); the directions at the cuts are
-    computed once for the two pieces they bound; ``cuts`` is work space (shape >= ``n_target_cuts`` + J's
-    vertices) sorted by insertion (few values, all >= +0.0: the same order as ``np.sort``).
-    """
-    k = n_target_cuts
-    cuts[:k] = target_cuts[:k]
-    for v in range(offsets[j], offsets[j + 1]):
-        rel = wrap_positive(bearing[v] - extent_start)
-        if rel < extent_width:
-            cuts[k] = rel
-            k += 1
-    for a in range(1, k):
-        value = cuts[a]
-        b = a - 1
-        while b >= 0 and cuts[b] > value:
-            cuts[b + 1] = cuts[b]
-            b -= 1
-        cuts[b + 1] = value
-    t_start, t_stop, j_start, j_stop = offsets[t], offsets[t + 1], offsets[j], offsets[j + 1]
-    cached = -1  # the cut whose direction (cached_x, cached_y) was computed last
-    cached_x, cached_y = 0.0, 0.0
-    for i in range(k - 1):
-        u0, u1 = cuts[i], cuts[i + 1]
-        if u1 - u0 < MIN_PIECE:
-            continue
-        if extent_width <= u0:
-            break
-        mid = extent_start + 0.5 * (u0 + u1)
-        dx, dy = np.cos(mid), np.sin(mid)
-        target_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, t_start, t_stop)
-        body_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, j_start, j_stop)
-        if target_edge < 0 or body_edge < 0:
-            continue
-        for end in range(i, i + 2):
-            if end == cached:
-                ex, ey = cached_x, cached_y
-            else:
-                ex, ey = np.cos(extent_start + cuts[end]), np.sin(extent_start + cuts[end])
-                cached, cached_x, cached_y = end, ex, ey
-            target_distance = _edge_line_distance(0.0, 0.0, ex, ey, seg, target_edge)
-            body_distance = _edge_line_distance(0.0, 0.0, ex, ey, seg, body_edge)
-            if body_distance < target_distance * (1.0 - RELATIVE_TOLERANCE):
-                return True
-    return False
 
 
 @numba.njit(cache=True)
@@ -282,9 +154,10 @@ def _candidate_pairs(items, queries, objects):
             active[n_active] = p
             n_active += 1
             p += 1
-        pair_target = reserve(pair_target, n_pairs, n_pairs + n_items)
-        pair_body = reserve(pair_body, n_pairs, n_pairs + n_items)
-        pair_certain = reserve(pair_certain, n_pairs, n_pairs + n_items)
+        if n_pairs + n_items > len(pair_target):  # (checked here: a call per target costs reference counting)
+            pair_target = reserve(pair_target, n_pairs, n_pairs + n_items)
+            pair_body = reserve(pair_body, n_pairs, n_pairs + n_items)
+            pair_certain = reserve(pair_certain, n_pairs, n_pairs + n_items)
         far_t = objects.far[t]
         near_t = objects.near[t]
         static_near_t = near_t * (1.0 - STATIC_ACCEPT_RELATIVE)
@@ -346,57 +219,19 @@ def occluders(objects, n_src, kept, record_edge, records, statics, ox, oy):
     by_body = counting_sort(pair_body, n + n_src, np.arange(n_pairs))
     order = counting_sort(pair_target, n, by_body)
 
-    # unique pairs, decided
-    static_offsets = np.zeros(0, dtype=np.int64)  # records of each static body, built when first needed
-    static_records = np.zeros(0, dtype=np.int64)
-    scratch = np.empty((0, 2, 2))
-    m = len(objects.seg)
-    bearing = np.empty(m)  # vertex bearings, filled per object when first needed
-    have_bearing = np.zeros(n, dtype=np.bool_)
-    most = 0  # most vertices of a ring
-    for i in range(n):
-        most = max(most, objects.offsets[i + 1] - objects.offsets[i])
-    target_cuts = np.empty(most + 2)
-    n_target_cuts = -1
-    cut_target = -1  # the target whose cuts target_cuts holds
-    cuts = np.empty(2 * most + 2)
-    occ_offsets = np.zeros(n + 1, dtype=np.int64)
-    st_offsets = np.zeros(n + 1, dtype=np.int64)
-    found_body = np.empty(n_pairs, dtype=np.int64)
-    n_found = 0
-    u = 0
-    while u < n_pairs:
-        t = pair_target[order[u]]
-        j = pair_body[order[u]]
-        certain = False
-        while u < n_pairs and pair_target[order[u]] == t and pair_body[order[u]] == j:
-            certain |= pair_certain[order[u]]
-            u += 1
-        if not certain:
-            if j < n:
-                offsets, t_start, t_width = objects.offsets, objects.start[t], objects.width[t]
-                if cut_target != t:
-                    _vertex_bearings(objects.seg, offsets, t, bearing, have_bearing)
-                    n_target_cuts = _target_cuts(offsets, bearing, t, t_start, t_width, target_cuts)
-                    cut_target = t
-                _vertex_bearings(objects.seg, offsets, j, bearing, have_bearing)
-                hit = _occludes_object(
-                    objects.seg, offsets, bearing, j, t, t_start, t_width, target_cuts, n_target_cuts, cuts
-                )
-            else:
-                if len(static_offsets) == 0:
-                    static_offsets, static_records = _records_by_static_body(record_edge, kept.body, n, n_src)
-                    scratch = np.empty((len(objects.seg) + len(records), 2, 2))
-                body_records = static_records[static_offsets[j - n] : static_offsets[j - n + 1]]
-                hit = _occludes_static(objects, t, kept, record_edge, records, body_records, statics, ox, oy, scratch)
-            if not hit:
-                continue
-        found_body[n_found] = j
-        n_found += 1
-        if j < n:
-            occ_offsets[t + 1] += 1
-        else:
-            st_offsets[t + 1] += 1
+    # unique pairs, decided; the static bodies' records only when some static pair needs the exact test
+    needs_static = False
+    for p in range(n_pairs):
+        needs_static |= pair_body[p] >= n and not pair_certain[p]
+    if needs_static:
+        static_offsets, static_records = _records_by_static_body(record_edge, kept.body, n, n_src)
+    else:
+        static_offsets, static_records = np.zeros(n_src + 1, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    found_body, occ_offsets, st_offsets = decided_pairs(
+        objects, kept, record_edge, records, statics, ox, oy, pair_target, pair_body, pair_certain, order,
+        static_offsets, static_records,
+    )  # fmt: skip
+    n_found = len(found_body)
     prefix_sum(occ_offsets)
     prefix_sum(st_offsets)
     occ = np.empty(occ_offsets[n], dtype=np.int64)
