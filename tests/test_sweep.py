@@ -346,7 +346,7 @@ def test_registered() -> None:
 def test_object_occlusion_test_is_occludes_one(seed: int) -> None:
     """The sweep's per-pair object test gives ``occludes_one``'s answer for every pair, also on coordinates snapped to
     a coarse grid (shared vertices, edges through the observer, touching and overlapping boxes)."""
-    from omega_prime_visibility.engines.sweep.decide import _occludes_object, _target_cuts, _vertex_bearings
+    from omega_prime_visibility.engines.sweep.decide import _objects_occluded
     from omega_prime_visibility.engines.sweep.pieces import object_extents, shifted_object_edges
     from omega_prime_visibility.geometry import box_rings
     from omega_prime_visibility.occlusion import occludes_one
@@ -366,18 +366,12 @@ def test_object_occlusion_test_is_occludes_one(seed: int) -> None:
     nxt, _, _, y, x = prepare_frame(observer, coords, offsets, no_statics, no_statics, *grid, empty, empty)
     seg = shifted_object_edges(coords, nxt, observer[0, 0], observer[0, 1])
     start, width = object_extents(offsets, np.arctan2(y, x)[0])
-    bearing = np.empty(len(coords))
-    have = np.zeros(n, dtype=bool)
-    target_cuts, cuts = np.empty(6), np.empty(10)
-    for t in range(n):
-        _vertex_bearings(seg, offsets, t, bearing, have)
-        k = _target_cuts(offsets, bearing, t, start[t], width[t], target_cuts)
-        for j in range(n):
-            if j == t:
-                continue
-            _vertex_bearings(seg, offsets, j, bearing, have)
-            fast = _occludes_object(seg, offsets, bearing, j, t, start[t], width[t], target_cuts, k, cuts)
-            exact = occludes_one(
-                0.0, 0.0, seg, offsets[j], offsets[j + 1], offsets[t], offsets[t + 1], start[t], width[t]
-            )
-            assert fast == exact, (t, j)
+    target, body = (a.ravel() for a in np.meshgrid(np.arange(n), np.arange(n), indexing="ij"))
+    target, body = target[target != body], body[target != body]
+    fast = _objects_occluded(seg, offsets, start, width, target, body)
+    exact = [
+        occludes_one(0.0, 0.0, seg, offsets[j], offsets[j + 1], offsets[t], offsets[t + 1], start[t], width[t])
+        for t, j in zip(target.tolist(), body.tolist(), strict=True)
+    ]
+    assert 0 < np.count_nonzero(exact) < len(exact)
+    assert np.array_equal(fast, exact)

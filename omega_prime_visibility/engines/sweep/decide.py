@@ -1,10 +1,9 @@
 """Step 4b of the sweep for one observer: the candidate (target, body) pairs of :mod:`.occluders` decided.
 
 Pairs not accepted at once go to the exact pairwise test of :mod:`...occlusion` (``occludes_one``). For two objects
-it is evaluated here with the same floating-point operations on the same operands, but without the work that
-``occludes_one`` repeats on every call: the vertex bearings are computed once per observer, the target's own cuts
-once per target, the directions at the cuts once for the two pieces they bound, and nothing is allocated. A static
-body is tested on those of its kept edges that can matter (:func:`_occludes_static`).
+it is evaluated here (:func:`_objects_occluded`) with the same floating-point operations on the same operands, but
+without the work that ``occludes_one`` repeats on every call. A static body is tested on those of its kept edges
+that can matter (:func:`_occludes_static`).
 
 Bodies are numbered objects first (``0..n-1``), then static sources (``n + source``).
 """
@@ -75,84 +74,98 @@ def _occludes_static(
     return occludes_one(0.0, 0.0, scratch, target_edges, k, 0, target_edges, t_start, t_width)
 
 
-@numba.njit(cache=True, inline="always")
-def _vertex_bearings(seg, offsets, i, bearing, have_bearing):
-    """Fill ``bearing`` (radians, scalar ``np.arctan2`` as ``occludes_one`` takes it) for object ``i``'s vertices,
-    once per observer: vertex ``v`` is the start of edge ``v`` (and the end of the edge before it)."""
-    if have_bearing[i]:
-        return
-    for v in range(offsets[i], offsets[i + 1]):
-        bearing[v] = np.arctan2(seg[v, 0, 1], seg[v, 0, 0])
-    have_bearing[i] = True
-
-
-@numba.njit(cache=True, inline="always")
-def _target_cuts(offsets, bearing, t, extent_start, extent_width, cuts):
-    """The cuts that ``occludes_one`` makes in target ``t``'s extent for ``t`` itself: 0, the width and its vertices'
-    bearings relative to the extent start (radians, those below the width); written to ``cuts``, count returned."""
-    cuts[0] = 0.0
-    cuts[1] = extent_width
-    k = 2
-    for v in range(offsets[t], offsets[t + 1]):
-        rel = wrap_positive(bearing[v] - extent_start)
-        if rel < extent_width:
-            cuts[k] = rel
-            k += 1
-    return k
-
-
 @numba.njit(cache=True)
-def _occludes_object(seg, offsets, bearing, j, t, extent_start, extent_width, target_cuts, n_target_cuts, cuts):
-    """``occludes_one(0.0, 0.0, seg, offsets[j], offsets[j + 1], offsets[t], offsets[t + 1], extent_start,
-    extent_width)``, the same floating-point operations on the same operands, without its per-call work.
+def _objects_occluded(seg, offsets, start, width, pair_target, pair_body):
+    """``occludes_one`` for each pair of objects ``(pair_body[p], pair_target[p])`` (grouped by target), shape (p,)
+    bool: the same floating-point operations on the same operands, without the work it repeats on every call.
 
-    The vertex ``bearing`` (radians, :func:`_vertex_bearings`) and the target's own cuts (:func:`_target_cuts`)
-    are computed once per observer and target instead of once per pair; every vertex is cut at once instead of
-    once per edge end (equal cuts only make empty pieces, which are skipped); the directions at the cuts are
-    computed once for the two pieces they bound; ``cuts`` is work space (shape >= ``n_target_cuts`` + J's
-    vertices) sorted by insertion (few values, all >= +0.0: the same order as ``np.sort``).
+    Each vertex's bearing (scalar ``np.arctan2``, radians) is computed once per observer and the target's own cuts
+    once per target, instead of once per pair; every vertex is cut once instead of once per edge end (equal cuts
+    only make empty pieces, which are skipped); the cuts are sorted by insertion (few values, all >= +0.0: the
+    order ``np.sort`` gives), and the direction at a cut is computed once for the two pieces it bounds. Everything
+    is written out in this one function: a numba function with a loop that takes arrays costs reference counting
+    on every call.
+
+    Parameters
+    ----------
+    seg : ndarray, shape (m, 2, 2)
+        The objects' edges relative to the observer, metres; object ``i`` owns ``seg[offsets[i]:offsets[i + 1]]``.
+    start, width : ndarray, shape (n,)
+        The objects' angular extents, radians.
     """
-    for k in range(n_target_cuts):  # (a loop: slices would cost reference counting on every call)
-        cuts[k] = target_cuts[k]
-    k = n_target_cuts
-    for v in range(offsets[j], offsets[j + 1]):
-        rel = wrap_positive(bearing[v] - extent_start)
-        if rel < extent_width:
-            cuts[k] = rel
-            k += 1
-    for a in range(1, k):
-        value = cuts[a]
-        b = a - 1
-        while b >= 0 and cuts[b] > value:
-            cuts[b + 1] = cuts[b]
-            b -= 1
-        cuts[b + 1] = value
-    t_start, t_stop, j_start, j_stop = offsets[t], offsets[t + 1], offsets[j], offsets[j + 1]
-    cached = -1  # the cut whose direction (cached_x, cached_y) was computed last
-    cached_x, cached_y = 0.0, 0.0
-    for i in range(k - 1):
-        u0, u1 = cuts[i], cuts[i + 1]
-        if u1 - u0 < MIN_PIECE:
-            continue
-        if extent_width <= u0:
-            break
-        mid = extent_start + 0.5 * (u0 + u1)
-        dx, dy = np.cos(mid), np.sin(mid)
-        target_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, t_start, t_stop)
-        body_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, j_start, j_stop)
-        if target_edge < 0 or body_edge < 0:
-            continue
-        for end in range(i, i + 2):
-            if end == cached:
-                ex, ey = cached_x, cached_y
-            else:
-                ex, ey = np.cos(extent_start + cuts[end]), np.sin(extent_start + cuts[end])
-                cached, cached_x, cached_y = end, ex, ey
-            target_distance = _edge_line_distance(0.0, 0.0, ex, ey, seg, target_edge)
-            body_distance = _edge_line_distance(0.0, 0.0, ex, ey, seg, body_edge)
-            if body_distance < target_distance * (1.0 - RELATIVE_TOLERANCE):
-                return True
-    return False
+    n = len(offsets) - 1
+    most = 0  # most vertices of a ring
+    for i in range(n):
+        most = max(most, offsets[i + 1] - offsets[i])
+    bearing = np.empty(len(seg))
+    have_bearing = np.zeros(n, dtype=np.bool_)
+    target_cuts = np.empty(most + 2)
+    cuts = np.empty(2 * most + 2)
+    hit = np.zeros(len(pair_target), dtype=np.bool_)
+    cut_target = -1  # the target whose cuts target_cuts holds
+    n_target_cuts = 0
+    for p in range(len(pair_target)):
+        t, j = pair_target[p], pair_body[p]
+        extent_start, extent_width = start[t], width[t]
+        for body in (t, j):  # vertex bearings, once per object
+            if not have_bearing[body]:
+                for v in range(offsets[body], offsets[body + 1]):
+                    bearing[v] = np.arctan2(seg[v, 0, 1], seg[v, 0, 0])
+                have_bearing[body] = True
+        if t != cut_target:  # the target's cuts: 0, its width and its vertices within it
+            target_cuts[0] = 0.0
+            target_cuts[1] = extent_width
+            n_target_cuts = 2
+            for v in range(offsets[t], offsets[t + 1]):
+                rel = wrap_positive(bearing[v] - extent_start)
+                if rel < extent_width:
+                    target_cuts[n_target_cuts] = rel
+                    n_target_cuts += 1
+            cut_target = t
+        for k in range(n_target_cuts):  # (a loop: slices cost reference counting)
+            cuts[k] = target_cuts[k]
+        k = n_target_cuts
+        for v in range(offsets[j], offsets[j + 1]):
+            rel = wrap_positive(bearing[v] - extent_start)
+            if rel < extent_width:
+                cuts[k] = rel
+                k += 1
+        for a in range(1, k):
+            value = cuts[a]
+            b = a - 1
+            while b >= 0 and cuts[b] > value:
+                cuts[b + 1] = cuts[b]
+                b -= 1
+            cuts[b + 1] = value
+        t_start, t_stop, j_start, j_stop = offsets[t], offsets[t + 1], offsets[j], offsets[j + 1]
+        cached = -1  # the cut whose direction (cached_x, cached_y) was computed last
+        cached_x, cached_y = 0.0, 0.0
+        for i in range(k - 1):
+            u0, u1 = cuts[i], cuts[i + 1]
+            if u1 - u0 < MIN_PIECE:
+                continue
+            if extent_width <= u0:
+                break
+            mid = extent_start + 0.5 * (u0 + u1)
+            dx, dy = np.cos(mid), np.sin(mid)
+            target_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, t_start, t_stop)
+            body_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, j_start, j_stop)
+            if target_edge < 0 or body_edge < 0:
+                continue
+            for end in range(i, i + 2):
+                if end == cached:
+                    ex, ey = cached_x, cached_y
+                else:
+                    ex, ey = np.cos(extent_start + cuts[end]), np.sin(extent_start + cuts[end])
+                    cached, cached_x, cached_y = end, ex, ey
+                target_distance = _edge_line_distance(0.0, 0.0, ex, ey, seg, target_edge)
+                body_distance = _edge_line_distance(0.0, 0.0, ex, ey, seg, body_edge)
+                if body_distance < target_distance * (1.0 - RELATIVE_TOLERANCE):
+                    hit[p] = True
+                    break
+            if hit[p]:
+                break
+    return hit
 
 
 @numba.njit(cache=True)
@@ -163,9 +176,6 @@ def decided_pairs(
     """The unique candidate pairs, in ``order`` (by target, then body), that occlude: accepted at once or by the
     exact test.
 
-    Every array the loop reads is bound once before it (a named tuple's field or a conditionally rebuilt array
-    read inside the loop costs reference counting on every pass).
-
     Returns
     -------
     found_body : ndarray, shape (f,), int64
@@ -173,23 +183,14 @@ def decided_pairs(
     occ_offsets, st_offsets : ndarray, shape (n + 1,), int64
         ``occ_offsets[t + 1]`` and ``st_offsets[t + 1]``: how many objects and static bodies occlude ``t``.
     """
-    seg, offsets, start, width = objects.seg, objects.offsets, objects.start, objects.width
-    n = len(offsets) - 1
+    n = len(objects.offsets) - 1
     n_pairs = len(order)
-    bearing = np.empty(len(seg))  # vertex bearings, filled per object when first needed
-    have_bearing = np.zeros(n, dtype=np.bool_)
-    most = 0  # most vertices of a ring
-    for i in range(n):
-        most = max(most, offsets[i + 1] - offsets[i])
-    target_cuts = np.empty(most + 2)
-    n_target_cuts = -1
-    cut_target = -1  # the target whose cuts target_cuts holds
-    cuts = np.empty(2 * most + 2)
-    scratch = np.empty((len(seg) + len(records) if len(static_records) else 0, 2, 2))
-    occ_offsets = np.zeros(n + 1, dtype=np.int64)
-    st_offsets = np.zeros(n + 1, dtype=np.int64)
-    found_body = np.empty(n_pairs, dtype=np.int64)
-    n_found = 0
+    # the unique pairs; those not accepted at once are marked -1 (object pairs) or -2 (static) for the exact test
+    unique_target = np.empty(n_pairs, dtype=np.int64)
+    unique_body = np.empty(n_pairs, dtype=np.int64)
+    state = np.empty(n_pairs, dtype=np.int8)  # 1: occludes, 0: does not, -1 / -2: to be tested
+    n_unique = 0
+    n_object_tests = 0
     u = 0
     while u < n_pairs:
         t = pair_target[order[u]]
@@ -198,27 +199,40 @@ def decided_pairs(
         while u < n_pairs and pair_target[order[u]] == t and pair_body[order[u]] == j:
             certain |= pair_certain[order[u]]
             u += 1
-        if not certain:
+        unique_target[n_unique], unique_body[n_unique] = t, j
+        state[n_unique] = 1 if certain else (-1 if j < n else -2)
+        n_object_tests += state[n_unique] == -1
+        n_unique += 1
+    tested = np.empty(n_object_tests, dtype=np.int64)
+    k = 0
+    for r in range(n_unique):
+        if state[r] == -1:
+            tested[k] = r
+            k += 1
+    hit = _objects_occluded(
+        objects.seg, objects.offsets, objects.start, objects.width, unique_target[tested], unique_body[tested]
+    )
+    for k in range(n_object_tests):
+        state[tested[k]] = hit[k]
+    scratch = np.empty((len(objects.seg) + len(records) if len(static_records) else 0, 2, 2))
+    for r in range(n_unique):
+        if state[r] == -2:
+            j = unique_body[r]
+            state[r] = _occludes_static(
+                objects, unique_target[r], kept, record_edge, records, static_records, static_offsets[j - n],
+                static_offsets[j - n + 1], statics, ox, oy, scratch,
+            )  # fmt: skip
+    occ_offsets = np.zeros(n + 1, dtype=np.int64)
+    st_offsets = np.zeros(n + 1, dtype=np.int64)
+    found_body = np.empty(n_unique, dtype=np.int64)
+    n_found = 0
+    for r in range(n_unique):
+        if state[r] == 1:
+            j = unique_body[r]
+            found_body[n_found] = j
+            n_found += 1
             if j < n:
-                if cut_target != t:
-                    _vertex_bearings(seg, offsets, t, bearing, have_bearing)
-                    n_target_cuts = _target_cuts(offsets, bearing, t, start[t], width[t], target_cuts)
-                    cut_target = t
-                _vertex_bearings(seg, offsets, j, bearing, have_bearing)
-                hit = _occludes_object(
-                    seg, offsets, bearing, j, t, start[t], width[t], target_cuts, n_target_cuts, cuts
-                )
+                occ_offsets[unique_target[r] + 1] += 1
             else:
-                hit = _occludes_static(
-                    objects, t, kept, record_edge, records, static_records, static_offsets[j - n],
-                    static_offsets[j - n + 1], statics, ox, oy, scratch,
-                )  # fmt: skip
-            if not hit:
-                continue
-        found_body[n_found] = j
-        n_found += 1
-        if j < n:
-            occ_offsets[t + 1] += 1
-        else:
-            st_offsets[t + 1] += 1
+                st_offsets[unique_target[r] + 1] += 1
     return found_body[:n_found], occ_offsets, st_offsets
