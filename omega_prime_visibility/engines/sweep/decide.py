@@ -148,9 +148,11 @@ def _objects_occluded(seg, offsets, start, width, pair_target, pair_body):
                 break
             mid = extent_start + 0.5 * (u0 + u1)
             dx, dy = np.cos(mid), np.sin(mid)
-            target_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, t_start, t_stop)
             body_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, j_start, j_stop)
-            if target_edge < 0 or body_edge < 0:
+            if body_edge < 0:  # (J is missed more often than T: T's own edges need not be tried then)
+                continue
+            target_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, t_start, t_stop)
+            if target_edge < 0:
                 continue
             for end in range(i, i + 2):
                 if end == cached:

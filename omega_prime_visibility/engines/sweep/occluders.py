@@ -136,6 +136,7 @@ def _candidate_pairs(items, queries, objects):
         Certainly occluding (:func:`_accept`); the rest go to the exact test.
     """
     n = len(objects.offsets) - 1
+    near, far = objects.near, objects.far  # (bound once: a named tuple's field read in the loop costs refcounting)
     item_lo, item_hi, item_body, item_near, item_far = items
     query_lo, query_hi, query_target = queries
     n_items = len(item_lo)
@@ -158,8 +159,8 @@ def _candidate_pairs(items, queries, objects):
             pair_target = reserve(pair_target, n_pairs, n_pairs + n_items)
             pair_body = reserve(pair_body, n_pairs, n_pairs + n_items)
             pair_certain = reserve(pair_certain, n_pairs, n_pairs + n_items)
-        far_t = objects.far[t]
-        near_t = objects.near[t]
+        far_t = far[t]
+        near_t = near[t]
         static_near_t = near_t * (1.0 - STATIC_ACCEPT_RELATIVE)
         keep = 0
         for a in range(n_active):
