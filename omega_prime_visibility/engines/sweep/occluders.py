@@ -135,30 +135,47 @@ def _candidate_pairs(items, queries, objects):
     pair_certain : ndarray of bool, shape (p,)
         Certainly occluding (:func:`_accept`); the rest go to the exact test.
     """
-    n = len(objects.offsets) - 1
-    near, far = objects.near, objects.far  # (bound once: a named tuple's field read in the loop costs refcounting)
-    item_lo, item_hi, item_body, item_near, item_far = items
-    query_lo, query_hi, query_target = queries
-    n_items = len(item_lo)
+    n_items = len(items[0])
     capacity = 4 * n_items + 16
     pair_target = np.empty(capacity, dtype=np.int64)
     pair_body = np.empty(capacity, dtype=np.int64)
     pair_certain = np.empty(capacity, dtype=np.bool_)
-    n_pairs = 0
-    active = np.empty(n_items, dtype=np.int64)  # items that started before the current target
-    n_active = 0
-    p = 0
-    for q in range(len(query_lo)):
+    active = np.empty(n_items, dtype=np.int64)
+    state = np.zeros(4, dtype=np.int64)  # next target, next item, active items, pairs
+    # the buffers grow between calls, not inside the loop over targets: an array rebound in a loop costs
+    # reference counting on every pass
+    while not _pairs_into(items, queries, objects.near, objects.far, len(objects.offsets) - 1, active, state,
+                          pair_target, pair_body, pair_certain):  # fmt: skip
+        n_pairs = state[3]
+        pair_target = reserve(pair_target, n_pairs, n_pairs + n_items)
+        pair_body = reserve(pair_body, n_pairs, n_pairs + n_items)
+        pair_certain = reserve(pair_certain, n_pairs, n_pairs + n_items)
+    n_pairs = state[3]
+    return pair_target[:n_pairs], pair_body[:n_pairs], pair_certain[:n_pairs]
+
+
+@numba.njit(cache=True)
+def _pairs_into(items, queries, near, far, n, active, state, pair_target, pair_body, pair_certain):
+    """The sweep of :func:`_candidate_pairs` from where ``state`` says, writing pairs to the buffers; stops (and
+    returns False, ``state`` updated) before a target whose pairs might not fit, returns True when done.
+
+    ``active`` holds the items that started before the current target (the first ``state[2]``), ``near, far``
+    (n,) the objects' distances (metres).
+    """
+    item_lo, item_hi, item_body, item_near, item_far = items
+    query_lo, query_hi, query_target = queries
+    n_items = len(item_lo)
+    q, p, n_active, n_pairs = state[0], state[1], state[2], state[3]
+    while q < len(query_lo):
+        if n_pairs + n_items > len(pair_target):
+            state[0], state[1], state[2], state[3] = q, p, n_active, n_pairs
+            return False
         t = query_target[q]
         lo, hi = query_lo[q], query_hi[q]
         while p < n_items and item_lo[p] < lo:
             active[n_active] = p
             n_active += 1
             p += 1
-        if n_pairs + n_items > len(pair_target):  # (checked here: a call per target costs reference counting)
-            pair_target = reserve(pair_target, n_pairs, n_pairs + n_items)
-            pair_body = reserve(pair_body, n_pairs, n_pairs + n_items)
-            pair_certain = reserve(pair_certain, n_pairs, n_pairs + n_items)
         far_t = far[t]
         near_t = near[t]
         static_near_t = near_t * (1.0 - STATIC_ACCEPT_RELATIVE)
@@ -187,7 +204,9 @@ def _candidate_pairs(items, queries, objects):
                 pair_certain[n_pairs] = _accept(overlap, item_far[it], j < n, near_t, static_near_t)
                 n_pairs += 1
             it += 1
-    return pair_target[:n_pairs], pair_body[:n_pairs], pair_certain[:n_pairs]
+        q += 1
+    state[0], state[1], state[2], state[3] = q, p, n_active, n_pairs
+    return True
 
 
 @numba.njit(cache=True)
