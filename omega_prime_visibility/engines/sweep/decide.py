@@ -178,6 +178,22 @@ def decided_pairs(
     """The unique candidate pairs, in ``order`` (by target, then body), that occlude: accepted at once or by the
     exact test.
 
+    Parameters
+    ----------
+    objects : .occluders.ObjectsSeen
+    kept, record_edge, records
+        The kept edges and their records (:func:`.pieces.front_facing_edges`).
+    statics : .pieces.StaticEdges
+        Unshifted; the observer is at ``(ox, oy)``, metres.
+    pair_target, pair_body : ndarray, shape (p,), int64
+    pair_certain : ndarray of bool, shape (p,)
+        The candidate pairs and whether each is accepted at once (:func:`.occluders._candidate_pairs`).
+    order : ndarray, shape (p,), int64
+        The pairs sorted by target, then body.
+    static_offsets, static_records : ndarray, int64
+        The records of each static body (:func:`.occluders._records_by_static_body`); read only when a static pair
+        needs the exact test.
+
     Returns
     -------
     found_body : ndarray, shape (f,), int64
