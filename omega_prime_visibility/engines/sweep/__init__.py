@@ -16,10 +16,11 @@ Per observer, with everything shifted so that the observer sits at the origin (:
    heap; between two consecutive event bearings the heap's top is the nearest piece and the interval's angle is
    credited to its body.
 4. *Occluders* (:mod:`.occluders`): candidates from overlapping bearing intervals, accepted at once when clearly
-   in front, otherwise decided by the exact pairwise test of :mod:`...occlusion`.
+   in front, otherwise decided (:mod:`.decide`) by the exact pairwise test of :mod:`...occlusion`.
 
 Modules: :mod:`.engine` (the :class:`SweepEngine` class), :mod:`.crossings`, :mod:`.observe`, :mod:`.pieces`,
-:mod:`.heap_sweep`, :mod:`.occluders`; shared numba helpers are in :mod:`omega_prime_visibility.kernels`.
+:mod:`.heap_sweep`, :mod:`.occluders`, :mod:`.decide`; shared numba helpers are in
+:mod:`omega_prime_visibility.kernels`.
 """
 
 from __future__ import annotations

@@ -12,7 +12,7 @@ import math
 import numba
 import numpy as np
 
-from ...kernels import MIN_CAPACITY, next_vertex_index, prefix_sum, push_pair
+from ...kernels import MIN_CAPACITY, next_vertex_index, prefix_sum, push_pair, reserve
 
 GRID_CELLS = 256  # cells along the longer side of the static edges' grid
 
@@ -141,6 +141,104 @@ def static_crossings(a, b, group, grid_f, grid_i, cell_off, items):
 
 
 @numba.njit(cache=True)
+def _object_crossings_into(coords, offsets, nxt, bbox, order, axis, state, first, second):
+    """The sort-and-sweep of :func:`_frame_crossings` over the objects' bounding boxes ``bbox`` (n, 4) sorted by
+    their lower bound along ``axis`` (``order``), writing the crossing edge pairs to ``first, second``.
+
+    Resumes at ``state`` (position in ``order``, partner's position or -1 for the next, pairs written) and stops,
+    returning False with ``state`` updated, before a pair of objects whose crossings might not fit; True when done.
+    """
+    n = len(offsets) - 1
+    other = 1 - axis
+    ii, resume, k = state[0], state[1], state[2]
+    while ii < n:
+        i = order[ii]
+        jj = resume if resume >= 0 else ii + 1
+        resume = -1
+        while jj < n:
+            j = order[jj]
+            if bbox[j, axis] > bbox[i, axis + 2]:
+                break
+            if not (bbox[j, other] > bbox[i, other + 2] or bbox[j, other + 2] < bbox[i, other]):
+                if k + (offsets[i + 1] - offsets[i]) * (offsets[j + 1] - offsets[j]) > len(first):
+                    state[0], state[1], state[2] = ii, jj, k
+                    return False
+                for p in range(offsets[i], offsets[i + 1]):
+                    pa, pb = p, nxt[p]
+                    for q in range(offsets[j], offsets[j + 1]):
+                        qa, qb = q, nxt[q]
+                        if _cross_properly(
+                            coords[pa, 0], coords[pa, 1], coords[pb, 0], coords[pb, 1],
+                            coords[qa, 0], coords[qa, 1], coords[qb, 0], coords[qb, 1],
+                        ):  # fmt: skip
+                            first[k] = p
+                            second[k] = q
+                            k += 1
+            jj += 1
+        ii += 1
+    state[0], state[1], state[2] = ii, -1, k
+    return True
+
+
+@numba.njit(cache=True)
+def _static_crossings_into(
+    coords, offsets, nxt, bbox, st_a, st_b, grid_f, grid_i, cell_off, items, stamp, state, first, second
+):  # fmt: skip
+    """The objects (bounding boxes ``bbox`` (n, 4)) against the static edges ``st_a, st_b`` through their grid, for
+    :func:`_frame_crossings`, writing the crossing edge pairs (object edge, ``m`` + static edge) to ``first,
+    second``; ``stamp`` (s,) marks the static edges tried for the current object.
+
+    Resumes at ``state`` (object, pairs written) and stops, returning False with ``state[2]`` the room its next
+    object may need, before an object whose crossings might not fit; True when done.
+    """
+    n = len(offsets) - 1
+    m = len(coords)
+    x0, y0, cell = grid_f[0], grid_f[1], grid_f[2]
+    nx, ny = grid_i[0], grid_i[1]
+    gx1, gy1 = x0 + nx * cell, y0 + ny * cell
+    i, k = state[0], state[1]
+    while i < n:
+        if bbox[i, 2] < x0 or bbox[i, 0] > gx1 or bbox[i, 3] < y0 or bbox[i, 1] > gy1:
+            i += 1
+            continue
+        cx0, cx1, cy0, cy1 = _cell_range(bbox[i, 0], bbox[i, 1], bbox[i, 2], bbox[i, 3], x0, y0, cell, nx, ny)
+        room = 0  # at most every edge against every static edge registered in its cells
+        for cy in range(cy0, cy1 + 1):
+            room += cell_off[cy * nx + cx1 + 1] - cell_off[cy * nx + cx0]
+        room *= offsets[i + 1] - offsets[i]
+        if k + room > len(first):
+            state[0], state[1], state[2] = i, k, room
+            return False
+        for cy in range(cy0, cy1 + 1):
+            for cx in range(cx0, cx1 + 1):
+                c = cy * nx + cx
+                for w in range(cell_off[c], cell_off[c + 1]):
+                    t = items[w]
+                    if stamp[t] == i:
+                        continue
+                    stamp[t] = i
+                    if (
+                        max(st_a[t, 0], st_b[t, 0]) < bbox[i, 0]
+                        or min(st_a[t, 0], st_b[t, 0]) > bbox[i, 2]
+                        or max(st_a[t, 1], st_b[t, 1]) < bbox[i, 1]
+                        or min(st_a[t, 1], st_b[t, 1]) > bbox[i, 3]
+                    ):
+                        continue
+                    for p in range(offsets[i], offsets[i + 1]):
+                        pb = nxt[p]
+                        if _cross_properly(
+                            coords[p, 0], coords[p, 1], coords[pb, 0], coords[pb, 1],
+                            st_a[t, 0], st_a[t, 1], st_b[t, 0], st_b[t, 1],
+                        ):  # fmt: skip
+                            first[k] = p
+                            second[k] = m + t
+                            k += 1
+        i += 1
+    state[0], state[1] = i, k
+    return True
+
+
+@numba.njit(cache=True)
 def _frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off, items, static_first, static_second):
     """Properly crossing edge pairs of different bodies in one frame.
 
@@ -156,64 +254,31 @@ def _frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off,
             x0, x1 = min(x0, coords[v, 0]), max(x1, coords[v, 0])
             y0, y1 = min(y0, coords[v, 1]), max(y1, coords[v, 1])
         bbox[i, 0], bbox[i, 1], bbox[i, 2], bbox[i, 3] = x0, y0, x1, y1
-    first = np.empty(MIN_CAPACITY, dtype=np.int64)
-    second = np.empty(MIN_CAPACITY, dtype=np.int64)
+    first = np.empty(max(MIN_CAPACITY, m), dtype=np.int64)
+    second = np.empty(max(MIN_CAPACITY, m), dtype=np.int64)
     k = 0
     if n > 1:
         # sort-and-sweep along the axis where the bodies are spread most
         spread_x = bbox[:, 2].max() - bbox[:, 0].min()
         spread_y = bbox[:, 3].max() - bbox[:, 1].min()
         axis = 0 if spread_x >= spread_y else 1
-        other = 1 - axis
         order = np.argsort(bbox[:, axis].copy())
-        for ii in range(n):
-            i = order[ii]
-            for jj in range(ii + 1, n):
-                j = order[jj]
-                if bbox[j, axis] > bbox[i, axis + 2]:
-                    break
-                if bbox[j, other] > bbox[i, other + 2] or bbox[j, other + 2] < bbox[i, other]:
-                    continue
-                for p in range(offsets[i], offsets[i + 1]):
-                    pa, pb = p, nxt[p]
-                    for q in range(offsets[j], offsets[j + 1]):
-                        qa, qb = q, nxt[q]
-                        if _cross_properly(
-                            coords[pa, 0], coords[pa, 1], coords[pb, 0], coords[pb, 1],
-                            coords[qa, 0], coords[qa, 1], coords[qb, 0], coords[qb, 1],
-                        ):  # fmt: skip
-                            first, second, k = push_pair(first, second, k, p, q)
+        state = np.array([0, -1, 0], dtype=np.int64)
+        # the buffers grow between calls, not inside the sweep: arrays rebound in a loop cost reference counting on
+        # every pass
+        while not _object_crossings_into(coords, offsets, nxt, bbox, order, axis, state, first, second):
+            first = reserve(first, state[2], len(first) + 1)
+            second = reserve(second, state[2], len(second) + 1)
+        k = state[2]
     if len(st_a):
-        x0, y0, cell = grid_f[0], grid_f[1], grid_f[2]
-        nx, ny = grid_i[0], grid_i[1]
-        gx1, gy1 = x0 + nx * cell, y0 + ny * cell
         stamp = np.full(len(st_a), -1, dtype=np.int64)
-        for i in range(n):
-            if bbox[i, 2] < x0 or bbox[i, 0] > gx1 or bbox[i, 3] < y0 or bbox[i, 1] > gy1:
-                continue
-            cx0, cx1, cy0, cy1 = _cell_range(bbox[i, 0], bbox[i, 1], bbox[i, 2], bbox[i, 3], x0, y0, cell, nx, ny)
-            for cy in range(cy0, cy1 + 1):
-                for cx in range(cx0, cx1 + 1):
-                    c = cy * nx + cx
-                    for w in range(cell_off[c], cell_off[c + 1]):
-                        t = items[w]
-                        if stamp[t] == i:
-                            continue
-                        stamp[t] = i
-                        if (
-                            max(st_a[t, 0], st_b[t, 0]) < bbox[i, 0]
-                            or min(st_a[t, 0], st_b[t, 0]) > bbox[i, 2]
-                            or max(st_a[t, 1], st_b[t, 1]) < bbox[i, 1]
-                            or min(st_a[t, 1], st_b[t, 1]) > bbox[i, 3]
-                        ):
-                            continue
-                        for p in range(offsets[i], offsets[i + 1]):
-                            pb = nxt[p]
-                            if _cross_properly(
-                                coords[p, 0], coords[p, 1], coords[pb, 0], coords[pb, 1],
-                                st_a[t, 0], st_a[t, 1], st_b[t, 0], st_b[t, 1],
-                            ):  # fmt: skip
-                                first, second, k = push_pair(first, second, k, p, m + t)
+        state = np.array([0, k, 0], dtype=np.int64)
+        while not _static_crossings_into(
+            coords, offsets, nxt, bbox, st_a, st_b, grid_f, grid_i, cell_off, items, stamp, state, first, second
+        ):
+            first = reserve(first, state[1], state[1] + state[2])
+            second = reserve(second, state[1], state[1] + state[2])
+        k = state[1]
     total = k + len(static_first)
     cross_first = np.empty(total, dtype=np.int64)
     cross_second = np.empty(total, dtype=np.int64)

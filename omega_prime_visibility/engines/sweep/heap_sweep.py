@@ -43,41 +43,6 @@ def nearer(pieces, a, b):
 
 
 @numba.njit(cache=True)
-def sift_up(pieces, heap, position, i):
-    """Move the piece at heap slot ``i`` up to its place (nearest on top); keep ``position`` in step."""
-    x = heap[i]
-    while i > 0:
-        parent = (i - 1) >> 1
-        y = heap[parent]
-        if not nearer(pieces, x, y):
-            break
-        heap[i] = y
-        position[y] = i
-        i = parent
-    heap[i] = x
-    position[x] = i
-
-
-@numba.njit(cache=True)
-def sift_down(pieces, heap, position, i, size):
-    """Move the piece at heap slot ``i`` down to its place among the first ``size`` slots."""
-    x = heap[i]
-    while True:
-        child = 2 * i + 1
-        if child >= size:
-            break
-        if child + 1 < size and nearer(pieces, heap[child + 1], heap[child]):
-            child += 1
-        if not nearer(pieces, heap[child], x):
-            break
-        heap[i] = heap[child]
-        position[heap[i]] = i
-        i = child
-    heap[i] = x
-    position[x] = i
-
-
-@numba.njit(cache=True)
 def nearest_intervals(pieces):
     """The sweep: consecutive bearing intervals between events and the nearest piece over each.
 
@@ -112,25 +77,49 @@ def nearest_intervals(pieces):
         theta = pieces[by_hi[j], HI]
         if i < k and pieces[by_lo[i], LO] < theta:
             theta = pieces[by_lo[i], LO]
-        while j < k and pieces[by_hi[j], HI] == theta:
-            ending = by_hi[j]
-            h = position[ending]
-            size -= 1
-            if h < size:
-                last = heap[size]
-                heap[h] = last
-                position[last] = h
-                if h > 0 and nearer(pieces, last, heap[(h - 1) >> 1]):
-                    sift_up(pieces, heap, position, h)
-                else:
-                    sift_down(pieces, heap, position, h, size)
-            position[ending] = -1
-            j += 1
-        while i < k and pieces[by_lo[i], LO] == theta:
-            heap[size] = by_lo[i]
-            size += 1
-            sift_up(pieces, heap, position, size - 1)
-            i += 1
+        # the events at theta, ends first, one at a time: a piece ending at slot h is replaced by the heap's last,
+        # a starting piece is appended; then the piece at slot h moves up while nearer than its parent, else down
+        # while a child is nearer. (Written out here, once, rather than as sift functions: a numba function with a
+        # loop that takes arrays costs reference counting on every call.)
+        while (j < k and pieces[by_hi[j], HI] == theta) or (i < k and pieces[by_lo[i], LO] == theta):
+            if j < k and pieces[by_hi[j], HI] == theta:
+                ending = by_hi[j]
+                h = position[ending]
+                position[ending] = -1
+                size -= 1
+                j += 1
+                if h == size:  # it was the last slot: nothing moves
+                    continue
+                heap[h] = heap[size]
+            else:
+                h = size
+                heap[h] = by_lo[i]
+                size += 1
+                i += 1
+            x = heap[h]
+            if h > 0 and nearer(pieces, x, heap[(h - 1) >> 1]):
+                while h > 0:
+                    parent = (h - 1) >> 1
+                    y = heap[parent]
+                    if not nearer(pieces, x, y):
+                        break
+                    heap[h] = y
+                    position[y] = h
+                    h = parent
+            else:
+                while True:
+                    child = 2 * h + 1
+                    if child >= size:
+                        break
+                    if child + 1 < size and nearer(pieces, heap[child + 1], heap[child]):
+                        child += 1
+                    if not nearer(pieces, heap[child], x):
+                        break
+                    heap[h] = heap[child]
+                    position[heap[h]] = h
+                    h = child
+            heap[h] = x
+            position[x] = h
         if size > 0:
             following = pieces[by_hi[j], HI]  # j < k: active pieces still have to end
             if i < k and pieces[by_lo[i], LO] < following:

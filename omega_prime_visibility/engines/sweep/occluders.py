@@ -5,7 +5,7 @@ farthest point. Candidates are enumerated by sweeping the targets' extents (sort
 intervals (objects: their angular extent; statics: the records of their kept edges), sorted by start, and grouped
 by (target, body) with a counting sort. An object lying entirely nearer than ``T``'s nearest point with an extent
 overlapping ``T``'s by more than ``MIN_PIECE`` is accepted at once (the rule of the VisiLibity engine), so is a
-static edge with a safety margin; all other candidates are decided by the exact pairwise test of
+static edge with a safety margin; all other candidates are decided (:mod:`.decide`) by the exact pairwise test of
 :mod:`...occlusion` (``occludes_one``) on the same shifted segments. For a static body only its kept edges that
 meet ``T``'s extent nearer than ``T``'s farthest point are handed to that test: a ray from outside enters a body
 through a front-facing edge, so the others cannot decide anything, and a long guard rail would otherwise cost the
@@ -23,14 +23,14 @@ import numba
 import numpy as np
 
 from ...kernels import counting_sort, group_by_key, prefix_sum, reserve
-from ...occlusion import MIN_PIECE, occludes_one
+from ...occlusion import MIN_PIECE
+from .decide import CANDIDATE_EPS, decided_pairs
 from .pieces import R_HI, R_LO
 
 PI = math.pi
 TWO_PI = 2.0 * math.pi
 STATIC_ACCEPT_ANGLE = 1e-9  # radians of overlap needed to accept a static edge without the exact test
 STATIC_ACCEPT_RELATIVE = 1e-7  # ... and it must lie nearer than (1 - this) times the target's nearest distance
-CANDIDATE_EPS = 1e-9  # radians; intervals this close count as overlapping (the exact test decides)
 
 #: The objects as one observer sees them: ``seg`` (m, 2, 2) their edges relative to the observer (metres),
 #: ``offsets`` (n + 1,) object ``i``'s edges are ``seg[offsets[i]:offsets[i + 1]]``, ``transparent`` (n,) bool,
@@ -52,55 +52,6 @@ def _records_by_static_body(record_edge, kept_body, n, n_src):
             static_records[k] = r
             k += 1
     return group_by_key(source, n_src, static_records[:k])
-
-
-@numba.njit(cache=True)
-def _occludes_static(objects, target, kept, record_edge, records, body_records, statics, ox, oy, scratch):
-    """The exact occlusion test of a static body against a target, on the body's edges that can matter.
-
-    A ray from outside enters a body through a front-facing edge, so only the body's kept edges whose bearing
-    interval meets the target's extent and that come nearer than the target's farthest point can be hit before
-    it; the others are left out (long guard rails would otherwise cost the exact test O(pieces * all edges)).
-
-    Parameters
-    ----------
-    objects : ObjectsSeen
-    target : int
-        Object number.
-    kept, record_edge, records
-        The kept edges and their records (:func:`.pieces.front_facing_edges`).
-    body_records : ndarray, shape (k,), int64
-        The static body's records, ascending.
-    statics : StaticEdges
-        Unshifted; the observer is at ``(ox, oy)``, metres.
-    scratch : ndarray, shape (>= m_target + k, 2, 2)
-        Work space for the segments handed to ``occludes_one``.
-    """
-    t_start, t_width, t_far = objects.start[target], objects.width[target], objects.far[target]
-    m = len(objects.seg)
-    k = 0
-    for e in range(objects.offsets[target], objects.offsets[target + 1]):
-        scratch[k] = objects.seg[e]
-        k += 1
-    target_edges = k
-    previous = -1
-    for r in body_records:
-        e = record_edge[r]
-        if e == previous or kept.distance[e, 0] >= t_far:
-            continue
-        x = (records[r, R_LO] - t_start) % TWO_PI
-        if not (x <= t_width + CANDIDATE_EPS or x + (records[r, R_HI] - records[r, R_LO]) >= TWO_PI - CANDIDATE_EPS):
-            continue
-        previous = e
-        s = kept.edge[e] - m
-        scratch[k, 0, 0] = statics.start[s, 0] - ox
-        scratch[k, 0, 1] = statics.start[s, 1] - oy
-        scratch[k, 1, 0] = statics.end[s, 0] - ox
-        scratch[k, 1, 1] = statics.end[s, 1] - oy
-        k += 1
-    if k == target_edges:
-        return False
-    return occludes_one(0.0, 0.0, scratch, target_edges, k, 0, target_edges, t_start, t_width)
 
 
 @numba.njit(cache=True)
@@ -184,30 +135,49 @@ def _candidate_pairs(items, queries, objects):
     pair_certain : ndarray of bool, shape (p,)
         Certainly occluding (:func:`_accept`); the rest go to the exact test.
     """
-    n = len(objects.offsets) - 1
-    item_lo, item_hi, item_body, item_near, item_far = items
-    query_lo, query_hi, query_target = queries
-    n_items = len(item_lo)
+    n_items = len(items[0])
     capacity = 4 * n_items + 16
     pair_target = np.empty(capacity, dtype=np.int64)
     pair_body = np.empty(capacity, dtype=np.int64)
     pair_certain = np.empty(capacity, dtype=np.bool_)
-    n_pairs = 0
-    active = np.empty(n_items, dtype=np.int64)  # items that started before the current target
-    n_active = 0
-    p = 0
-    for q in range(len(query_lo)):
+    active = np.empty(n_items, dtype=np.int64)
+    state = np.zeros(4, dtype=np.int64)  # next target, next item, active items, pairs
+    # the buffers grow between calls, not inside the loop over targets: an array rebound in a loop costs
+    # reference counting on every pass
+    while not _pairs_into(items, queries, objects.near, objects.far, len(objects.offsets) - 1, active, state,
+                          pair_target, pair_body, pair_certain):  # fmt: skip
+        n_pairs = state[3]
+        pair_target = reserve(pair_target, n_pairs, n_pairs + n_items)
+        pair_body = reserve(pair_body, n_pairs, n_pairs + n_items)
+        pair_certain = reserve(pair_certain, n_pairs, n_pairs + n_items)
+    n_pairs = state[3]
+    return pair_target[:n_pairs], pair_body[:n_pairs], pair_certain[:n_pairs]
+
+
+@numba.njit(cache=True)
+def _pairs_into(items, queries, near, far, n, active, state, pair_target, pair_body, pair_certain):
+    """The sweep of :func:`_candidate_pairs` from where ``state`` says, writing pairs to the buffers; stops (and
+    returns False, ``state`` updated) before a target whose pairs might not fit, returns True when done.
+
+    ``active`` holds the items that started before the current target (the first ``state[2]``), ``near, far``
+    (n,) the objects' distances (metres).
+    """
+    item_lo, item_hi, item_body, item_near, item_far = items
+    query_lo, query_hi, query_target = queries
+    n_items = len(item_lo)
+    q, p, n_active, n_pairs = state[0], state[1], state[2], state[3]
+    while q < len(query_lo):
+        if n_pairs + n_items > len(pair_target):
+            state[0], state[1], state[2], state[3] = q, p, n_active, n_pairs
+            return False
         t = query_target[q]
         lo, hi = query_lo[q], query_hi[q]
         while p < n_items and item_lo[p] < lo:
             active[n_active] = p
             n_active += 1
             p += 1
-        pair_target = reserve(pair_target, n_pairs, n_pairs + n_items)
-        pair_body = reserve(pair_body, n_pairs, n_pairs + n_items)
-        pair_certain = reserve(pair_certain, n_pairs, n_pairs + n_items)
-        far_t = objects.far[t]
-        near_t = objects.near[t]
+        far_t = far[t]
+        near_t = near[t]
         static_near_t = near_t * (1.0 - STATIC_ACCEPT_RELATIVE)
         keep = 0
         for a in range(n_active):
@@ -234,7 +204,9 @@ def _candidate_pairs(items, queries, objects):
                 pair_certain[n_pairs] = _accept(overlap, item_far[it], j < n, near_t, static_near_t)
                 n_pairs += 1
             it += 1
-    return pair_target[:n_pairs], pair_body[:n_pairs], pair_certain[:n_pairs]
+        q += 1
+    state[0], state[1], state[2], state[3] = q, p, n_active, n_pairs
+    return True
 
 
 @numba.njit(cache=True)
@@ -267,43 +239,19 @@ def occluders(objects, n_src, kept, record_edge, records, statics, ox, oy):
     by_body = counting_sort(pair_body, n + n_src, np.arange(n_pairs))
     order = counting_sort(pair_target, n, by_body)
 
-    # unique pairs, decided
-    static_offsets = np.zeros(0, dtype=np.int64)  # records of each static body, built when first needed
-    static_records = np.zeros(0, dtype=np.int64)
-    scratch = np.empty((0, 2, 2))
-    occ_offsets = np.zeros(n + 1, dtype=np.int64)
-    st_offsets = np.zeros(n + 1, dtype=np.int64)
-    found_body = np.empty(n_pairs, dtype=np.int64)
-    n_found = 0
-    u = 0
-    while u < n_pairs:
-        t = pair_target[order[u]]
-        j = pair_body[order[u]]
-        certain = False
-        while u < n_pairs and pair_target[order[u]] == t and pair_body[order[u]] == j:
-            certain |= pair_certain[order[u]]
-            u += 1
-        if not certain:
-            if j < n:
-                offsets = objects.offsets
-                hit = occludes_one(
-                    0.0, 0.0, objects.seg, offsets[j], offsets[j + 1], offsets[t], offsets[t + 1],
-                    objects.start[t], objects.width[t],
-                )  # fmt: skip
-            else:
-                if len(static_offsets) == 0:
-                    static_offsets, static_records = _records_by_static_body(record_edge, kept.body, n, n_src)
-                    scratch = np.empty((len(objects.seg) + len(records), 2, 2))
-                body_records = static_records[static_offsets[j - n] : static_offsets[j - n + 1]]
-                hit = _occludes_static(objects, t, kept, record_edge, records, body_records, statics, ox, oy, scratch)
-            if not hit:
-                continue
-        found_body[n_found] = j
-        n_found += 1
-        if j < n:
-            occ_offsets[t + 1] += 1
-        else:
-            st_offsets[t + 1] += 1
+    # unique pairs, decided; the static bodies' records only when some static pair needs the exact test
+    needs_static = False
+    for p in range(n_pairs):
+        needs_static |= pair_body[p] >= n and not pair_certain[p]
+    if needs_static:
+        static_offsets, static_records = _records_by_static_body(record_edge, kept.body, n, n_src)
+    else:
+        static_offsets, static_records = np.zeros(n_src + 1, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    found_body, occ_offsets, st_offsets = decided_pairs(
+        objects, kept, record_edge, records, statics, ox, oy, pair_target, pair_body, pair_certain, order,
+        static_offsets, static_records,
+    )  # fmt: skip
+    n_found = len(found_body)
     prefix_sum(occ_offsets)
     prefix_sum(st_offsets)
     occ = np.empty(occ_offsets[n], dtype=np.int64)

@@ -1,0 +1,256 @@
+"""Step 4b of the sweep for one observer: the candidate (target, body) pairs of :mod:`.occluders` decided.
+
+Pairs not accepted at once go to the exact pairwise test of :mod:`...occlusion` (``occludes_one``). For two objects
+it is evaluated here (:func:`_objects_occluded`) with the same floating-point operations on the same operands, but
+without the work that ``occludes_one`` repeats on every call. A static body is tested on those of its kept edges
+that can matter (:func:`_occludes_static`).
+
+Bodies are numbered objects first (``0..n-1``), then static sources (``n + source``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from ...kernels import wrap_positive
+from ...occlusion import MIN_PIECE, RELATIVE_TOLERANCE, _edge_line_distance, _nearest_edge, occludes_one
+from .pieces import R_HI, R_LO
+
+TWO_PI = 2.0 * math.pi
+CANDIDATE_EPS = 1e-9  # radians; intervals this close count as overlapping (the exact test decides)
+
+
+@numba.njit(cache=True)
+def _occludes_static(
+    objects, target, kept, record_edge, records, static_records, first, stop, statics, ox, oy, scratch
+):
+    """The exact occlusion test of a static body against a target, on the body's edges that can matter.
+
+    A ray from outside enters a body through a front-facing edge, so only the body's kept edges whose bearing
+    interval meets the target's extent and that come nearer than the target's farthest point can be hit before
+    it; the others are left out (long guard rails would otherwise cost the exact test O(pieces * all edges)).
+
+    Parameters
+    ----------
+    objects : ObjectsSeen
+    target : int
+        Object number.
+    kept, record_edge, records
+        The kept edges and their records (:func:`.pieces.front_facing_edges`).
+    static_records : ndarray, int64
+        Records grouped by static body (:func:`_records_by_static_body`); the body's are ``first:stop``, ascending.
+    statics : StaticEdges
+        Unshifted; the observer is at ``(ox, oy)``, metres.
+    scratch : ndarray, shape (>= m_target + k, 2, 2)
+        Work space for the segments handed to ``occludes_one``.
+    """
+    t_start, t_width, t_far = objects.start[target], objects.width[target], objects.far[target]
+    m = len(objects.seg)
+    k = 0
+    for e in range(objects.offsets[target], objects.offsets[target + 1]):
+        scratch[k] = objects.seg[e]
+        k += 1
+    target_edges = k
+    previous = -1
+    for r in static_records[first:stop]:
+        e = record_edge[r]
+        if e == previous or kept.distance[e, 0] >= t_far:
+            continue
+        x = (records[r, R_LO] - t_start) % TWO_PI
+        if not (x <= t_width + CANDIDATE_EPS or x + (records[r, R_HI] - records[r, R_LO]) >= TWO_PI - CANDIDATE_EPS):
+            continue
+        previous = e
+        s = kept.edge[e] - m
+        scratch[k, 0, 0] = statics.start[s, 0] - ox
+        scratch[k, 0, 1] = statics.start[s, 1] - oy
+        scratch[k, 1, 0] = statics.end[s, 0] - ox
+        scratch[k, 1, 1] = statics.end[s, 1] - oy
+        k += 1
+    if k == target_edges:
+        return False
+    return occludes_one(0.0, 0.0, scratch, target_edges, k, 0, target_edges, t_start, t_width)
+
+
+@numba.njit(cache=True)
+def _objects_occluded(seg, offsets, start, width, pair_target, pair_body):
+    """``occludes_one`` for each pair of objects ``(pair_body[p], pair_target[p])`` (grouped by target), shape (p,)
+    bool: the same floating-point operations on the same operands, without the work it repeats on every call.
+
+    Each vertex's bearing (scalar ``np.arctan2``, radians) is computed once per observer and the target's own cuts
+    once per target, instead of once per pair; every vertex is cut once instead of once per edge end (equal cuts
+    only make empty pieces, which are skipped); the cuts are sorted by insertion (few values, all >= +0.0: the
+    order ``np.sort`` gives), and the direction at a cut is computed once for the two pieces it bounds. Everything
+    is written out in this one function: a numba function with a loop that takes arrays costs reference counting
+    on every call.
+
+    Parameters
+    ----------
+    seg : ndarray, shape (m, 2, 2)
+        The objects' edges relative to the observer, metres; object ``i`` owns ``seg[offsets[i]:offsets[i + 1]]``.
+    start, width : ndarray, shape (n,)
+        The objects' angular extents, radians.
+    """
+    n = len(offsets) - 1
+    most = 0  # most vertices of a ring
+    for i in range(n):
+        most = max(most, offsets[i + 1] - offsets[i])
+    bearing = np.empty(len(seg))
+    have_bearing = np.zeros(n, dtype=np.bool_)
+    target_cuts = np.empty(most + 2)
+    cuts = np.empty(2 * most + 2)
+    hit = np.zeros(len(pair_target), dtype=np.bool_)
+    cut_target = -1  # the target whose cuts target_cuts holds
+    n_target_cuts = 0
+    for p in range(len(pair_target)):
+        t, j = pair_target[p], pair_body[p]
+        extent_start, extent_width = start[t], width[t]
+        for body in (t, j):  # vertex bearings, once per object
+            if not have_bearing[body]:
+                for v in range(offsets[body], offsets[body + 1]):
+                    bearing[v] = np.arctan2(seg[v, 0, 1], seg[v, 0, 0])
+                have_bearing[body] = True
+        if t != cut_target:  # the target's cuts: 0, its width and its vertices within it
+            target_cuts[0] = 0.0
+            target_cuts[1] = extent_width
+            n_target_cuts = 2
+            for v in range(offsets[t], offsets[t + 1]):
+                rel = wrap_positive(bearing[v] - extent_start)
+                if rel < extent_width:
+                    target_cuts[n_target_cuts] = rel
+                    n_target_cuts += 1
+            cut_target = t
+        for k in range(n_target_cuts):  # (a loop: slices cost reference counting)
+            cuts[k] = target_cuts[k]
+        k = n_target_cuts
+        for v in range(offsets[j], offsets[j + 1]):
+            rel = wrap_positive(bearing[v] - extent_start)
+            if rel < extent_width:
+                cuts[k] = rel
+                k += 1
+        for a in range(1, k):
+            value = cuts[a]
+            b = a - 1
+            while b >= 0 and cuts[b] > value:
+                cuts[b + 1] = cuts[b]
+                b -= 1
+            cuts[b + 1] = value
+        t_start, t_stop, j_start, j_stop = offsets[t], offsets[t + 1], offsets[j], offsets[j + 1]
+        cached = -1  # the cut whose direction (cached_x, cached_y) was computed last
+        cached_x, cached_y = 0.0, 0.0
+        for i in range(k - 1):
+            u0, u1 = cuts[i], cuts[i + 1]
+            if u1 - u0 < MIN_PIECE:
+                continue
+            if extent_width <= u0:
+                break
+            mid = extent_start + 0.5 * (u0 + u1)
+            dx, dy = np.cos(mid), np.sin(mid)
+            body_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, j_start, j_stop)
+            if body_edge < 0:  # (J is missed more often than T: T's own edges need not be tried then)
+                continue
+            target_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, t_start, t_stop)
+            if target_edge < 0:
+                continue
+            for end in range(i, i + 2):
+                if end == cached:
+                    ex, ey = cached_x, cached_y
+                else:
+                    ex, ey = np.cos(extent_start + cuts[end]), np.sin(extent_start + cuts[end])
+                    cached, cached_x, cached_y = end, ex, ey
+                target_distance = _edge_line_distance(0.0, 0.0, ex, ey, seg, target_edge)
+                body_distance = _edge_line_distance(0.0, 0.0, ex, ey, seg, body_edge)
+                if body_distance < target_distance * (1.0 - RELATIVE_TOLERANCE):
+                    hit[p] = True
+                    break
+            if hit[p]:
+                break
+    return hit
+
+
+@numba.njit(cache=True)
+def decided_pairs(
+    objects, kept, record_edge, records, statics, ox, oy, pair_target, pair_body, pair_certain, order,
+    static_offsets, static_records,
+):  # fmt: skip
+    """The unique candidate pairs, in ``order`` (by target, then body), that occlude: accepted at once or by the
+    exact test.
+
+    Parameters
+    ----------
+    objects : .occluders.ObjectsSeen
+    kept, record_edge, records
+        The kept edges and their records (:func:`.pieces.front_facing_edges`).
+    statics : .pieces.StaticEdges
+        Unshifted; the observer is at ``(ox, oy)``, metres.
+    pair_target, pair_body : ndarray, shape (p,), int64
+    pair_certain : ndarray of bool, shape (p,)
+        The candidate pairs and whether each is accepted at once (:func:`.occluders._candidate_pairs`).
+    order : ndarray, shape (p,), int64
+        The pairs sorted by target, then body.
+    static_offsets, static_records : ndarray, int64
+        The records of each static body (:func:`.occluders._records_by_static_body`); read only when a static pair
+        needs the exact test.
+
+    Returns
+    -------
+    found_body : ndarray, shape (f,), int64
+        The occluding body of each occluding pair, by target, then body.
+    occ_offsets, st_offsets : ndarray, shape (n + 1,), int64
+        ``occ_offsets[t + 1]`` and ``st_offsets[t + 1]``: how many objects and static bodies occlude ``t``.
+    """
+    n = len(objects.offsets) - 1
+    n_pairs = len(order)
+    # the unique pairs; those not accepted at once are marked -1 (object pairs) or -2 (static) for the exact test
+    unique_target = np.empty(n_pairs, dtype=np.int64)
+    unique_body = np.empty(n_pairs, dtype=np.int64)
+    state = np.empty(n_pairs, dtype=np.int8)  # 1: occludes, 0: does not, -1 / -2: to be tested
+    n_unique = 0
+    n_object_tests = 0
+    u = 0
+    while u < n_pairs:
+        t = pair_target[order[u]]
+        j = pair_body[order[u]]
+        certain = False
+        while u < n_pairs and pair_target[order[u]] == t and pair_body[order[u]] == j:
+            certain |= pair_certain[order[u]]
+            u += 1
+        unique_target[n_unique], unique_body[n_unique] = t, j
+        state[n_unique] = 1 if certain else (-1 if j < n else -2)
+        n_object_tests += state[n_unique] == -1
+        n_unique += 1
+    tested = np.empty(n_object_tests, dtype=np.int64)
+    k = 0
+    for r in range(n_unique):
+        if state[r] == -1:
+            tested[k] = r
+            k += 1
+    hit = _objects_occluded(
+        objects.seg, objects.offsets, objects.start, objects.width, unique_target[tested], unique_body[tested]
+    )
+    for k in range(n_object_tests):
+        state[tested[k]] = hit[k]
+    scratch = np.empty((len(objects.seg) + len(records) if len(static_records) else 0, 2, 2))
+    for r in range(n_unique):
+        if state[r] == -2:
+            j = unique_body[r]
+            state[r] = _occludes_static(
+                objects, unique_target[r], kept, record_edge, records, static_records, static_offsets[j - n],
+                static_offsets[j - n + 1], statics, ox, oy, scratch,
+            )  # fmt: skip
+    occ_offsets = np.zeros(n + 1, dtype=np.int64)
+    st_offsets = np.zeros(n + 1, dtype=np.int64)
+    found_body = np.empty(n_unique, dtype=np.int64)
+    n_found = 0
+    for r in range(n_unique):
+        if state[r] == 1:
+            j = unique_body[r]
+            found_body[n_found] = j
+            n_found += 1
+            if j < n:
+                occ_offsets[unique_target[r] + 1] += 1
+            else:
+                st_offsets[unique_target[r] + 1] += 1
+    return found_body[:n_found], occ_offsets, st_offsets
