@@ -120,7 +120,28 @@ def _covered(mx, my, dx, dy, i, j, points, start, count, center, turn, wedge, th
             qx, qy = points[g, 0], points[g, 1]
             if (px != qx or py != qy) and _segment_distance(mx, my, px, py, qx, qy) <= tol:
                 return (qx - px) * dx + (qy - py) * dy < 0.0 or j < i
+        if _radial(points, start, count, main, center, tol):
+            # on the ray of a radial edge but off it, where ``side`` is rounding: inside where inside the edges
+            # on both sides of the ray (the wedge's apex edges, radial too, say nothing)
+            inside, seen = True, False
+            for e in ((main + count - 1) % count, (main + 1) % count):
+                if not _radial(points, start, count, e, center, tol):
+                    px, py = points[start + e, 0], points[start + e, 1]
+                    g = start + (e + 1) % count
+                    seen = True
+                    inside = inside and _cross(points[g, 0] - px, points[g, 1] - py, mx - px, my - py) > 0.0
+            return not outside and seen and inside
     return not outside and side > 0.0
+
+
+@numba.njit(cache=True)
+def _radial(points, start, count, e, center, tol):
+    """Whether edge ``e`` of a polygon lies along a ray from its centre (its line within ``tol`` of it)."""
+    px, py = points[start + e, 0], points[start + e, 1]
+    g = start + (e + 1) % count
+    ex, ey = points[g, 0] - px, points[g, 1] - py
+    off = _cross(ex, ey, center[0] - px, center[1] - py)
+    return off * off <= tol * tol * (ex * ex + ey * ey)
 
 
 @numba.njit(cache=True)
@@ -183,8 +204,9 @@ def union_pieces(points, starts, centers, bases, fovs, collect):
     """The union's area and, when ``collect``, its boundary: the uncovered pieces of the polygons' edges.
 
     Parameters as for :func:`star_union_area`. Returns the area (square metres), the pieces (rows ``x0, y0, x1,
-    y1``, metres, each directed as its polygon's edge, so the union lies to their left; pieces shorter than the
-    tolerance are left out; none unless ``collect``) and the tolerance (metres) within which points count as one.
+    y1``, metres, each directed as its polygon's edge, so the union lies to their left; none unless ``collect``;
+    pieces at most twice the tolerance long are left out) and the tolerance (metres) within which points count as
+    one.
     """
     p = len(starts) - 1
     tol = ON_EDGE * (1.0 + np.abs(points).max()) if len(points) else 0.0
@@ -317,7 +339,7 @@ def _covered_length(spans, m):
 @numba.njit(cache=True)
 def _gaps(spans, m, ax, ay, bx, by, pieces, count, tol):
     """Append to ``pieces`` (rows ``x0, y0, x1, y1``) the parts of the edge a-b outside the covered ``spans[:m]``
-    (sorted by start; columns: parameters, then the ends' x, y) that are longer than ``tol``."""
+    (sorted by start; columns: parameters, then the ends' x, y) that are longer than ``2 tol``."""
     x, y, reach = ax, ay, 0.0  # the end of the covered part so far
     for q in range(m + 1):
         if q < m and spans[q, 0] <= reach:
@@ -327,7 +349,7 @@ def _gaps(spans, m, ax, ay, bx, by, pieces, count, tol):
         ex, ey = (spans[q, 2], spans[q, 3]) if q < m else (bx, by)
         if q == m and reach >= 1.0:
             break
-        if (ex - x) ** 2 + (ey - y) ** 2 > tol * tol:
+        if (ex - x) ** 2 + (ey - y) ** 2 > 4.0 * tol * tol:
             if count == len(pieces):
                 grown = np.empty((2 * count + 16, 4))
                 grown[:count] = pieces[:count]

@@ -7,7 +7,7 @@ to the smallest shell containing it. The pieces' ends are the polygons' vertices
 edges, computed the same way from either edge (:func:`.star_union._add_splits`), so consecutive pieces usually
 meet exactly; ends within :data:`MATCH` tolerances (the tolerance of :mod:`.star_union`, 1e-10 relative) are
 taken as one point, which covers three edges crossing at one point up to rounding and the pieces left out for
-being shorter than the tolerance. Where several pieces start at one point (polygons touching at a point, a hole
+being at most twice the tolerance long. Where several pieces start at one point (polygons touching at a point, a hole
 touching the outline) the chain turns as far left as it can: the rings then only touch, as valid polygons'
 rings must.
 
@@ -27,9 +27,9 @@ import shapely
 
 from .star_union import union_pieces
 
-MATCH = 8.0
+MATCH = 1e3
 """Distance, in tolerances of :mod:`.star_union`, within which a piece's end and another's start are one point."""
-AREA_CHECK = 1e-9
+AREA_CHECK = 1e-8
 """Relative difference allowed between the geometry's area and the pieces' (beyond ``tolerance x perimeter``)."""
 
 
@@ -42,51 +42,115 @@ def _left_turn(ix, iy, ox, oy):
 
 
 @numba.njit(cache=True)
-def _chain(pieces, tol):
-    """Closed rings from ``pieces`` (rows ``x0, y0, x1, y1``): their coordinates (each ring closed by repeating
-    its first point), the rings' offsets into them, and False when some piece's end meets no free start."""
+def _successors(pieces, tol):
+    """For each piece the one that follows it on the union's boundary (-1 for all when some end meets no start,
+    or the choices are not one to one), and the number of the point each piece starts at when several pieces
+    start there (the lowest of their numbers; -1 elsewhere)."""
     m = len(pieces)
     match = MATCH * tol
     order = np.argsort(pieces[:, 0])
     xs = pieces[order, 0]
-    used = np.zeros(m, dtype=np.bool_)
-    coords = np.empty((2 * m, 2))
+    following = np.full(m, -1)
+    junction = np.full(m, -1)
+    incoming = np.zeros(m, dtype=np.int64)
+    for p in range(m):
+        ex, ey = pieces[p, 2], pieces[p, 3]
+        lo, hi = np.searchsorted(xs, ex - match), np.searchsorted(xs, ex + match, side="right")
+        nearest = np.inf
+        for s in range(lo, hi):
+            q = order[s]
+            if q != p:
+                nearest = min(nearest, math.hypot(pieces[q, 0] - ex, pieces[q, 1] - ey))
+        # the starts at this end: within rounding of the nearest (pieces are longer than 2 tol: a short piece's
+        # end is no start of this point)
+        best, best_turn, found = -1, 0.0, 0
+        for s in range(lo, hi):
+            q = order[s]
+            if q == p or math.hypot(pieces[q, 0] - ex, pieces[q, 1] - ey) > min(nearest + tol, match):
+                continue
+            found += 1
+            if found == 1:
+                best = q
+                continue
+            if found == 2:  # several pieces start here: the sharpest left turn keeps the union on the left
+                best_turn = _turn(pieces, p, best)
+            turn = _turn(pieces, p, q)
+            if turn < best_turn:
+                best, best_turn = q, turn
+        if best < 0:
+            following[:] = -1
+            return following, junction
+        following[p] = best
+        incoming[best] += 1
+        x, y = pieces[p, 0], pieces[p, 1]
+        lowest, count = p, 0
+        for s in range(np.searchsorted(xs, x - tol), np.searchsorted(xs, x + tol, side="right")):
+            q = order[s]
+            if abs(pieces[q, 1] - y) <= tol:
+                count += 1
+                lowest = min(lowest, q)
+        if count > 1:
+            junction[p] = lowest
+    if np.any(incoming != 1):
+        following[:] = -1
+    return following, junction
+
+
+@numba.njit(cache=True)
+def _chain(pieces, tol):
+    """Closed rings from ``pieces`` (rows ``x0, y0, x1, y1``): their coordinates (each ring closed by repeating
+    its first point), the rings' offsets into them, and False when the pieces do not chain.
+
+    A ring that comes back to a point it passed (a region pinched at a point around a hole, two holes touching)
+    is split there: valid polygons' rings touch each other but not themselves."""
+    m = len(pieces)
+    following, junction = _successors(pieces, tol)
+    coords = np.empty((2 * m + 1, 2))
     offsets = np.zeros(m + 1, dtype=np.int64)
+    if m == 0 or following[0] < 0:
+        return coords[:0], offsets[:1], False
+    used = np.zeros(m, dtype=np.bool_)
+    at = np.full(m, -1)  # where on the current path each junction lies, by its number
+    path = np.empty((m, 2))
+    path_junction = np.empty(m, dtype=np.int64)
     r, k = 0, 0
     for first in range(m):
         if used[first]:
             continue
-        used[first] = True
-        current = first
-        while True:
-            coords[k, 0], coords[k, 1] = pieces[current, 0], pieces[current, 1]
-            k += 1
-            ex, ey = pieces[current, 2], pieces[current, 3]
-            best, best_turn, found = -1, 0.0, 0
-            for s in range(np.searchsorted(xs, ex - match), np.searchsorted(xs, ex + match, side="right")):
-                q = order[s]
-                if q == current or (used[q] and q != first) or abs(pieces[q, 1] - ey) > match:
-                    continue
-                found += 1
-                if found == 1:
-                    best = q
-                    continue
-                if found == 2:  # several pieces start here: compare the turns
-                    best_turn = _turn(pieces, current, best)
-                turn = _turn(pieces, current, q)
-                if turn < best_turn:
-                    best, best_turn = q, turn
-            if best < 0:
-                return coords[:0], offsets[:1], False
-            if best == first:
-                break
-            used[best] = True
-            current = best
-        coords[k] = coords[offsets[r]]
-        k += 1
+        length, p = 0, first
+        while not used[p]:
+            used[p] = True
+            v = junction[p]
+            if v >= 0 and at[v] >= 0:  # back at a point of the path: the loop since then is a ring
+                k = _close(path, at[v], length, coords, k)
+                r += 1
+                offsets[r] = k
+                for t in range(at[v] + 1, length):
+                    if path_junction[t] >= 0:
+                        at[path_junction[t]] = -1
+                length = at[v]
+            path[length, 0], path[length, 1] = pieces[p, 0], pieces[p, 1]
+            path_junction[length] = v
+            if v >= 0:
+                at[v] = length
+            length += 1
+            p = following[p]
+        k = _close(path, 0, length, coords, k)
         r += 1
         offsets[r] = k
+        for t in range(length):
+            if path_junction[t] >= 0:
+                at[path_junction[t]] = -1
     return coords[:k], offsets[: r + 1], True
+
+
+@numba.njit(cache=True)
+def _close(path, lo, hi, coords, k):
+    """Append ``path[lo:hi]`` and its first point again to ``coords`` from row ``k``; the new row count."""
+    size = hi - lo
+    coords[k : k + size] = path[lo:hi]
+    coords[k + size] = path[lo]
+    return k + size + 1
 
 
 @numba.njit(cache=True, inline="always")
