@@ -128,6 +128,7 @@ def _pinched() -> list:
         ("a pinwheel of four wedges", _pinwheel(), (1, 1)),
         ("a wedge touching itself around a hole", _pinched(), (1, 1)),
         ("wedges touching at their apex", [_wedge_part((0, 0), 0.5, 1.0, 5), _wedge_part((0, 0), 3.0, 1.0, 5)], (2, 0)),
+        ("three wedges touching at their apex", [_wedge_part((0, 0), 2 * k, 1.0, 5) for k in range(3)], (3, 0)),
         ("one wedge", [_wedge_part((1, 2), 2.0, 4.0, 5)], (1, 0)),
     ],
 )
@@ -138,7 +139,7 @@ def test_hand_made_unions(case, parts, holes) -> None:
     assert area == pytest.approx(want.area, rel=1e-12)
 
 
-@pytest.mark.parametrize("seed", [3, 4, 5, 6, 7, 8])
+@pytest.mark.parametrize("seed", [3, 4, 5, 6, 7, 8, 300, 1098])  # 300, 1098: points on radial edges' rays
 def test_the_union_matches_shapelys_on_random_scenes(seed, monkeypatch) -> None:
     # visible_area and the road path of visible_area_over_time build the union from star_union's pieces, the
     # area alone comes from star_union_area; the reference is shapely's union (the fallback, forced)
