@@ -1,4 +1,4 @@
-"""The area of a union of star-shaped polygons, without building the union (compiled).
+"""The area and boundary of a union of star-shaped polygons, without building the union (compiled).
 
 Each polygon ``P_j`` is star-shaped around its centre ``c_j`` (a sensor's position) and given counter-clockwise
 with its vertices in bearing order around ``c_j`` (what :func:`.engines.sweep.outline.visible_outline` gives; a
@@ -11,9 +11,13 @@ polygons on either side) for neither.
 
 The star shape makes both steps cheap: the edges of ``P_j`` that can meet a segment are those whose bearings from
 ``c_j`` overlap the segment's, and whether a point lies in ``P_j`` is decided by the one edge at its bearing, both
-found by binary search in the vertices' bearings. Points within :data:`ON_EDGE` (relative to the coordinates'
+found by binary search in the vertices' bearings (on the ray of a radial edge, a shadow's side, where that edge
+says nothing, by the edges on either side of the ray). Points within :data:`ON_EDGE` (relative to the coordinates'
 magnitude) of an edge count as on it: two sensors seeing the same face of a road user give two copies of the face's
 line that differ by rounding (1e-13 m), and must be recognised as one boundary.
+
+:func:`union_pieces` also gives the uncovered pieces themselves, the union's boundary, from which
+:mod:`.union_rings` builds the union; :func:`star_union_area` is its area alone.
 """
 
 from __future__ import annotations

@@ -3,18 +3,24 @@
 :func:`.star_union.union_pieces` finds the union's boundary: the pieces of the polygons' edges that no other
 polygon covers, each directed as its polygon's edge (counter-clockwise), so the union lies to its left. Chained
 end to start they close into rings: counter-clockwise ones are shells, clockwise ones holes, and each hole belongs
-to the smallest shell containing it. The pieces' ends are the polygons' vertices (exact) or the crossings of two
-edges, computed the same way from either edge (:func:`.star_union._add_splits`), so consecutive pieces usually
-meet exactly; ends within :data:`MATCH` tolerances (the tolerance of :mod:`.star_union`, 1e-10 relative) are
-taken as one point, which covers three edges crossing at one point up to rounding and the pieces left out for
-being at most twice the tolerance long. Where several pieces start at one point (polygons touching at a point, a hole
-touching the outline) the chain turns as far left as it can: the rings then only touch, as valid polygons'
-rings must.
+to the smallest shell containing it; rings thinner on average than the tolerance of :mod:`.star_union` (1e-10
+relative to the coordinates) are slivers of rounding and left out.
+
+A piece's end is a polygon's vertex (exact) or the crossing of two edges, computed the same way from either edge
+(:func:`.star_union._add_splits`), so consecutive pieces mostly meet exactly. A piece's successor is the piece
+starting nearest its end and within the tolerance of that nearest start (pieces are longer than twice the
+tolerance, so a short piece's end is never taken for its own start's point), as far as :data:`MATCH` tolerances
+away: three edges crossing at one point up to rounding, the pieces left out for being short, and the hand-overs
+between two nearly parallel edges (chords of two range circles, 1e-7 m apart) are bridged. Where several pieces
+start at one point (polygons touching at a point, a hole touching the outline) the chain turns as far left as it
+can, and a ring coming back to a point it passed is split there: valid polygons' rings touch each other, never
+themselves.
 
 The rings' vertices are the polygons' vertices and crossings, so the geometry is as exact as the area
-(:mod:`.star_union`); :func:`star_union` checks its area against the pieces' area (Green's theorem) and its
-validity, and gives None when either fails, or when the pieces do not chain, for the caller to fall back on
-shapely's union.
+(:mod:`.star_union`: exact edges, the range circles' chords as given). :func:`star_union` checks the geometry's
+area against the pieces' (Green's theorem, to :data:`AREA_CHECK` relative) and its validity, and gives None when
+either fails or the pieces do not chain, for the caller to fall back on shapely's union (none in 3,600 random
+scenes of 2 to 6 sensors, nor on the crowded highway of ``benchmarks/bench_sensors.py``).
 """
 
 from __future__ import annotations
@@ -30,7 +36,8 @@ from .star_union import union_pieces
 MATCH = 1e3
 """Distance, in tolerances of :mod:`.star_union`, within which a piece's end and another's start are one point."""
 AREA_CHECK = 1e-8
-"""Relative difference allowed between the geometry's area and the pieces' (beyond ``tolerance x perimeter``)."""
+"""Relative difference allowed between the geometry's area and the pieces' (beyond ``tolerance x perimeter``): the
+pieces' area is off by up to about 4e-9 where two nearly parallel edges hand over, the geometry being right."""
 
 
 @numba.njit(cache=True, inline="always")
@@ -244,6 +251,8 @@ def star_union(points, starts, centers, bases, fovs, origin=(0.0, 0.0)) -> tuple
         The union's area from :func:`.star_union.union_pieces`, whatever the geometry.
     """
     area, pieces, tol = union_pieces(points, starts, centers, bases, fovs, True)
+    if len(pieces) == 0 and area == 0.0:  # no polygon of three vertices
+        return shapely.Polygon(), area
     coords, offsets, chained = _chain(pieces, tol)
     if not chained or len(offsets) < 2:
         return None, area
