@@ -34,7 +34,7 @@ import shapely
 from .star_union import union_pieces
 
 MATCH = 1e3
-"""Distance, in tolerances of :mod:`.star_union`, within which a piece's end and another's start are one point."""
+"""Farthest a piece's successor may start from the piece's end, in tolerances of :mod:`.star_union`."""
 AREA_CHECK = 1e-8
 """Relative difference allowed between the geometry's area and the pieces' (beyond ``tolerance x perimeter``): the
 pieces' area is off by up to about 4e-9 where two nearly parallel edges hand over, the geometry being right."""
