@@ -6,7 +6,9 @@ All figures on one core, warm (a first call compiles), end to end through ``get_
 
 - the sweep engine with the typical 6-sensor set: µs per (frame, target, sensor), target ≤ 3; with one 360°
   sensor at the centre (``roof``): µs per (frame, target), target within 10 % of the figure without sensors;
-- the visible area of the typical set: ms per frame, target ≤ 2;
+- the visible area of the typical set: ms of CPU per frame, target ≤ 2; alone (``visible_area_over_time`` without a
+  road: the union's area only) and with the road area it hides (a road outline given: the union's geometry, as
+  ``visible_area`` builds it, and its difference with the road);
 - a city map: 5,000 building footprints over 10 km x 10 km and the crowded road through it; per-frame time with
   the typical set against the same scene with the buildings beyond 300 m of the ego removed, target ≤ 1.5x; and
   the same without a range (one 360° sensor without limit), where every building can matter.
@@ -31,14 +33,14 @@ from omega_prime_visibility import Sensor, VisibilityInputWarning, get_visibilit
 from omega_prime_visibility.area import visible_area_over_time
 
 
-def best_of(fn, repeat: int = 3) -> tuple[float, object]:
-    """Best wall time (seconds) of ``repeat`` calls after a warm-up call, and the last result."""
+def best_of(fn, repeat: int = 3, clock=time.perf_counter) -> tuple[float, object]:
+    """Best time (seconds; wall time, or ``clock``) of ``repeat`` calls after a warm-up call, and the last result."""
     out = fn()
     best = np.inf
     for _ in range(repeat):
-        t = time.perf_counter()
+        t = clock()
         out = fn()
-        best = min(best, time.perf_counter() - t)
+        best = min(best, clock() - t)
     return best, out
 
 
@@ -79,8 +81,12 @@ def main(argv: list[str] | None = None) -> None:
     row("roof: one 360° sensor at the centre", roofed / out.height * 1e6, "µs/(frame, target)", f"x{ratio:.2f} ≤ 1.10")
     typical, out = best_of(lambda: get_visibility_df(table, 0, sensors="typical", **run))
     row("typical: 6 sensors", typical / out.height * 1e6, "µs/(frame, target, sensor)", "≤ 3")
-    area, out = best_of(lambda: visible_area_over_time(table, 0, "typical"), repeat=1)
-    row("visible area of the typical set", area / out.height * 1e3, "ms/frame", "≤ 2")
+    # CPU time: one process, one thread, so the wall time on a quiet machine, and steadier on a busy one
+    area, out = best_of(lambda: visible_area_over_time(table, 0, "typical"), clock=time.process_time)
+    row("visible area of the typical set (CPU)", area / out.height * 1e3, "ms/frame", "≤ 2")
+    road = shapely.box(-250.0, -1.75, 250.0, 12.25)  # the four lanes
+    area, out = best_of(lambda: visible_area_over_time(table, 0, "typical", road=road), clock=time.process_time)
+    row("  with the hidden road area: the union's geometry (CPU)", area / out.height * 1e3, "ms/frame", "≤ 2")
 
     buildings = city(5000)
     ego_track = table.filter(table["idx"] == 0)

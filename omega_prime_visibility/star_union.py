@@ -1,4 +1,4 @@
-"""The area of a union of star-shaped polygons, without building the union (compiled).
+"""The area and boundary of a union of star-shaped polygons, without building the union (compiled).
 
 Each polygon ``P_j`` is star-shaped around its centre ``c_j`` (a sensor's position) and given counter-clockwise
 with its vertices in bearing order around ``c_j`` (what :func:`.engines.sweep.outline.visible_outline` gives; a
@@ -11,9 +11,13 @@ polygons on either side) for neither.
 
 The star shape makes both steps cheap: the edges of ``P_j`` that can meet a segment are those whose bearings from
 ``c_j`` overlap the segment's, and whether a point lies in ``P_j`` is decided by the one edge at its bearing, both
-found by binary search in the vertices' bearings. Points within :data:`ON_EDGE` (relative to the coordinates'
+found by binary search in the vertices' bearings (on the ray of a radial edge, a shadow's side, where that edge
+says nothing, by the edges on either side of the ray). Points within :data:`ON_EDGE` (relative to the coordinates'
 magnitude) of an edge count as on it: two sensors seeing the same face of a road user give two copies of the face's
 line that differ by rounding (1e-13 m), and must be recognised as one boundary.
+
+:func:`union_pieces` also gives the uncovered pieces themselves, the union's boundary, from which
+:mod:`.union_rings` builds the union; :func:`star_union_area` is its area alone.
 """
 
 from __future__ import annotations
@@ -120,12 +124,35 @@ def _covered(mx, my, dx, dy, i, j, points, start, count, center, turn, wedge, th
             qx, qy = points[g, 0], points[g, 1]
             if (px != qx or py != qy) and _segment_distance(mx, my, px, py, qx, qy) <= tol:
                 return (qx - px) * dx + (qy - py) * dy < 0.0 or j < i
+        if _radial(points, start, count, main, center, tol):
+            # on the ray of a radial edge but off it, where ``side`` is rounding: inside where inside the edges
+            # on both sides of the ray (the wedge's apex edges, radial too, say nothing)
+            inside, seen = True, False
+            for e in ((main + count - 1) % count, (main + 1) % count):
+                if not _radial(points, start, count, e, center, tol):
+                    px, py = points[start + e, 0], points[start + e, 1]
+                    g = start + (e + 1) % count
+                    seen = True
+                    inside = inside and _cross(points[g, 0] - px, points[g, 1] - py, mx - px, my - py) > 0.0
+            return not outside and seen and inside
     return not outside and side > 0.0
 
 
 @numba.njit(cache=True)
-def _add_splits(splits, n, ax, ay, bx, by, cx, cy, ex, ey, tol):
-    """Append to ``splits`` the parameters along a-b where c-e crosses it or, lying along it, begins or ends."""
+def _radial(points, start, count, e, center, tol):
+    """Whether edge ``e`` of a polygon lies along a ray from its centre (its line within ``tol`` of it)."""
+    px, py = points[start + e, 0], points[start + e, 1]
+    g = start + (e + 1) % count
+    ex, ey = points[g, 0] - px, points[g, 1] - py
+    off = _cross(ex, ey, center[0] - px, center[1] - py)
+    return off * off <= tol * tol * (ex * ex + ey * ey)
+
+
+@numba.njit(cache=True)
+def _add_splits(splits, n, ax, ay, bx, by, cx, cy, ex, ey, tol, canonical):
+    """Append to ``splits`` (rows: parameter along a-b, x, y) the points where c-e crosses a-b or, lying along it,
+    begins or ends. A crossing's point is computed along the ``canonical`` edge of the two (a-b if True), the
+    same way from either edge's side, so the pieces the two edges end and start there meet exactly."""
     if max(cx, ex) < min(ax, bx) - tol or min(cx, ex) > max(ax, bx) + tol:
         return n
     if max(cy, ey) < min(ay, by) - tol or min(cy, ey) > max(ay, by) + tol:
@@ -136,17 +163,21 @@ def _add_splits(splits, n, ax, ay, bx, by, cx, cy, ex, ey, tol):
     len_r = math.sqrt(rx * rx + ry * ry)
     len_s = math.sqrt(sx * sx + sy * sy)
     if abs(d) > PARALLEL * len_r * len_s:
+        # seen from c-e, d changes sign and both cross products too: t and u are the same to the bit
         t = _cross(cx - ax, cy - ay, sx, sy) / d
         u = _cross(cx - ax, cy - ay, rx, ry) / d
         slack = tol / len_s
         if 0.0 < t < 1.0 and -slack <= u <= 1.0 + slack:
-            splits[n] = t
+            splits[n, 0] = t
+            splits[n, 1], splits[n, 2] = (ax + t * rx, ay + t * ry) if canonical else (cx + u * sx, cy + u * sy)
             n += 1
     if abs(_cross(rx, ry, cx - ax, cy - ay)) <= tol * len_r or abs(_cross(rx, ry, ex - ax, ey - ay)) <= tol * len_r:
         for px, py in ((cx, cy), (ex, ey)):  # along a-b: its ends split a-b (extra splits are harmless)
             t = ((px - ax) * rx + (py - ay) * ry) / (len_r * len_r)
             if 0.0 < t < 1.0:
-                splits[n] = t
+                splits[n, 0], splits[n, 1], splits[n, 2] = t, px, py  # the vertex itself: other pieces end there
+                if abs(_cross(rx, ry, px - ax, py - ay)) > tol * len_r:  # off a-b: its projection
+                    splits[n, 1], splits[n, 2] = ax + t * rx, ay + t * ry
                 n += 1
     return n
 
@@ -169,6 +200,18 @@ def star_union_area(points, starts, centers, bases, fovs):
         Bearing (radians) where each polygon's vertices start, and its angular extent (radians, ``>= 2π``: all
         around, then ``bases`` is the bearing of its first vertex).
     """
+    return union_pieces(points, starts, centers, bases, fovs, False)[0]
+
+
+@numba.njit(cache=True)
+def union_pieces(points, starts, centers, bases, fovs, collect):
+    """The union's area and, when ``collect``, its boundary: the uncovered pieces of the polygons' edges.
+
+    Parameters as for :func:`star_union_area`. Returns the area (square metres), the pieces (rows ``x0, y0, x1,
+    y1``, metres, each directed as its polygon's edge, so the union lies to their left; none unless ``collect``;
+    pieces at most twice the tolerance long are left out) and the tolerance (metres) within which points count as
+    one.
+    """
     p = len(starts) - 1
     tol = ON_EDGE * (1.0 + np.abs(points).max()) if len(points) else 0.0
     wedges = fovs < TWO_PI
@@ -184,8 +227,10 @@ def star_union_area(points, starts, centers, bases, fovs):
             boxes[j, 0], boxes[j, 1] = points[s : s + c, 0].min() - tol, points[s : s + c, 1].min() - tol
             boxes[j, 2], boxes[j, 3] = points[s : s + c, 0].max() + tol, points[s : s + c, 1].max() + tol
     angles = np.full((len(points), p), np.nan)  # bearing of vertex v around centre j, computed when first needed
-    splits = np.empty(64)
-    spans = np.empty((64, 2))  # the pieces of the current edge covered so far, parameters along it
+    splits = np.empty((64, 3))  # where other polygons' edges split the current edge: parameter along it, x, y
+    spans = np.empty((64, 6))  # the pieces of the current edge covered so far: parameters along it, ends' x, y
+    pieces = np.empty((len(points) + 16 if collect else 0, 4))
+    count = 0
     order = np.arange(p)
     twice = 0.0
     for i in range(p):
@@ -220,30 +265,31 @@ def star_union_area(points, starts, centers, bases, fovs):
                         angles[vb, j] = _angle(bx, by, centers[j], turns[j])
                     first, last = _candidates(angles[va, j], angles[vb, j], thetas, o, cj)
                 if splits.shape[0] < 3 * (last - first + 4):
-                    splits = np.empty(6 * (last - first + 4))
-                splits[0], splits[1] = 0.0, 1.0
+                    splits = np.empty((6 * (last - first + 4), 3))
+                splits[0, 0], splits[0, 1], splits[0, 2] = 0.0, ax, ay
+                splits[1, 0], splits[1, 1], splits[1, 2] = 1.0, bx, by
                 n = 2
                 for q in range(first, last):
                     e = q % cj
                     f = (e + 1) % cj
                     n = _add_splits(
                         splits, n, ax, ay, bx, by, points[sj + e, 0], points[sj + e, 1], points[sj + f, 0],
-                        points[sj + f, 1], tol,
+                        points[sj + f, 1], tol, i < j,
                     )  # fmt: skip
                 if wedges[j]:  # the two edges through the apex, whatever the bearings
                     for e in (0, cj - 1):
                         f = (e + 1) % cj
                         n = _add_splits(
                             splits, n, ax, ay, bx, by, points[sj + e, 0], points[sj + e, 1], points[sj + f, 0],
-                            points[sj + f, 1], tol,
+                            points[sj + f, 1], tol, i < j,
                         )  # fmt: skip
-                _insertion_sort(splits, n)
+                _sort_rows(splits, n)
                 if spans.shape[0] < m + n:
-                    grown = np.empty((2 * (m + n), 2))
+                    grown = np.empty((2 * (m + n), 6))
                     grown[:m] = spans[:m]
                     spans = grown
                 for q in range(n - 1):
-                    t0, t1 = splits[q], splits[q + 1]
+                    t0, t1 = splits[q, 0], splits[q + 1, 0]
                     if t1 <= t0:
                         continue
                     tm = 0.5 * (t0 + t1)
@@ -252,40 +298,37 @@ def star_union_area(points, starts, centers, bases, fovs):
                         continue
                     if _covered(mx, my, dx, dy, i, j, points, sj, cj, centers[j], turns[j], wedges[j], thetas, o, tol):
                         spans[m, 0], spans[m, 1] = t0, t1
+                        spans[m, 2], spans[m, 3] = splits[q, 1], splits[q, 2]
+                        spans[m, 4], spans[m, 5] = splits[q + 1, 1], splits[q + 1, 2]
                         m += 1
                 if m == 1 and spans[0, 0] == 0.0 and spans[0, 1] == 1.0:
                     whole = True
                     order[jj], order[0] = order[0], order[jj]
                     break
             if not whole:
+                _sort_rows(spans, m)
                 twice += (1.0 - _covered_length(spans, m)) * _cross(ax, ay, bx, by)
-    return 0.5 * twice
+                if collect:
+                    pieces, count = _gaps(spans, m, ax, ay, bx, by, pieces, count, tol)
+    return 0.5 * twice, pieces[:count], tol
 
 
 @numba.njit(cache=True)
-def _insertion_sort(values, n):
-    """Sort ``values[:n]`` in place (a few values: no allocation)."""
+def _sort_rows(rows, n):
+    """Sort ``rows[:n]`` in place by their first column (a few rows, mostly in order: no allocation)."""
     for a in range(1, n):
-        v = values[a]
         b = a - 1
-        while b >= 0 and values[b] > v:
-            values[b + 1] = values[b]
+        while b >= 0 and rows[b, 0] > rows[b + 1, 0]:
+            for c in range(rows.shape[1]):
+                rows[b, c], rows[b + 1, c] = rows[b + 1, c], rows[b, c]
             b -= 1
-        values[b + 1] = v
 
 
 @numba.njit(cache=True)
 def _covered_length(spans, m):
-    """Total length of the union of the intervals ``spans[:m]``."""
+    """Total length of the union of the intervals ``spans[:m, :2]`` (sorted by start)."""
     if m == 0:
         return 0.0
-    for a in range(1, m):  # insertion sort by start: few spans, mostly in order
-        lo, hi = spans[a, 0], spans[a, 1]
-        b = a - 1
-        while b >= 0 and spans[b, 0] > lo:
-            spans[b + 1] = spans[b]
-            b -= 1
-        spans[b + 1, 0], spans[b + 1, 1] = lo, hi
     total = 0.0
     lo, hi = spans[0, 0], spans[0, 1]
     for q in range(1, m):
@@ -295,6 +338,31 @@ def _covered_length(spans, m):
         else:
             hi = max(hi, spans[q, 1])
     return total + hi - lo
+
+
+@numba.njit(cache=True)
+def _gaps(spans, m, ax, ay, bx, by, pieces, count, tol):
+    """Append to ``pieces`` (rows ``x0, y0, x1, y1``) the parts of the edge a-b outside the covered ``spans[:m]``
+    (sorted by start; columns: parameters, then the ends' x, y) that are longer than ``2 tol``."""
+    x, y, reach = ax, ay, 0.0  # the end of the covered part so far
+    for q in range(m + 1):
+        if q < m and spans[q, 0] <= reach:
+            if spans[q, 1] > reach:
+                x, y, reach = spans[q, 4], spans[q, 5], spans[q, 1]
+            continue
+        ex, ey = (spans[q, 2], spans[q, 3]) if q < m else (bx, by)
+        if q == m and reach >= 1.0:
+            break
+        if (ex - x) ** 2 + (ey - y) ** 2 > 4.0 * tol * tol:
+            if count == len(pieces):
+                grown = np.empty((2 * count + 16, 4))
+                grown[:count] = pieces[:count]
+                pieces = grown
+            pieces[count, 0], pieces[count, 1], pieces[count, 2], pieces[count, 3] = x, y, ex, ey
+            count += 1
+        if q < m:
+            x, y, reach = spans[q, 4], spans[q, 5], spans[q, 1]
+    return pieces, count
 
 
 @numba.njit(cache=True, inline="always")

@@ -12,7 +12,7 @@ import shapely
 from conftest import boxes_table, scene_table
 from reference import scene_series
 
-from omega_prime_visibility import Sensor
+from omega_prime_visibility import Sensor, area
 from omega_prime_visibility.area import ARC_STEP, road_outline, visible_area, visible_area_over_time
 from omega_prime_visibility.engines.visilibity import VisiLibityEngine
 from omega_prime_visibility.pipeline import viewpoints
@@ -94,6 +94,31 @@ def test_over_time_with_a_road() -> None:
         assert row["visible_area"] == pytest.approx(seen.area, rel=1e-12)
         assert row["hidden_road_area"] == pytest.approx(road.area - road.intersection(seen).area, rel=1e-9)
     assert visible_area_over_time(frames, 0, CAMERA).columns == ["frame", "total_nanos", "visible_area"]
+
+
+def test_a_crowded_road_with_the_typical_set(monkeypatch) -> None:
+    # 40 cars on four lanes around the ego (some overlapping), the typical 6-sensor layout: the union built from
+    # the pieces is shapely's, with no fallback
+    rng = np.random.default_rng(11)
+    frames = []
+    for f in range(4):
+        cars = [(0.0, 0.0, 4.5, 1.9, 0.0)]
+        cars += [(x, 3.5 * lane + rng.uniform(-0.4, 0.4), 4.5, 1.9, rng.uniform(-0.03, 0.03))
+                 for x, lane in zip(rng.uniform(-80, 80, 39), rng.integers(-1, 3, 39), strict=True)]  # fmt: skip
+        frames.append(boxes_table(cars, frame=f))
+    table = pl.concat(frames)
+    road = shapely.box(-100, -5.25, 100, 8.75)
+    fallbacks = area.UNION_FALLBACKS["shapely"]
+    out = visible_area_over_time(table, 0, "typical", road=road)
+    got = [visible_area(table, 0, f, "typical") for f in range(4)]
+    assert area.UNION_FALLBACKS["shapely"] == fallbacks
+    monkeypatch.setattr(area, "star_union", lambda *args, **kwargs: (None, 0.0))
+    for f, seen in enumerate(got):
+        want = visible_area(table, 0, f, "typical")
+        assert shapely.is_valid(seen) and len(shapely.get_parts(seen)) == len(shapely.get_parts(want))
+        assert shapely.symmetric_difference(seen, want).area <= 1e-9 * want.area
+        assert out["hidden_road_area"][f] == pytest.approx(shapely.difference(road, want).area, rel=1e-9)
+    assert area.UNION_FALLBACKS["shapely"] == fallbacks + 4  # the forced ones, counted
 
 
 def test_road_outline_from_an_opendrive_map(shared_data) -> None:
