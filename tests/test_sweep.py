@@ -375,3 +375,33 @@ def test_object_occlusion_test_is_occludes_one(seed: int) -> None:
     ]
     assert 0 < np.count_nonzero(exact) < len(exact)
     assert np.array_equal(fast, exact)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_static_occlusion_test_is_occludes_one(seed: int) -> None:
+    """The sweep's static test (a target's edges against some loose edges of a static body, in work space) gives
+    ``occludes_one``'s answer, also on coordinates snapped to a coarse grid (shared end points, edges through the
+    observer)."""
+    from omega_prime_visibility.engines.sweep.decide import _scratch_occluded
+    from omega_prime_visibility.geometry import Rings, angular_extent, box_rings
+    from omega_prime_visibility.occlusion import occludes_one
+
+    rng = np.random.default_rng(seed)
+    answers = []
+    for _ in range(300):
+        target = box_rings(*rng.uniform([-12, -8, 1, 1, -3], [12, 8, 6, 3, 3], (1, 5)).T)
+        walls = rng.uniform(-15, 15, (int(rng.integers(1, 5)), 2, 2))
+        a = target.coords
+        scratch = np.concatenate([np.stack([a, np.roll(a, -1, axis=0)], axis=1), walls])
+        scratch = np.round(scratch * (2 if seed % 2 else 1e6)) / (2 if seed % 2 else 1e6)
+        start, width, winding = angular_extent(np.zeros(2), Rings(scratch[:4, 0], np.array([0, 4])))
+        if winding[0]:
+            continue
+        args = (scratch, 4, len(scratch), 0, 4, float(start[0]), float(width[0]))
+        exact = occludes_one(0.0, 0.0, *args)
+        fast = _scratch_occluded(
+            scratch, 4, len(scratch), float(start[0]), float(width[0]), np.empty(2 * len(scratch) + 2)
+        )
+        assert fast == exact
+        answers.append(exact)
+    assert 0 < sum(answers) < len(answers)

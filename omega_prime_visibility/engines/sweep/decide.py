@@ -16,7 +16,7 @@ import numba
 import numpy as np
 
 from ...kernels import wrap_positive
-from ...occlusion import MIN_PIECE, RELATIVE_TOLERANCE, _edge_line_distance, _nearest_edge, occludes_one
+from ...occlusion import MIN_PIECE, RELATIVE_TOLERANCE, _edge_line_distance, _nearest_edge
 from .pieces import R_HI, R_LO
 
 TWO_PI = 2.0 * math.pi
@@ -25,7 +25,7 @@ CANDIDATE_EPS = 1e-9  # radians; intervals this close count as overlapping (the 
 
 @numba.njit(cache=True)
 def _occludes_static(
-    objects, target, kept, record_edge, records, static_records, first, stop, statics, ox, oy, scratch
+    objects, target, kept, record_edge, records, static_records, first, stop, statics, ox, oy, scratch, cuts
 ):
     """The exact occlusion test of a static body against a target, on the body's edges that can matter.
 
@@ -45,7 +45,9 @@ def _occludes_static(
     statics : StaticEdges
         Unshifted; the observer is at ``(ox, oy)``, metres.
     scratch : ndarray, shape (>= m_target + k, 2, 2)
-        Work space for the segments handed to ``occludes_one``.
+        Work space for the segments handed to the exact test.
+    cuts : ndarray, shape (>= 2 * (m_target + k) + 2,)
+        Work space for its cuts (:func:`_scratch_occluded`).
     """
     t_start, t_width, t_far = objects.start[target], objects.width[target], objects.far[target]
     m = len(objects.seg)
@@ -71,7 +73,52 @@ def _occludes_static(
         k += 1
     if k == target_edges:
         return False
-    return occludes_one(0.0, 0.0, scratch, target_edges, k, 0, target_edges, t_start, t_width)
+    return _scratch_occluded(scratch, target_edges, k, t_start, t_width, cuts)
+
+
+@numba.njit(cache=True)
+def _scratch_occluded(seg, target_edges, stop, extent_start, extent_width, cuts):
+    """``occludes_one(0.0, 0.0, seg, target_edges, stop, 0, target_edges, extent_start, extent_width)``: the body's
+    edges ``seg[target_edges:stop]`` against the target's ``seg[:target_edges]``, observer at the origin, with the
+    same floating-point operations on the same operands, in the work space ``cuts`` (shape >= 2 * stop + 2)
+    instead of new arrays, the cuts sorted by insertion (the order ``np.sort`` gives: all are >= +0.0 or equal
+    to it)."""
+    cuts[0] = 0.0
+    cuts[1] = extent_width
+    k = 2
+    for lo, hi in ((target_edges, stop), (0, target_edges)):
+        for j in range(lo, hi):
+            for e in range(2):
+                rel = wrap_positive(np.arctan2(seg[j, e, 1] - 0.0, seg[j, e, 0] - 0.0) - extent_start)
+                if rel < extent_width:
+                    cuts[k] = rel
+                    k += 1
+    for a in range(1, k):
+        value = cuts[a]
+        b = a - 1
+        while b >= 0 and cuts[b] > value:
+            cuts[b + 1] = cuts[b]
+            b -= 1
+        cuts[b + 1] = value
+    for i in range(k - 1):
+        u0, u1 = cuts[i], cuts[i + 1]
+        if u1 - u0 < MIN_PIECE:
+            continue
+        if extent_width <= u0:
+            break
+        mid = extent_start + 0.5 * (u0 + u1)
+        dx, dy = np.cos(mid), np.sin(mid)
+        target_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, 0, target_edges)
+        body_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, target_edges, stop)
+        if target_edge < 0 or body_edge < 0:
+            continue
+        for u in (u0, u1):
+            ex, ey = np.cos(extent_start + u), np.sin(extent_start + u)
+            target_distance = _edge_line_distance(0.0, 0.0, ex, ey, seg, target_edge)
+            body_distance = _edge_line_distance(0.0, 0.0, ex, ey, seg, body_edge)
+            if body_distance < target_distance * (1.0 - RELATIVE_TOLERANCE):
+                return True
+    return False
 
 
 @numba.njit(cache=True)
@@ -233,12 +280,13 @@ def decided_pairs(
     for k in range(n_object_tests):
         state[tested[k]] = hit[k]
     scratch = np.empty((len(objects.seg) + len(records) if len(static_records) else 0, 2, 2))
+    cuts = np.empty(2 * len(scratch) + 2)
     for r in range(n_unique):
         if state[r] == -2:
             j = unique_body[r]
             state[r] = _occludes_static(
                 objects, unique_target[r], kept, record_edge, records, static_records, static_offsets[j - n],
-                static_offsets[j - n + 1], statics, ox, oy, scratch,
+                static_offsets[j - n + 1], statics, ox, oy, scratch, cuts,
             )  # fmt: skip
     occ_offsets = np.zeros(n + 1, dtype=np.int64)
     st_offsets = np.zeros(n + 1, dtype=np.int64)
