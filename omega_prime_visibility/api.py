@@ -229,9 +229,11 @@ def get_visibility_df(
         # workers write their own parts: only row counts and containment logs come back here
         names = sensor_names(sensor_set)
         labels = {} if names is None else {"sensor": names, "status": STATUSES}
-        schema = with_can_see(empty_table(with_ego, names is not None), mode).to_arrow().schema
         finish = Finisher(static_positions, mode == "3d")
-        sink = Finisher(static_positions, mode == "3d", PartWriter(temp, schema, labels)) if temp is not None else None
+        sink = None
+        if temp is not None:
+            schema = with_can_see(empty_table(with_ego, names is not None), mode).to_arrow().schema
+            sink = Finisher(static_positions, mode == "3d", PartWriter(temp, schema, labels))
         try:
             with _executor(n_workers) as pool:
                 spread = {"executor": pool, "workers": n_workers, "sink": sink}

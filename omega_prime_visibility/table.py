@@ -174,4 +174,5 @@ def to_polars(columns: Columns | None, with_ego: bool, sensor_names: Sequence[st
             data[name] = pl.Series(STATUSES, dtype=pl.String).gather(columns[name]).cast(target[name])
         else:
             data[name] = pl.Series(columns[name])
-    return pl.DataFrame(data).cast(target)
+    table = pl.DataFrame(data)
+    return table if table.schema == target else table.cast(target)  # (a cast costs a polars query even when idle)

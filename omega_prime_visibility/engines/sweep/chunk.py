@@ -4,7 +4,7 @@ Frame by frame, Python around the kernel (slicing the frame, building its viewpo
 more than the sweep itself on small scenes, so a chunk goes through :func:`bearing_arguments` (every frame's
 edge crossings and the arctangent arguments of all its viewpoints), numpy's ``arctan2`` over all of them at once
 (the bearings must come from numpy's ``arctan2``, as frame by frame, so that the numbers are the same to the
-bit), and :func:`observe_frames` (:func:`.observe.observe_frame` on each frame, the results packed as CSR over
+bit), and :func:`observe_frames` (:func:`.observe.observe_one` for each viewpoint, the results written as CSR over
 the chunk's targets). The numbers are those of :meth:`.SweepEngine.observe` frame by frame.
 """
 
@@ -13,10 +13,14 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...kernels import reserve, ring_index
+from ...kernels import reserve
 from ...sensors import TWO_PI
+from .. import Reason
 from .crossings import prepare_frame
-from .observe import observe_frame, reason_codes
+from .observe import observe_one
+from .pieces import FrameEdges, StaticEdges
+
+_IN_VIEW, _OCCLUDED, _CONTAINS_OBSERVER = int(Reason.IN_VIEW), int(Reason.OCCLUDED), int(Reason.CONTAINS_OBSERVER)
 
 
 @numba.njit(cache=True)
@@ -104,9 +108,11 @@ def observe_frames(
     static_arrays,
     static_grid,
 ):
-    """:func:`.observe.observe_frame` for every frame of a chunk (arguments as :func:`bearing_arguments` takes and
-    returns them, ``ang`` the bearings of ``y, x``; ``transparent`` per target, ``static_inside`` CSR per viewpoint
-    by ``static_offsets``), every viewpoint seeing all around without range.
+    """:func:`.observe.observe_one` for every viewpoint of a chunk (arguments as :func:`bearing_arguments` takes
+    and returns them, ``ang`` the bearings of ``y, x``; ``transparent`` per target, ``static_inside`` CSR per
+    viewpoint by ``static_offsets``), every viewpoint seeing all around without range; what
+    :func:`.observe.observe_frame` and :func:`.observe.reason_codes` give frame by frame, written straight into
+    the chunk's arrays.
 
     Returns
     -------
@@ -115,6 +121,8 @@ def observe_frames(
     occ_offsets, occ, st_offsets, st : ndarray, int64
         CSR over the targets (see :class:`..ChunkObservation`).
     """
+    statics = StaticEdges(*static_arrays)
+    n_frames = len(frame_starts) - 1
     n_targets = target_offsets[-1]
     visible = np.empty(n_targets)
     width = np.empty(n_targets)
@@ -125,59 +133,60 @@ def observe_frames(
     st = np.empty(0, dtype=np.int64)
     n_occ = 0
     n_st = 0
-    for f in range(len(frame_starts) - 1):
+    # each frame's ring offsets and ring numbers counted from its own first row, for all frames at once
+    local_offsets = np.empty(len(offsets) - 1 + n_frames, dtype=np.int64)
+    ring = np.empty(offsets[-1] - offsets[0], dtype=np.int64)
+    for f in range(n_frames):
+        s, e = frame_starts[f], frame_starts[f + 1]
+        for r in range(s, e + 1):
+            local_offsets[r + f] = offsets[r] - offsets[s]
+        for r in range(s, e):
+            ring[offsets[r] - offsets[0] : offsets[r + 1] - offsets[0]] = r - s
+    static_transparent = np.zeros(n_sources, dtype=np.bool_)
+    for f in range(n_frames):
         v0, v1 = view_starts[f], view_starts[f + 1]
         if v1 == v0:
             continue
-        k = v1 - v0
         s, e = frame_starts[f], frame_starts[f + 1]
         n = e - s
-        local = offsets[s : e + 1] - offsets[s]
-        m = local[-1]
-        vs = offsets[s] - offsets[0]
+        vs, ve = offsets[s] - offsets[0], offsets[e] - offsets[0]
         c0, c1 = cross_offsets[f], cross_offsets[f + 1]
         # slices of C-contiguous arrays along their first axis stay C-contiguous: no copies
-        frame_arrays = (
+        frame = FrameEdges(
             coords[offsets[s] : offsets[e]],
-            local,
-            following[vs : vs + m],
-            ring_index(local),
+            local_offsets[s + f : e + f + 1],
+            following[vs:ve],
+            ring[vs:ve],
             cross_first[c0:c1],
             cross_second[c0:c1],
         )
-        frame_ang = ang[arg_offsets[v0] : arg_offsets[v1]].reshape(k, 2 * m)
-        frame_transparent = transparent[target_offsets[v0] : target_offsets[v1]].reshape(k, n)
-        frame_static = np.zeros((k, n_sources), dtype=np.bool_)
-        for o in range(k):
-            for q in range(static_offsets[v0 + o], static_offsets[v0 + o + 1]):
-                frame_static[o, static_inside[q]] = True
-        limits = np.empty((k, 3))
-        for o in range(k):
-            limits[o, 0], limits[o, 1], limits[o, 2] = 0.0, TWO_PI, np.inf
-        out = observe_frame(
-            positions[v0:v1],
-            frame_arrays,
-            static_arrays,
-            static_grid,
-            frame_ang,
-            frame_transparent,
-            frame_static,
-            limits,
-        )
-        f_visible, f_width, f_occ_offsets, f_occ, f_occ_cut, f_st_offsets, f_st, f_st_cut = out
-        f_reason = reason_codes(f_occ_offsets, f_st_offsets, frame_transparent)
-        occ = reserve(occ, n_occ, n_occ + len(f_occ))
-        st = reserve(st, n_st, n_st + len(f_st))
-        occ[n_occ : n_occ + len(f_occ)] = f_occ
-        st[n_st : n_st + len(f_st)] = f_st
-        for o in range(k):
-            t0 = target_offsets[v0 + o]
+        for o in range(v0, v1):
+            for q in range(static_offsets[o], static_offsets[o + 1]):
+                static_transparent[static_inside[q]] = True
+            t0 = target_offsets[o]
+            object_transparent = transparent[t0 : t0 + n]
+            one_visible, one_width, one_occ_offsets, one_occ, one_st_offsets, one_st = observe_one(
+                positions[o, 0], positions[o, 1], frame, statics, static_grid, ang[arg_offsets[o] : arg_offsets[o + 1]],
+                object_transparent, static_transparent, 0.0, TWO_PI, np.inf,
+            )  # fmt: skip
+            for q in range(static_offsets[o], static_offsets[o + 1]):
+                static_transparent[static_inside[q]] = False
+            occ = reserve(occ, n_occ, n_occ + len(one_occ))
+            st = reserve(st, n_st, n_st + len(one_st))
+            occ[n_occ : n_occ + len(one_occ)] = one_occ
+            st[n_st : n_st + len(one_st)] = one_st
             for i in range(n):
-                visible[t0 + i] = f_visible[o, i]
-                width[t0 + i] = f_width[o, i]
-                reason[t0 + i] = f_reason[o, i]
-                occ_offsets[t0 + i + 1] = n_occ + f_occ_cut[o] + f_occ_offsets[o, i + 1]
-                st_offsets[t0 + i + 1] = n_st + f_st_cut[o] + f_st_offsets[o, i + 1]
-        n_occ += len(f_occ)
-        n_st += len(f_st)
+                visible[t0 + i] = one_visible[i]
+                width[t0 + i] = one_width[i]
+                occ_offsets[t0 + i + 1] = n_occ + one_occ_offsets[i + 1]
+                st_offsets[t0 + i + 1] = n_st + one_st_offsets[i + 1]
+                # as reason_codes gives them
+                if object_transparent[i]:
+                    reason[t0 + i] = _CONTAINS_OBSERVER
+                elif one_occ_offsets[i + 1] > one_occ_offsets[i] or one_st_offsets[i + 1] > one_st_offsets[i]:
+                    reason[t0 + i] = _OCCLUDED
+                else:
+                    reason[t0 + i] = _IN_VIEW
+            n_occ += len(one_occ)
+            n_st += len(one_st)
     return visible, width, reason, occ_offsets, occ[:n_occ], st_offsets, st[:n_st]
