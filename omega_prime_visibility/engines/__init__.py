@@ -158,18 +158,26 @@ class Observation:
         )
 
 
+@numba.njit(cache=True, inline="always")
+def reason_of(transparent, n_occluders, n_static_occluders):
+    """The :class:`Reason` code of a target from whether it contains the viewpoint and its numbers of occluders
+    (the one place the codes are decided; every engine's observations go through it)."""
+    if transparent:
+        return _CONTAINS_OBSERVER
+    if n_occluders > 0 or n_static_occluders > 0:
+        return _OCCLUDED
+    return _IN_VIEW
+
+
 @numba.njit(cache=True)
 def _reason_codes(occluder_offsets, static_offsets, transparent):
     """One :class:`Reason` code per object from its occluder lists and whether it contains the viewpoint."""
     n = len(transparent)
     reason = np.empty(n, dtype=np.int8)
     for i in range(n):
-        if transparent[i]:
-            reason[i] = _CONTAINS_OBSERVER
-        elif occluder_offsets[i + 1] > occluder_offsets[i] or static_offsets[i + 1] > static_offsets[i]:
-            reason[i] = _OCCLUDED
-        else:
-            reason[i] = _IN_VIEW
+        reason[i] = reason_of(
+            transparent[i], occluder_offsets[i + 1] - occluder_offsets[i], static_offsets[i + 1] - static_offsets[i]
+        )
     return reason
 
 

@@ -15,12 +15,10 @@ import numpy as np
 
 from ...kernels import reserve
 from ...sensors import TWO_PI
-from .. import Reason
+from .. import reason_of
 from .crossings import prepare_frame
 from .observe import observe_one
 from .pieces import FrameEdges, StaticEdges
-
-_IN_VIEW, _OCCLUDED, _CONTAINS_OBSERVER = int(Reason.IN_VIEW), int(Reason.OCCLUDED), int(Reason.CONTAINS_OBSERVER)
 
 
 @numba.njit(cache=True)
@@ -180,13 +178,11 @@ def observe_frames(
                 width[t0 + i] = one_width[i]
                 occ_offsets[t0 + i + 1] = n_occ + one_occ_offsets[i + 1]
                 st_offsets[t0 + i + 1] = n_st + one_st_offsets[i + 1]
-                # as reason_codes gives them
-                if object_transparent[i]:
-                    reason[t0 + i] = _CONTAINS_OBSERVER
-                elif one_occ_offsets[i + 1] > one_occ_offsets[i] or one_st_offsets[i + 1] > one_st_offsets[i]:
-                    reason[t0 + i] = _OCCLUDED
-                else:
-                    reason[t0 + i] = _IN_VIEW
+                reason[t0 + i] = reason_of(
+                    object_transparent[i],
+                    one_occ_offsets[i + 1] - one_occ_offsets[i],
+                    one_st_offsets[i + 1] - one_st_offsets[i],
+                )
             n_occ += len(one_occ)
             n_st += len(one_st)
     return visible, width, reason, occ_offsets, occ[:n_occ], st_offsets, st[:n_st]

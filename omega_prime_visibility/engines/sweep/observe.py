@@ -11,7 +11,7 @@ import math
 import numba
 import numpy as np
 
-from .. import Reason
+from .. import reason_of
 from .crossings import statics_near
 from .heap_sweep import visible_angles
 from .occluders import ObjectsSeen, occluders
@@ -26,8 +26,6 @@ from .pieces import (
     object_extents,
     shifted_object_edges,
 )
-
-_IN_VIEW, _OCCLUDED, _CONTAINS_OBSERVER = int(Reason.IN_VIEW), int(Reason.OCCLUDED), int(Reason.CONTAINS_OBSERVER)
 
 
 @numba.njit(cache=True)
@@ -172,10 +170,9 @@ def reason_codes(occ_offsets, static_offsets, transparent):
     reason = np.empty((k, n), dtype=np.int8)
     for o in range(k):
         for i in range(n):
-            if transparent[o, i]:
-                reason[o, i] = _CONTAINS_OBSERVER
-            elif occ_offsets[o, i + 1] > occ_offsets[o, i] or static_offsets[o, i + 1] > static_offsets[o, i]:
-                reason[o, i] = _OCCLUDED
-            else:
-                reason[o, i] = _IN_VIEW
+            reason[o, i] = reason_of(
+                transparent[o, i],
+                occ_offsets[o, i + 1] - occ_offsets[o, i],
+                static_offsets[o, i + 1] - static_offsets[o, i],
+            )
     return reason
