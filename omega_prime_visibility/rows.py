@@ -117,88 +117,26 @@ def observation_rows(observation: Observation, own: int, idx: np.ndarray, with_v
 
 
 @numba.njit(cache=True)
-def _frame_rows(
-    owns,
-    reason,
+def _chunk_rows(
+    targets,
+    own,
+    first_row,
+    idx,
     visible_angle,
     angular_extent,
+    reason,
     occ_offsets,
     occ,
-    occ_cut,
     st_offsets,
     st,
-    st_cut,
-    idx,
     in_view_angle,
     in_fov_angle,
     with_view,
-    sensor,
 ):
-    """:func:`_rows` for the ``k`` observations of one frame, given stacked (``(k, n)``, ``(k, n + 1)``) and
-    concatenated (cut at ``occ_cut``, ``st_cut``) arrays; the rows of all of them in order, their ``idx_ego`` and,
-    with ``with_view``, their ``sensor`` code (``sensor[o]`` for observation ``o``)."""
-    parts = []
-    n_rows = 0
-    n_occ = 0
-    n_st = 0
-    for o in range(len(owns)):
-        part = _rows(
-            owns[o],
-            reason[o],
-            visible_angle[o],
-            angular_extent[o],
-            occ_offsets[o],
-            occ[occ_cut[o] : occ_cut[o + 1]],
-            st_offsets[o],
-            st[st_cut[o] : st_cut[o + 1]],
-            idx,
-            in_view_angle[o],
-            in_fov_angle[o],
-            with_view,
-        )
-        parts.append(part)
-        n_rows += len(part[0])
-        n_occ += len(part[3])
-        n_st += len(part[5])
-    row_idx = np.empty(n_rows, dtype=np.int64)
-    idx_ego = np.empty(n_rows, dtype=np.int64)
-    visibility = np.empty(n_rows)
-    occ_n = np.empty(n_rows, dtype=np.int64)
-    occ_idxs = np.empty(n_occ, dtype=np.int64)
-    st_n = np.empty(n_rows, dtype=np.int64)
-    st_idxs = np.empty(n_st, dtype=np.int64)
-    in_view = np.empty(n_rows if with_view else 0)
-    status = np.empty(n_rows if with_view else 0, dtype=np.int8)
-    sensor_code = np.empty(n_rows if with_view else 0, dtype=np.int64)
-    at = 0
-    occ_at = 0
-    st_at = 0
-    for o in range(len(owns)):
-        part_idx, part_visibility, part_occ_n, part_occ, part_st_n, part_st, part_in_view, part_status = parts[o]
-        m = len(part_idx)
-        row_idx[at : at + m] = part_idx
-        idx_ego[at : at + m] = idx[owns[o]]
-        visibility[at : at + m] = part_visibility
-        occ_n[at : at + m] = part_occ_n
-        st_n[at : at + m] = part_st_n
-        occ_idxs[occ_at : occ_at + len(part_occ)] = part_occ
-        st_idxs[st_at : st_at + len(part_st)] = part_st
-        if with_view:
-            in_view[at : at + m] = part_in_view
-            status[at : at + m] = part_status
-            sensor_code[at : at + m] = sensor[o]
-        at += m
-        occ_at += len(part_occ)
-        st_at += len(part_st)
-    return idx_ego, row_idx, visibility, occ_n, occ_idxs, st_n, st_idxs, in_view, status, sensor_code
-
-
-@numba.njit(cache=True)
-def _chunk_rows(
-    targets, own, first_row, idx, visible_angle, angular_extent, reason, occ_offsets, occ, st_offsets, st, with_view
-):
-    """:func:`_rows` for every viewpoint of a chunk (see :class:`..engines.ChunkObservation`); the rows of all
-    of them in order and their number per viewpoint."""
+    """:func:`_rows` for each of ``k`` viewpoints whose targets are ``targets[o]:targets[o + 1]`` of the flat
+    per-target arrays (occluder lists as CSR over all targets, see :class:`..engines.ChunkObservation`), the
+    objects of viewpoint ``o``'s frame being ``idx[first_row[o]:]``; the rows of all of them in order and their
+    number per viewpoint."""
     k = len(own)
     parts = []
     counts = np.zeros(k, dtype=np.int64)
@@ -216,8 +154,8 @@ def _chunk_rows(
             st_offsets[t0 : t1 + 1],
             st,
             idx[first_row[o] : first_row[o] + t1 - t0],
-            angular_extent[t0:t1],
-            angular_extent[t0:t1],
+            in_view_angle[t0:t1],
+            in_fov_angle[t0:t1],
             with_view,
         )
         parts.append(part)
@@ -290,6 +228,8 @@ def chunk_rows(
         observation.occluders,
         observation.static_offsets,
         observation.static_occluders,
+        observation.angular_extent,  # all in view, all in the field of view
+        observation.angular_extent,
         sensors is not None,
     )
     if not len(row_idx):
@@ -313,6 +253,16 @@ def stacked(arrays: Sequence[np.ndarray], shape: tuple[int, int], dtype: type) -
     if not len(arrays):
         return np.zeros(shape, dtype=dtype)
     return np.concatenate(arrays).astype(dtype, copy=False).reshape(shape)
+
+
+def _flat_offsets(offsets: Sequence[np.ndarray], cut: np.ndarray, n: int) -> np.ndarray:
+    """Per-observation CSR offsets (each shape (n + 1,)) into lists concatenated at ``cut`` (shape (k + 1,)), as
+    one CSR over all ``k * n`` targets, shape (k * n + 1,)."""
+    k = len(offsets)
+    flat = np.empty(k * n + 1, dtype=np.int64)
+    flat[:-1] = (stacked(offsets, (k, n + 1), np.int64)[:, :n] + cut[:k, None]).ravel()
+    flat[-1] = cut[k]
+    return flat
 
 
 def frame_rows(
@@ -345,41 +295,42 @@ def frame_rows(
     np.cumsum([len(a) for a in occ], out=occ_cut[1:])
     st_cut = np.zeros(k + 1, dtype=np.int64)
     np.cumsum([len(a) for a in st], out=st_cut[1:])
-    extent = stacked([o.angular_extent for o in observations], (k, n), np.float64)
     with_view = sensors is not None
+    extent = stacked([o.angular_extent for o in observations], (k, n), np.float64).ravel()
+    in_view_angle = in_fov_angle = extent
     if with_view:
         in_view_angle = stacked(
             [o.angular_extent if o.in_view_angle is None else o.in_view_angle for o in observations], (k, n), np.float64
-        )
+        ).ravel()
         in_fov_angle = stacked(
             [o.angular_extent if o.in_fov_angle is None else o.in_fov_angle for o in observations], (k, n), np.float64
-        )
-    else:
-        in_view_angle = in_fov_angle = extent
-    idx_ego, row_idx, visibility, occ_n, occ_idxs, st_n, st_idxs, in_view, status, sensor = _frame_rows(
-        np.asarray(owns, dtype=np.int64),
-        stacked([o.reason for o in observations], (k, n), np.int8),
-        stacked([o.visible_angle for o in observations], (k, n), np.float64),
-        extent,
-        stacked([o.occluder_offsets for o in observations], (k, n + 1), np.int64),
-        np.concatenate(occ).astype(np.int64, copy=False) if k else np.zeros(0, dtype=np.int64),
-        occ_cut,
-        stacked([o.static_offsets for o in observations], (k, n + 1), np.int64),
-        np.concatenate(st).astype(np.int64, copy=False) if k else np.zeros(0, dtype=np.int64),
-        st_cut,
+        ).ravel()
+    owns = np.asarray(owns, dtype=np.int64)
+    # the frame's observations as flat arrays over its k * n targets, occluder lists as CSR over all of them
+    counts, row_idx, visibility, occ_n, occ_idxs, st_n, st_idxs, in_view, status = _chunk_rows(
+        np.arange(k + 1, dtype=np.int64) * n,
+        owns,
+        np.zeros(k, dtype=np.int64),
         idx,
+        stacked([o.visible_angle for o in observations], (k, n), np.float64).ravel(),
+        extent,
+        stacked([o.reason for o in observations], (k, n), np.int8).ravel(),
+        _flat_offsets([o.occluder_offsets for o in observations], occ_cut, n),
+        np.concatenate(occ).astype(np.int64, copy=False),
+        _flat_offsets([o.static_offsets for o in observations], st_cut, n),
+        np.concatenate(st).astype(np.int64, copy=False),
         in_view_angle,
         in_fov_angle,
         with_view,
-        np.zeros(k, dtype=np.int64) if sensors is None else np.asarray(sensors, dtype=np.int64),
     )
     columns: Columns = {
-        "idx_ego": idx_ego,
+        "idx_ego": np.repeat(idx[owns], counts),
         "idx": row_idx,
         "visibility": visibility,
         "occluder_idxs": (occ_n, occ_idxs),
         "static_occluder_idxs": (st_n, st_idxs),
     }
     if with_view:
-        columns.update({"sensor": sensor, "in_view": in_view, "status": status})
+        columns.update({"sensor": np.repeat(np.asarray(sensors, dtype=np.int64), counts), "in_view": in_view})
+        columns["status"] = status
     return columns

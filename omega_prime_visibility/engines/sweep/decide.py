@@ -15,7 +15,7 @@ import math
 import numba
 import numpy as np
 
-from ...kernels import wrap_positive
+from ...kernels import insertion_sort, wrap_positive
 from ...occlusion import MIN_PIECE, RELATIVE_TOLERANCE, _edge_line_distance, _nearest_edge
 from .pieces import R_HI, R_LO
 
@@ -93,13 +93,7 @@ def _scratch_occluded(seg, target_edges, stop, extent_start, extent_width, cuts)
                 if rel < extent_width:
                     cuts[k] = rel
                     k += 1
-    for a in range(1, k):
-        value = cuts[a]
-        b = a - 1
-        while b >= 0 and cuts[b] > value:
-            cuts[b + 1] = cuts[b]
-            b -= 1
-        cuts[b + 1] = value
+    insertion_sort(cuts, k)
     for i in range(k - 1):
         u0, u1 = cuts[i], cuts[i + 1]
         if u1 - u0 < MIN_PIECE:
@@ -177,13 +171,7 @@ def _objects_occluded(seg, offsets, start, width, pair_target, pair_body):
             if rel < extent_width:
                 cuts[k] = rel
                 k += 1
-        for a in range(1, k):
-            value = cuts[a]
-            b = a - 1
-            while b >= 0 and cuts[b] > value:
-                cuts[b + 1] = cuts[b]
-                b -= 1
-            cuts[b + 1] = value
+        insertion_sort(cuts, k)
         t_start, t_stop, j_start, j_stop = offsets[t], offsets[t + 1], offsets[j], offsets[j + 1]
         cached = -1  # the cut whose direction (cached_x, cached_y) was computed last
         cached_x, cached_y = 0.0, 0.0
