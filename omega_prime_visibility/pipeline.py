@@ -86,6 +86,9 @@ def viewpoints(
     """
     rows = np.asarray(rows, dtype=np.int64)
     if isinstance(sensors, dict):  # each observer with its own sensors (e.g. a layout fitted to its size)
+        missing = sorted(set(objects.idx[rows].tolist()) - set(sensors))
+        if missing:
+            raise ValueError(f"no sensors given for observer idx {missing[:10]}")
         return [v for row in rows.tolist() for v in viewpoints(objects, [row], statics, sensors[int(objects.idx[row])])]
     if sensors is None:
         owners = rows
@@ -141,6 +144,9 @@ def chunk_viewpoints(
     if sensors is None:
         positions = objects.position[rows]
     elif isinstance(sensors, dict):  # each observer with its own sensors
+        missing = sorted(set(np.unique(objects.idx[rows]).tolist()) - set(sensors))
+        if missing:
+            raise ValueError(f"no sensors given for observer idx {missing[:10]}")
         positions = np.empty((len(owners), 2))
         for ego, own in sensors.items():
             mine = np.flatnonzero(objects.idx[rows] == ego)

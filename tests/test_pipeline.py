@@ -135,3 +135,12 @@ def test_the_chunk_path_without_any_observer_gives_no_rows() -> None:
     objects = load_objects(moving_scene(4))
     columns, log = run_chunk(objects, load_static_occluders(None), np.array([99]), "sweep")
     assert columns is None and not log.frames
+
+
+def test_per_observer_sensors_must_cover_every_observer() -> None:
+    objects = load_objects(moving_scene(3))
+    statics = load_static_occluders(None)
+    with pytest.raises(ValueError, match=r"no sensors given for observer idx \[3\]"):
+        run_chunk(objects, statics, np.array([0, 3]), "sweep", {0: roof()})
+    with pytest.raises(ValueError, match=r"no sensors given for observer idx \[3\]"):
+        frame_by_frame(objects, statics, np.array([0, 3]), {0: [Sensor("front", fov=1.0)]})
