@@ -13,10 +13,10 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...kernels import reserve
+from ...kernels import next_vertex_index, reserve
 from ...sensors import TWO_PI
 from .. import reason_of
-from .crossings import prepare_frame
+from .crossings import bearing_arguments_into, frame_crossings
 from .observe import observe_one
 from .pieces import FrameEdges, StaticEdges
 
@@ -25,7 +25,7 @@ from .pieces import FrameEdges, StaticEdges
 def bearing_arguments(
     coords, offsets, frame_starts, view_starts, positions, st_a, st_b, grid_f, grid_i, cell_off, items, ss_a, ss_b
 ):
-    """:func:`.crossings.prepare_frame` for every frame of a chunk that has viewpoints.
+    """What :func:`.crossings.prepare_frame` gives, for every frame of a chunk that has viewpoints.
 
     Parameters
     ----------
@@ -69,18 +69,18 @@ def bearing_arguments(
             s, e = frame_starts[f], frame_starts[f + 1]
             local = offsets[s : e + 1] - offsets[s]
             frame_coords = coords[offsets[s] : offsets[e]]
-            nxt, first, second, fy, fx = prepare_frame(
-                positions[v0:v1], frame_coords, local, st_a, st_b, grid_f, grid_i, cell_off,
-                items, ss_a, ss_b,
-            )  # fmt: skip
+            nxt = next_vertex_index(local)
+            first, second = frame_crossings(
+                frame_coords, local, nxt, st_a, st_b, grid_f, grid_i, cell_off, items, ss_a, ss_b
+            )
             following[offsets[s] - offsets[0] : offsets[e] - offsets[0]] = nxt
             cross_first = reserve(cross_first, n_cross, n_cross + len(first))
             cross_second = reserve(cross_second, n_cross, n_cross + len(first))
             cross_first[n_cross : n_cross + len(first)] = first
             cross_second[n_cross : n_cross + len(first)] = second
             n_cross += len(first)
-            y[arg_offsets[v0] : arg_offsets[v1]] = fy.ravel()
-            x[arg_offsets[v0] : arg_offsets[v1]] = fx.ravel()
+            for o in range(v0, v1):  # what prepare_frame gives, written in place
+                bearing_arguments_into(y, x, arg_offsets[o], frame_coords, nxt, positions[o, 0], positions[o, 1])
         cross_offsets[f + 1] = n_cross
     return following, cross_offsets, cross_first[:n_cross], cross_second[:n_cross], arg_offsets, y, x
 

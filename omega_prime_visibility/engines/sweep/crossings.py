@@ -142,7 +142,7 @@ def static_crossings(a, b, group, grid_f, grid_i, cell_off, items):
 
 @numba.njit(cache=True)
 def _object_crossings_into(coords, offsets, nxt, bbox, order, axis, state, first, second):
-    """The sort-and-sweep of :func:`_frame_crossings` over the objects' bounding boxes ``bbox`` (n, 4) sorted by
+    """The sort-and-sweep of :func:`frame_crossings` over the objects' bounding boxes ``bbox`` (n, 4) sorted by
     their lower bound along ``axis`` (``order``), writing the crossing edge pairs to ``first, second``.
 
     Resumes at ``state`` (position in ``order``, partner's position or -1 for the next, pairs written) and stops,
@@ -185,7 +185,7 @@ def _static_crossings_into(
     coords, offsets, nxt, bbox, st_a, st_b, grid_f, grid_i, cell_off, items, stamp, state, first, second
 ):  # fmt: skip
     """The objects (bounding boxes ``bbox`` (n, 4)) against the static edges ``st_a, st_b`` through their grid, for
-    :func:`_frame_crossings`, writing the crossing edge pairs (object edge, ``m`` + static edge) to ``first,
+    :func:`frame_crossings`, writing the crossing edge pairs (object edge, ``m`` + static edge) to ``first,
     second``; ``stamp`` (s,) marks the static edges tried for the current object.
 
     Resumes at ``state`` (object, pairs written) and stops, returning False with ``state[2]`` the room its next
@@ -239,7 +239,7 @@ def _static_crossings_into(
 
 
 @numba.njit(cache=True)
-def _frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off, items, static_first, static_second):
+def frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off, items, static_first, static_second):
     """Properly crossing edge pairs of different bodies in one frame.
 
     Edges are numbered object edges first (``0..m-1``), then static edges (``m + k``).
@@ -316,19 +316,27 @@ def prepare_frame(observers, coords, offsets, st_a, st_b, grid_f, grid_i, cell_o
     """
     m = len(coords)
     nxt = next_vertex_index(offsets)
-    cross_first, cross_second = _frame_crossings(
+    cross_first, cross_second = frame_crossings(
         coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off, items, static_first, static_second
     )
     k = len(observers)
-    y = np.empty((k, 2 * m))
-    x = np.empty((k, 2 * m))
+    y = np.empty(k * 2 * m)
+    x = np.empty(k * 2 * m)
     for o in range(k):
-        ox, oy = observers[o, 0], observers[o, 1]
-        for j in range(m):
-            ax, ay = coords[j, 0] - ox, coords[j, 1] - oy
-            bx, by = coords[nxt[j], 0] - ox, coords[nxt[j], 1] - oy
-            y[o, j] = ax * by - ay * bx
-            x[o, j] = ax * bx + ay * by
-            y[o, m + j] = ay
-            x[o, m + j] = ax
-    return nxt, cross_first, cross_second, y, x
+        bearing_arguments_into(y, x, o * 2 * m, coords, nxt, observers[o, 0], observers[o, 1])
+    return nxt, cross_first, cross_second, y.reshape(k, 2 * m), x.reshape(k, 2 * m)
+
+
+@numba.njit(cache=True, inline="always")
+def bearing_arguments_into(y, x, at, coords, nxt, ox, oy):
+    """Write one observer's arctangent arguments (see :func:`prepare_frame`) to ``y[at:at + 2 m]`` and
+    ``x[at:at + 2 m]``: for the ``m`` edges the cross and dot products of their end points, then every vertex
+    shifted to the observer ``(ox, oy)`` (metres)."""
+    m = len(coords)
+    for j in range(m):
+        ax, ay = coords[j, 0] - ox, coords[j, 1] - oy
+        bx, by = coords[nxt[j], 0] - ox, coords[nxt[j], 1] - oy
+        y[at + j] = ax * by - ay * bx
+        x[at + j] = ax * bx + ay * by
+        y[at + m + j] = ay
+        x[at + m + j] = ax
