@@ -144,3 +144,39 @@ def test_per_observer_sensors_must_cover_every_observer() -> None:
         run_chunk(objects, statics, np.array([0, 3]), "sweep", {0: roof()})
     with pytest.raises(ValueError, match=r"no sensors given for observer idx \[3\]"):
         frame_by_frame(objects, statics, np.array([0, 3]), {0: [Sensor("front", fov=1.0)]})
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_the_chunk_path_on_polygon_columns_far_from_the_origin(seed: int) -> None:
+    # outlines given as polygons (boxes, regular 12-gons, a few invalid bow-ties repaired), at UTM-like coordinates
+    rng = np.random.default_rng(seed)
+    rows = []
+    for frame in range(8):
+        for idx in range(12):
+            if idx and rng.random() < 0.1:
+                continue
+            x, y = 5.0e5 + rng.uniform(-15, 15), 5.4e6 + rng.uniform(-15, 15)
+            kind = rng.integers(3)
+            if kind == 0:
+                outline = shapely.box(x - 2.0, y - 1.0, x + 2.0, y + 1.0)
+            elif kind == 1:
+                outline = shapely.Point(x, y).buffer(rng.uniform(0.5, 3.0), quad_segs=3)
+            else:
+                outline = shapely.Polygon([(x, y), (x + 3, y + 2), (x + 3, y), (x, y + 2)])  # a bow-tie
+            rows.append(
+                {"frame": frame, "total_nanos": frame * 40_000_000, "idx": idx, "x": x, "y": y, "polygon": outline}
+            )
+    table = pl.DataFrame(rows, schema_overrides={"polygon": pl.Object})
+    with pytest.warns(UserWarning):
+        objects = load_objects(table)
+    statics = load_static_occluders([shapely.LineString([(5.0e5 - 20, 5.4e6 + 16), (5.0e5 + 20, 5.4e6 + 18)])])
+    for egos in ([0], [0, 4, 7]):
+        egos = np.array(egos)
+        expected, expected_log = frame_by_frame(objects, statics, egos, None)
+        columns, log = run_chunk(objects, statics, egos, "sweep")
+        for name, values in expected.items():
+            pairs = zip(columns[name], values, strict=True) if name in LIST_COLUMNS else [(columns[name], values)]
+            for got, want in pairs:
+                assert np.array_equal(got, want), name
+        assert log.frames == expected_log.frames
+        assert expected["occluder_idxs"][1].size and 0 < np.count_nonzero(expected["visibility"] < 1)
