@@ -38,11 +38,6 @@ class ContainmentLog:
         self.frames: Counter[tuple[int, int]] = Counter()
         self.first: dict[tuple[int, int], int] = {}
 
-    def add(self, ego: int, idx: np.ndarray, frame: int) -> None:
-        for i in idx.tolist():
-            self.frames[(ego, i)] += 1
-            self.first.setdefault((ego, i), frame)
-
     def add_pairs(self, ego: np.ndarray, idx: np.ndarray, frame: np.ndarray) -> None:
         """Add many ``(observer idx, containing idx, frame)`` triples, in frame order."""
         if not len(ego):
@@ -73,6 +68,13 @@ class ContainmentLog:
         )
 
 
+def _check_covered(sensors: dict[int, Sequence[Sensor]], observers: np.ndarray) -> None:
+    """Raise unless the per-observer sensor sets name every observer idx in ``observers``."""
+    missing = sorted(set(np.unique(observers).tolist()) - set(sensors))
+    if missing:
+        raise ValueError(f"no sensors given for observer idx {missing[:10]}")
+
+
 def viewpoints(
     objects: FrameObjects, rows: np.ndarray, statics: StaticOccluders, sensors: SensorSet | None = None
 ) -> list[Viewpoint]:
@@ -86,9 +88,7 @@ def viewpoints(
     """
     rows = np.asarray(rows, dtype=np.int64)
     if isinstance(sensors, dict):  # each observer with its own sensors (e.g. a layout fitted to its size)
-        missing = sorted(set(objects.idx[rows].tolist()) - set(sensors))
-        if missing:
-            raise ValueError(f"no sensors given for observer idx {missing[:10]}")
+        _check_covered(sensors, objects.idx[rows])
         return [v for row in rows.tolist() for v in viewpoints(objects, [row], statics, sensors[int(objects.idx[row])])]
     if sensors is None:
         owners = rows
@@ -144,9 +144,7 @@ def chunk_viewpoints(
     if sensors is None:
         positions = objects.position[rows]
     elif isinstance(sensors, dict):  # each observer with its own sensors
-        missing = sorted(set(np.unique(objects.idx[rows]).tolist()) - set(sensors))
-        if missing:
-            raise ValueError(f"no sensors given for observer idx {missing[:10]}")
+        _check_covered(sensors, objects.idx[rows])
         positions = np.empty((len(owners), 2))
         for ego, own in sensors.items():
             mine = np.flatnonzero(objects.idx[rows] == ego)
@@ -197,7 +195,9 @@ def observe_frame(
         if np.count_nonzero(view.transparent) > 1:  # more than its own body: it is inside some object
             inside = view.transparent.copy()
             inside[view.own] = False
-            containment.add(int(objects.idx[view.own]), objects.idx[inside], objects.frame)
+            inside_idx = objects.idx[inside]
+            ego = np.full(len(inside_idx), objects.idx[view.own])
+            containment.add_pairs(ego, inside_idx, np.full(len(inside_idx), objects.frame))
     sensor_codes = None if sensors is None else np.tile(np.arange(sensors_per_observer(sensors)), len(rows))
     columns = frame_rows(observations, owns, objects.idx, sensor_codes)
     builder.add(columns, frame=objects.frame, total_nanos=objects.total_nanos)

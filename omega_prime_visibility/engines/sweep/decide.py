@@ -94,6 +94,18 @@ def _scratch_occluded(seg, target_edges, stop, extent_start, extent_width, cuts)
                     cuts[k] = rel
                     k += 1
     insertion_sort(cuts, k)
+    return _pieces_occlude(seg, 0, target_edges, target_edges, stop, extent_start, extent_width, cuts, k)
+
+
+@numba.njit(cache=True, inline="always")
+def _pieces_occlude(seg, t_start, t_stop, j_start, j_stop, extent_start, extent_width, cuts, k):
+    """The decision of ``occludes_one`` once its cuts are made: whether body ``J`` (``seg[j_start:j_stop]``) is hit
+    before target ``T`` (``seg[t_start:t_stop]``) at an end of some piece between the sorted cuts ``cuts[:k]``
+    (radians from ``extent_start``), observer at the origin; the same floating-point operations on the same
+    operands, the direction at a cut computed once for the two pieces it bounds (inlined: no reference counting
+    in the callers' loops)."""
+    cached = -1  # the cut whose direction (cached_x, cached_y) was computed last
+    cached_x, cached_y = 0.0, 0.0
     for i in range(k - 1):
         u0, u1 = cuts[i], cuts[i + 1]
         if u1 - u0 < MIN_PIECE:
@@ -102,12 +114,18 @@ def _scratch_occluded(seg, target_edges, stop, extent_start, extent_width, cuts)
             break
         mid = extent_start + 0.5 * (u0 + u1)
         dx, dy = np.cos(mid), np.sin(mid)
-        target_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, 0, target_edges)
-        body_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, target_edges, stop)
-        if target_edge < 0 or body_edge < 0:
+        body_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, j_start, j_stop)
+        if body_edge < 0:  # (J is missed more often than T: T's own edges need not be tried then)
             continue
-        for u in (u0, u1):
-            ex, ey = np.cos(extent_start + u), np.sin(extent_start + u)
+        target_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, t_start, t_stop)
+        if target_edge < 0:
+            continue
+        for end in range(i, i + 2):
+            if end == cached:
+                ex, ey = cached_x, cached_y
+            else:
+                ex, ey = np.cos(extent_start + cuts[end]), np.sin(extent_start + cuts[end])
+                cached, cached_x, cached_y = end, ex, ey
             target_distance = _edge_line_distance(0.0, 0.0, ex, ey, seg, target_edge)
             body_distance = _edge_line_distance(0.0, 0.0, ex, ey, seg, body_edge)
             if body_distance < target_distance * (1.0 - RELATIVE_TOLERANCE):
@@ -172,36 +190,9 @@ def _objects_occluded(seg, offsets, start, width, pair_target, pair_body):
                 cuts[k] = rel
                 k += 1
         insertion_sort(cuts, k)
-        t_start, t_stop, j_start, j_stop = offsets[t], offsets[t + 1], offsets[j], offsets[j + 1]
-        cached = -1  # the cut whose direction (cached_x, cached_y) was computed last
-        cached_x, cached_y = 0.0, 0.0
-        for i in range(k - 1):
-            u0, u1 = cuts[i], cuts[i + 1]
-            if u1 - u0 < MIN_PIECE:
-                continue
-            if extent_width <= u0:
-                break
-            mid = extent_start + 0.5 * (u0 + u1)
-            dx, dy = np.cos(mid), np.sin(mid)
-            body_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, j_start, j_stop)
-            if body_edge < 0:  # (J is missed more often than T: T's own edges need not be tried then)
-                continue
-            target_edge = _nearest_edge(0.0, 0.0, dx, dy, seg, t_start, t_stop)
-            if target_edge < 0:
-                continue
-            for end in range(i, i + 2):
-                if end == cached:
-                    ex, ey = cached_x, cached_y
-                else:
-                    ex, ey = np.cos(extent_start + cuts[end]), np.sin(extent_start + cuts[end])
-                    cached, cached_x, cached_y = end, ex, ey
-                target_distance = _edge_line_distance(0.0, 0.0, ex, ey, seg, target_edge)
-                body_distance = _edge_line_distance(0.0, 0.0, ex, ey, seg, body_edge)
-                if body_distance < target_distance * (1.0 - RELATIVE_TOLERANCE):
-                    hit[p] = True
-                    break
-            if hit[p]:
-                break
+        hit[p] = _pieces_occlude(
+            seg, offsets[t], offsets[t + 1], offsets[j], offsets[j + 1], extent_start, extent_width, cuts, k
+        )
     return hit
 
 
