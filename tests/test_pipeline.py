@@ -97,43 +97,63 @@ def random_traffic(rng: np.random.Generator, frames: int, n: int) -> pl.DataFram
     return pl.concat(parts)
 
 
-def frame_by_frame(objects, statics, egos, sensors):
+CHUNK_ENGINES = ["sweep", "visilibity"]  # the engines offering observe_chunk
+
+
+def frame_by_frame(objects, statics, egos, sensors, engine_name="sweep"):
     """The columns and containment log of the per-frame path (what every engine without ``observe_chunk`` uses)."""
-    engine = get_engine("sweep")(statics)
+    engine = get_engine(engine_name)(statics)
     builder, log = TableBuilder(), ContainmentLog()
     for k in range(objects.n_frames):
         observe_frame(engine, statics, objects.frame_objects(k), egos, builder, log, sensors)
     return builder.arrays(), log
 
 
-@pytest.mark.parametrize("seed", range(6))
-def test_the_chunk_path_gives_the_columns_of_the_frame_by_frame_path(seed: int) -> None:
+def assert_same_columns(columns, expected) -> None:
+    assert columns.keys() == expected.keys()
+    for name, values in expected.items():
+        pairs = zip(columns[name], values, strict=True) if name in LIST_COLUMNS else [(columns[name], values)]
+        for got, want in pairs:
+            assert got.dtype == want.dtype and np.array_equal(got, want), name
+
+
+STATIC_SETS = {
+    "box, wall, far box": [
+        shapely.box(-3, -3, 3, 3),
+        shapely.LineString([(-15, 10), (15, 12)]),
+        shapely.box(25, -5, 30, 5),
+    ],
+    # a courtyard around the whole scene (the VisiLibity environment is then the free space holding the viewpoint)
+    "courtyard": [shapely.box(-30, -30, 30, 30).difference(shapely.box(-25, -25, 25, 25))],
+    "none": [],
+}
+
+
+@pytest.mark.parametrize("engine", CHUNK_ENGINES)
+@pytest.mark.parametrize("statics_name", sorted(STATIC_SETS))
+@pytest.mark.parametrize("seed", range(4))
+def test_the_chunk_path_gives_the_columns_of_the_frame_by_frame_path(seed: int, statics_name: str, engine: str) -> None:
     # observers inside other boxes and inside static occluders, unlimited sensors off the centre, per-ego sensors
     rng = np.random.default_rng(seed)
     objects = load_objects(random_traffic(rng, 12, 14))
-    statics = load_static_occluders(
-        [shapely.box(-3, -3, 3, 3), shapely.LineString([(-15, 10), (15, 12)]), shapely.box(25, -5, 30, 5)]
-    )
+    statics = load_static_occluders(STATIC_SETS[statics_name])
     off_centre = [Sensor("a", x=1.5, y=-0.5, yaw=0.4), Sensor("b", x=-2.0)]
     per_ego = {0: roof(), 3: [Sensor("roof", x=0.7)], 5: roof()}
     contained = 0
     for egos, sensors in [([0], None), ([0, 3, 5], None), ([0, 3, 5], off_centre), ([0, 3, 5], per_ego)]:
         egos = np.array(egos)
-        expected, expected_log = frame_by_frame(objects, statics, egos, sensors)
-        columns, log = run_chunk(objects, statics, egos, "sweep", sensors)
-        assert columns.keys() == expected.keys()
-        for name, values in expected.items():
-            pairs = zip(columns[name], values, strict=True) if name in LIST_COLUMNS else [(columns[name], values)]
-            for got, want in pairs:
-                assert got.dtype == want.dtype and np.array_equal(got, want), name
+        expected, expected_log = frame_by_frame(objects, statics, egos, sensors, engine)
+        columns, log = run_chunk(objects, statics, egos, engine, sensors)
+        assert_same_columns(columns, expected)
         assert log.frames == expected_log.frames and log.first == expected_log.first
         contained += len(log.frames)
     assert contained  # some observer is inside some box
 
 
-def test_the_chunk_path_without_any_observer_gives_no_rows() -> None:
+@pytest.mark.parametrize("engine", CHUNK_ENGINES)
+def test_the_chunk_path_without_any_observer_gives_no_rows(engine: str) -> None:
     objects = load_objects(moving_scene(4))
-    columns, log = run_chunk(objects, load_static_occluders(None), np.array([99]), "sweep")
+    columns, log = run_chunk(objects, load_static_occluders(None), np.array([99]), engine)
     assert columns is None and not log.frames
 
 
@@ -146,8 +166,9 @@ def test_per_observer_sensors_must_cover_every_observer() -> None:
         frame_by_frame(objects, statics, np.array([0, 3]), {0: [Sensor("front", fov=1.0)]})
 
 
+@pytest.mark.parametrize("engine", CHUNK_ENGINES)
 @pytest.mark.parametrize("seed", range(3))
-def test_the_chunk_path_on_polygon_columns_far_from_the_origin(seed: int) -> None:
+def test_the_chunk_path_on_polygon_columns_far_from_the_origin(seed: int, engine: str) -> None:
     # outlines given as polygons (boxes, regular 12-gons, a few invalid bow-ties repaired), at UTM-like coordinates
     rng = np.random.default_rng(seed)
     rows = []
@@ -172,11 +193,8 @@ def test_the_chunk_path_on_polygon_columns_far_from_the_origin(seed: int) -> Non
     statics = load_static_occluders([shapely.LineString([(5.0e5 - 20, 5.4e6 + 16), (5.0e5 + 20, 5.4e6 + 18)])])
     for egos in ([0], [0, 4, 7]):
         egos = np.array(egos)
-        expected, expected_log = frame_by_frame(objects, statics, egos, None)
-        columns, log = run_chunk(objects, statics, egos, "sweep")
-        for name, values in expected.items():
-            pairs = zip(columns[name], values, strict=True) if name in LIST_COLUMNS else [(columns[name], values)]
-            for got, want in pairs:
-                assert np.array_equal(got, want), name
+        expected, expected_log = frame_by_frame(objects, statics, egos, None, engine)
+        columns, log = run_chunk(objects, statics, egos, engine)
+        assert_same_columns(columns, expected)
         assert log.frames == expected_log.frames
         assert expected["occluder_idxs"][1].size and 0 < np.count_nonzero(expected["visibility"] < 1)

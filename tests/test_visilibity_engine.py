@@ -128,3 +128,74 @@ def test_components_label_each_node_with_the_smallest_node_of_its_component() ->
             members = np.flatnonzero(reference == c)
             assert np.all(label[members] == members.min())
         assert len(np.unique(label)) == len(np.unique(reference))
+
+
+def test_the_chunk_path_takes_each_environment_and_recomputes_polygons_that_skip_a_body(monkeypatch) -> None:
+    from test_pipeline import assert_same_columns, frame_by_frame, moving_scene
+
+    from omega_prime_visibility.engines.visilibity import chunk
+    from omega_prime_visibility.pipeline import run_chunk
+
+    calls = {"plain": 0, "general": 0, "recomputed": 0}
+
+    def counted(name, function):
+        def call(*args, **kwargs):
+            calls[name] += 1
+            return function(*args, **kwargs)
+
+        return call
+
+    monkeypatch.setattr(chunk, "vis_polygons_reversed", counted("plain", chunk.vis_polygons_reversed))
+    monkeypatch.setattr(VisiLibityEngine, "_build_environment", counted("general", VisiLibityEngine._build_environment))
+    monkeypatch.setattr(chunk, "_frame_observation", counted("recomputed", chunk._frame_observation))
+    # a car passes another and runs over a wall: plain environments, and general ones while boxes overlap
+    objects = load_objects(moving_scene(12))
+    statics = load_static_occluders([shapely.LineString([(15, -3), (15, -1)])])
+    egos = np.array([0, 3])
+    columns, _ = run_chunk(objects, statics, egos, "visilibity")
+    assert calls["plain"] > 0 and calls["general"] > 0 and calls["recomputed"] == 0
+    plain, general = calls["plain"], calls["general"]
+    assert_same_columns(columns, frame_by_frame(objects, statics, egos, None, "visilibity")[0])
+    assert calls["plain"] == plain and calls["general"] > general  # the frame path builds every environment itself
+    # the sliver scene: VisiLibity's polygon skips target 32's sliver, the viewpoint is observed again
+    objects = load_objects(sliver_table())
+    statics = load_static_occluders([shapely.from_wkt(SLIVER_WALL)])
+    columns, _ = run_chunk(objects, statics, np.array([0]), "visilibity")
+    assert calls["recomputed"] == 1
+    assert_same_columns(columns, frame_by_frame(objects, statics, np.array([0]), None, "visilibity")[0])
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_chunk_angular_extents_are_those_of_angular_extent_to_the_bit(seed: int) -> None:
+    from omega_prime_visibility.engines.visilibity.chunk_geometry import angular_extents
+    from omega_prime_visibility.engines.visilibity.conversion import grid_origin
+    from omega_prime_visibility.geometry import Rings, angular_extent
+
+    # frames of random rings (3 to 9 vertices, any orientation) far from the origin, 0 to 3 viewpoints each
+    rng = np.random.default_rng(seed)
+    far = np.array([3.0e5, -5.1e6])
+    sizes, frame_sizes, views = [], [], []
+    for _ in range(6):
+        n = int(rng.integers(1, 7))
+        frame_sizes.append(n)
+        sizes += rng.integers(3, 10, n).tolist()
+        views.append(rng.uniform(-20, 20, (int(rng.integers(0, 4)), 2)) + far)
+    offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+    coords = rng.uniform(-30, 30, (offsets[-1], 2)) + far
+    frame_starts = np.concatenate([[0], np.cumsum(frame_sizes)]).astype(np.int64)
+    view_starts = np.concatenate([[0], np.cumsum([len(v) for v in views])]).astype(np.int64)
+    positions = np.concatenate(views)
+    frame_of_view = np.repeat(np.arange(6), np.diff(view_starts))
+    n_targets = np.array(frame_sizes)[frame_of_view]
+    target_offsets = np.concatenate([[0], np.cumsum(n_targets)]).astype(np.int64)
+    origins = grid_origin(positions)
+    start, width = angular_extents(
+        coords, offsets, frame_starts, view_starts, target_offsets, origins, positions - origins
+    )
+    for v, f in enumerate(frame_of_view.tolist()):
+        rings = Rings(coords, offsets).slice(int(frame_starts[f]), int(frame_starts[f + 1]))
+        want_start, want_width, _ = angular_extent(
+            positions[v] - origins[v], Rings(rings.coords - origins[v], rings.offsets)
+        )
+        t0, t1 = target_offsets[v], target_offsets[v + 1]
+        assert np.array_equal(start[t0:t1], want_start) and np.array_equal(width[t0:t1], want_width)

@@ -3,6 +3,8 @@ numpy, shapely and VisiLibity polygons."""
 
 from __future__ import annotations
 
+import ctypes
+
 import _visilibity
 import numba
 import numpy as np
@@ -19,6 +21,26 @@ _vertex = _visilibity.Polygon___getitem__
 _n_vertices = _visilibity.Polygon_n
 _x = _visilibity.Point_x
 _y = _visilibity.Point_y
+_new_environment = _visilibity.new_Environment
+_new_visibility_polygon = _visilibity.new_Visibility_Polygon
+# A VisiLibity Polygon holds only ``std::vector<Point> vertices_`` (no virtual methods, so no vtable before it) and
+# a Point only ``double x_, y_``: the vector's first two words are pointers to the first vertex and past the last,
+# and the vertices are (x, y) float64 pairs in between. Reading them there takes one call instead of three per
+# vertex; :func:`_memory_layout_holds` checks the layout on a known polygon first and every read checks the count.
+_VECTOR_BOUNDS = ctypes.c_size_t * 2
+ORIGIN_GRID = 1024.0  # metres; coordinates are taken relative to the nearest multiple (precision, caching)
+
+
+def grid_origin(points: np.ndarray) -> np.ndarray:
+    """The multiple of :data:`ORIGIN_GRID` nearest to each point (metres, same shape), which VisiLibity's
+    coordinates are taken relative to: results then depend on a viewpoint's position only.
+
+    Examples
+    --------
+    >>> grid_origin(np.array([[1500.0, -300.0]])).tolist()
+    [[1024.0, -0.0]]
+    """
+    return np.round(points / ORIGIN_GRID) * ORIGIN_GRID
 
 
 @numba.njit(cache=True)
@@ -75,12 +97,52 @@ def vis_polygons_reversed(coords: np.ndarray, offsets: np.ndarray, which: np.nda
 
 
 def polygon_coords(polygon: vis.Polygon) -> np.ndarray:
-    """The vertices of a VisiLibity polygon, shape (m, 2), float64."""
+    """The vertices of a VisiLibity polygon (or visibility polygon, the SWIG object), shape (m, 2), float64.
+
+    Read from the polygon's vertex array in memory when its layout is the one checked at import, else (or if the
+    count disagrees with ``Polygon::n``) vertex by vertex through SWIG; both give the same numbers.
+
+    Examples
+    --------
+    >>> polygon_coords(vis_polygon(np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 1.5]]))).tolist()
+    [[0.0, 0.0], [2.0, 0.0], [0.0, 1.5]]
+    """
+    if _READ_MEMORY:
+        begin, end = _VECTOR_BOUNDS.from_address(int(polygon))
+        if end - begin == 16 * _n_vertices(polygon):
+            return np.frombuffer(ctypes.string_at(begin, end - begin), dtype=np.float64).reshape(-1, 2)
+    return _coords_through_swig(polygon)
+
+
+def _coords_through_swig(polygon: vis.Polygon) -> np.ndarray:
     points = [_vertex(polygon, i) for i in range(_n_vertices(polygon))]
     return np.array([(_x(p), _y(p)) for p in points], dtype=np.float64).reshape(-1, 2)
+
+
+def _memory_layout_holds() -> bool:
+    """Whether a polygon's vertex array is where :func:`polygon_coords` reads it (checked on a known polygon: the
+    two words span exactly its vertices, and they hold its coordinates)."""
+    known = np.array([[0.5, -1.25], [3.0, 0.125], [-2.0, 7.5]])
+    polygon = vis_polygon(known)
+    begin, end = _VECTOR_BOUNDS.from_address(int(polygon))
+    if begin == 0 or begin % 8 or end - begin != 16 * len(known):
+        return False
+    found = np.frombuffer(ctypes.string_at(begin, end - begin), dtype=np.float64).reshape(-1, 2)
+    return bool(np.array_equal(found, known)) and np.array_equal(_coords_through_swig(polygon), known)
+
+
+def visibility_polygon_coords(environment, x: float, y: float, epsilon: float) -> np.ndarray:
+    """Vertices (shape (m, 2), metres, counter-clockwise) of VisiLibity's visibility polygon from ``(x, y)`` in
+    ``environment`` (a list of SWIG polygons, outer boundary first, or a built environment)."""
+    if isinstance(environment, list):
+        environment = _new_environment(environment)
+    return polygon_coords(_new_visibility_polygon(_new_point(x, y), environment, epsilon))
 
 
 def exterior_cw(polygon: shapely.Polygon) -> np.ndarray:
     """Exterior vertices of a polygon, clockwise, closing vertex dropped."""
     c = shapely.get_coordinates(polygon.exterior)[:-1]
     return c if not shapely.is_ccw(polygon.exterior) else c[::-1]
+
+
+_READ_MEMORY = _memory_layout_holds()

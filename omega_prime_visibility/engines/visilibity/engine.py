@@ -11,25 +11,25 @@ import visilibity as vis
 
 from ...geometry import Rings, angular_extent, edges, ring_ids
 from ...occlusion import occluding_pairs
-from ...scene import FrameObjects
+from ...scene import FrameObjects, ObjectTable
 from ...statics import StaticOccluders, polygonal_and_lineal_parts
 from ...view import objects_in_view, restrict_observation
-from .. import Observation, Viewpoint, group_pairs
+from .. import ChunkObservation, ChunkViewpoints, Observation, Viewpoint, group_pairs
 from .attribution import attribute_visible_angles
+from .chunk import observe_chunk
 from .conversion import (
     box_overlaps,
     components,
     exterior_cw,
+    grid_origin,
     polygon_coords,
     vis_polygon,
     vis_polygons_reversed,
+    visibility_polygon_coords,
 )
-from .polygon_check import nearer_edge_exists
+from .polygon_check import CHECK_ABSOLUTE, CHECK_RELATIVE, nearer_edge_exists
 
 BOX_MARGIN = 10.0  # metres of free space around everything
-ORIGIN_GRID = 1024.0  # metres; coordinates are taken relative to the nearest multiple (precision, caching)
-CHECK_ABSOLUTE = 1e-7  # metres: a body must come this much nearer than the polygon's boundary to count as missed
-CHECK_RELATIVE = 1e-9  # ... plus this fraction of the boundary's distance
 
 
 class _Unenclosable(Exception):
@@ -73,7 +73,7 @@ class VisiLibityEngine:
     def _use_origin(self, observer: np.ndarray) -> np.ndarray:
         """Switch to the origin of the grid cell holding ``observer`` (results then depend on the observer's
         position only, never on which frames were processed before); return it."""
-        origin = np.round(observer / ORIGIN_GRID) * ORIGIN_GRID
+        origin = grid_origin(observer)
         if self._origin is None or not np.array_equal(origin, self._origin):
             key = (float(origin[0]), float(origin[1]))
             if key not in self._prepared:
@@ -145,6 +145,11 @@ class VisiLibityEngine:
         """One :class:`Observation` per viewpoint (see :mod:`..engines`)."""
         return [self._observe_one(objects, viewpoint) for viewpoint in viewpoints]
 
+    def observe_chunk(self, objects: ObjectTable, viewpoints: ChunkViewpoints) -> ChunkObservation:
+        """What every viewpoint of a chunk of frames sees, all around without range, with compiled loops around
+        VisiLibity's calls (see :mod:`.chunk`); the numbers of :meth:`observe` frame by frame."""
+        return observe_chunk(self, objects, viewpoints)
+
     def _observe_one(self, objects: FrameObjects, viewpoint: Viewpoint) -> Observation:
         observer = np.asarray(viewpoint.position, dtype=np.float64)
         transparent, static_transparent = viewpoint.transparent, viewpoint.static_transparent
@@ -196,7 +201,7 @@ class VisiLibityEngine:
         polys = self._build_environment(rings, obj_blocking, static_blocking, o)
         in_env = np.repeat(np.concatenate([obj_blocking, static_blocking]), np.diff(seg_offsets))
         seg = np.ascontiguousarray(segments - o)
-        pts = self._polygon_points(vis.Environment(polys), o) - o
+        pts = self._polygon_points(polys, o) - o
         if nearer_edge_exists(pts, seg, in_env, CHECK_ABSOLUTE, CHECK_RELATIVE):
             holes = [polygon_coords(h) - o for h in polys[1:]]
             region = shapely.orient_polygons(self._region_by_parts(polys[0], polys[1:], holes, o), exterior_cw=False)
@@ -218,7 +223,7 @@ class VisiLibityEngine:
         and split again while it fails; the halves are split by bearing, which separates the edges that share
         VisiLibity's queue.
         """
-        pts = self._polygon_points(vis.Environment([outer, *holes]), o) - o
+        pts = self._polygon_points([outer, *holes], o) - o
         edges_of = [np.stack([c, np.roll(c, -1, axis=0)], axis=1) for c in hole_coords]
         seg = np.ascontiguousarray(np.concatenate(edges_of)) if edges_of else np.zeros((0, 2, 2))
         if not nearer_edge_exists(pts, seg, np.ones(len(seg), dtype=bool), CHECK_ABSOLUTE, CHECK_RELATIVE):
@@ -244,8 +249,9 @@ class VisiLibityEngine:
         except _Unenclosable:
             return self._enclosed_environment(rings, obj_blocking, static_blocking, o)
 
-    def _polygon_points(self, env: vis.Environment, o: np.ndarray) -> np.ndarray:
-        return polygon_coords(vis.Visibility_Polygon(vis.Point(float(o[0]), float(o[1])), env, self.epsilon))
+    def _polygon_points(self, polys: list[vis.Polygon], o: np.ndarray) -> np.ndarray:
+        """VisiLibity's visibility polygon from ``o`` among ``polys`` (outer boundary first), same frame."""
+        return visibility_polygon_coords(polys, float(o[0]), float(o[1]), self.epsilon)
 
     def environment(self, objects: FrameObjects, viewpoint: Viewpoint) -> tuple[vis.Environment, np.ndarray]:
         """The VisiLibity environment used for this viewpoint, and the origin its coordinates are relative to."""

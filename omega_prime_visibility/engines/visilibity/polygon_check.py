@@ -26,6 +26,8 @@ MIN_SPAN = 1e-12  # radians; edges subtending less point at the observer and bou
 # radians; narrower shared intervals are not compared: where a body's silhouette ends, the polygon's radial edge
 # starts at the same bearing up to rounding, and a sliver this thin changes a visible angle by nothing that counts
 MIN_SHARED = 1e-9
+CHECK_ABSOLUTE = 1e-7  # metres: a body must come this much nearer than the polygon's boundary to count as missed
+CHECK_RELATIVE = 1e-9  # ... plus this fraction of the boundary's distance
 
 
 @numba.njit(cache=True)

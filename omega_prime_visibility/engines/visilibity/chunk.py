@@ -1,0 +1,370 @@
+"""A chunk of frames through VisiLibity with the Python left to VisiLibity's own calls, for viewpoints that see
+all around without range.
+
+Frame by frame, the numpy and Python around VisiLibity (angular extents, occluding pairs, bounding boxes, grouping
+the pairs) cost more than VisiLibity's visibility polygon on small scenes. Here they run over the whole chunk in
+compiled loops, with numpy's ``arctan2`` and ``mod`` applied once to all their arguments (the numbers must be
+numpy's, as frame by frame, to be the same to the bit):
+
+1. :func:`.chunk_geometry.angular_extents`: every target's angular extent;
+2. :func:`occlusion_by_view`: the occluding pairs as CSR over the chunk's targets, reason codes, the bodies left in
+   each environment, and whether the environment is the plain one (no two bounding boxes overlap, nothing encloses
+   or contains the viewpoint) with its outer box;
+3. per viewpoint in Python: the environment (plain: the holes straight from the rings; otherwise the engine's
+   general construction) and VisiLibity's visibility polygon, read in one call;
+4. :func:`checked_visible_angles`: the polygon check and the attribution.
+
+A polygon that fails the check is computed again by the engine frame by frame (:meth:`.VisiLibityEngine.observe`
+splits the holes); its numbers are the same by construction.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numba
+import numpy as np
+
+from ...geometry import Rings
+from ...kernels import reserve
+from ...occlusion import _candidate_pairs, _occludes_pairs
+from ...scene import ObjectTable
+from .. import ChunkObservation, ChunkViewpoints, Observation, Viewpoint, reason_of
+from .attribution import attribute_visible_angles
+from .chunk_geometry import angular_extents, static_blocking, view_segments
+from .conversion import box_overlaps, grid_origin, vis_polygon, vis_polygons_reversed, visibility_polygon_coords
+from .polygon_check import CHECK_ABSOLUTE, CHECK_RELATIVE, nearer_edge_exists
+
+if TYPE_CHECKING:
+    from .engine import VisiLibityEngine
+
+
+@numba.njit(cache=True)
+def occlusion_by_view(
+    coords,
+    offsets,
+    frame_starts,
+    view_starts,
+    target_offsets,
+    origins,
+    eyes,
+    transparent,
+    static_offsets,
+    static_inside,
+    st_seg,
+    st_source,
+    n_sources,
+    start,
+    width,
+    view_key,
+    part_offsets,
+    part_boxes,
+    key_plain,
+    box_margin,
+):
+    """What :meth:`.VisiLibityEngine.observe` finds before VisiLibity, for every viewpoint of a chunk.
+
+    Parameters
+    ----------
+    coords, offsets, frame_starts, view_starts, target_offsets, origins, eyes
+        As :func:`extent_arguments` takes them.
+    transparent : ndarray of bool, shape (t,)
+        Per target: neither blocks nor occludes.
+    static_offsets, static_inside : ndarray, int64
+        Static sources containing viewpoint ``v``: ``static_inside[static_offsets[v]:static_offsets[v + 1]]``.
+    st_seg : ndarray, shape (s, 2, 2)
+        Every static edge, world frame, grouped by source; ``st_source`` (shape (s,)) is its source.
+    start, width : ndarray, shape (t,)
+        Every target's angular extent, radians.
+    view_key : ndarray, shape (v,), int64
+        The static parts (see :meth:`.VisiLibityEngine._static_parts`) in viewpoint ``v``'s origin: bounding boxes
+        ``part_boxes[part_offsets[k]:part_offsets[k + 1]]`` (``x0, y0, x1, y1``, metres, relative to the origin)
+        of key ``k = view_key[v]``; ``key_plain[k]``: none of them encloses anything.
+    box_margin : float
+        Metres of free space around everything (the environment's outer box).
+
+    Returns
+    -------
+    reason : ndarray, shape (t,), int8
+    occ_offsets, occ, st_offsets, st : ndarray, int64
+        The occluders (row numbers in the frame) and static occluders (sources) of each target, CSR over the
+        targets, ascending.
+    in_env : ndarray of bool, shape (t,)
+        Targets that are holes of the viewpoint's environment (blocking, and not hidden behind one object).
+    blocked : ndarray of bool, shape (v,)
+        Viewpoints for which something blocks the view (the others see every target whole).
+    plain : ndarray of bool, shape (v,)
+        Viewpoints whose environment is the plain one: each hole one body, inside ``outer``.
+    outer : ndarray, shape (v, 4)
+        The plain environment's outer box ``x0, y0, x1, y1``, metres, relative to the origin.
+    """
+    n_views = len(eyes)
+    n_targets = target_offsets[-1]
+    reason = np.empty(n_targets, dtype=np.int8)
+    occ_offsets = np.zeros(n_targets + 1, dtype=np.int64)
+    st_offsets = np.zeros(n_targets + 1, dtype=np.int64)
+    occ = np.empty(0, dtype=np.int64)
+    st = np.empty(0, dtype=np.int64)
+    n_occ = 0
+    n_st = 0
+    in_env = np.zeros(n_targets, dtype=np.bool_)
+    blocked = np.zeros(n_views, dtype=np.bool_)
+    plain = np.zeros(n_views, dtype=np.bool_)
+    outer = np.zeros((n_views, 4))
+    for f in range(len(frame_starts) - 1):
+        s, e = frame_starts[f], frame_starts[f + 1]
+        n = e - s
+        for v in range(view_starts[f], view_starts[f + 1]):
+            gx, gy, ox, oy = origins[v, 0], origins[v, 1], eyes[v, 0], eyes[v, 1]
+            t0 = target_offsets[v]
+            seg, seg_body, seg_offsets = view_segments(coords, offsets, s, e, gx, gy, st_seg, st_source, n_sources)
+            blocking = np.empty(n + n_sources, dtype=np.bool_)
+            for i in range(n):
+                blocking[i] = not transparent[t0 + i]
+            blocking[n:] = static_blocking(static_offsets, static_inside, v, n_sources)
+            targets = np.flatnonzero(blocking[:n])
+            hidden = np.zeros(n + n_sources, dtype=np.bool_)
+            codes = np.empty(0, dtype=np.int64)
+            if len(targets) and len(seg):
+                body, target, certain, hidden = _candidate_pairs(
+                    ox, oy, seg, seg_body, blocking, targets, start[t0 : t0 + n], width[t0 : t0 + n], n
+                )
+                check = np.flatnonzero(~certain)
+                certain[check] = _occludes_pairs(
+                    ox, oy, seg, seg_offsets, body[check], target[check], start[t0 : t0 + n], width[t0 : t0 + n]
+                )
+                # grouped by target, ascending within: objects first (body < n), static sources after
+                codes = np.unique(target[certain] * (n + n_sources) + body[certain])
+            occ = reserve(occ, n_occ, n_occ + len(codes))
+            st = reserve(st, n_st, n_st + len(codes))
+            q = 0
+            for i in range(n):
+                while q < len(codes) and codes[q] // (n + n_sources) == i:
+                    b = codes[q] % (n + n_sources)
+                    if b < n:
+                        occ[n_occ] = b
+                        n_occ += 1
+                    else:
+                        st[n_st] = b - n
+                        n_st += 1
+                    q += 1
+                occ_offsets[t0 + i + 1] = n_occ
+                st_offsets[t0 + i + 1] = n_st
+                counts_occ = occ_offsets[t0 + i + 1] - occ_offsets[t0 + i]
+                counts_st = st_offsets[t0 + i + 1] - st_offsets[t0 + i]
+                reason[t0 + i] = reason_of(transparent[t0 + i], counts_occ, counts_st)
+                in_env[t0 + i] = blocking[i] and not hidden[i]
+            blocked[v] = blocking.any()
+            if not blocked[v]:
+                continue
+            # the plain environment: no two boxes of its holes overlap, nothing encloses or contains the viewpoint
+            k = view_key[v]
+            n_env = 0
+            for i in range(n):
+                n_env += in_env[t0 + i]
+            n_parts = part_offsets[k + 1] - part_offsets[k]
+            lo = np.empty((n_env + n_parts, 2))
+            hi = np.empty((n_env + n_parts, 2))
+            j = 0
+            for i in range(n):
+                if in_env[t0 + i]:
+                    a0, a1 = offsets[s + i], offsets[s + i + 1]
+                    for c in range(2):
+                        least, most = np.inf, -np.inf
+                        for q in range(a0, a1):
+                            value = coords[q, c] - (gx if c == 0 else gy)
+                            least = min(least, value)
+                            most = max(most, value)
+                        lo[j, c], hi[j, c] = least, most
+                    j += 1
+            for p in range(part_offsets[k], part_offsets[k + 1]):
+                lo[j, 0], lo[j, 1] = part_boxes[p, 0], part_boxes[p, 1]
+                hi[j, 0], hi[j, 1] = part_boxes[p, 2], part_boxes[p, 3]
+                j += 1
+            inside_static = static_offsets[v + 1] > static_offsets[v]
+            plain[v] = key_plain[k] and not inside_static and len(box_overlaps(lo, hi)[0]) == 0
+            x0, y0, x1, y1 = ox, oy, ox, oy
+            for j in range(len(lo)):
+                x0, y0 = min(x0, lo[j, 0]), min(y0, lo[j, 1])
+                x1, y1 = max(x1, hi[j, 0]), max(y1, hi[j, 1])
+            outer[v, 0], outer[v, 1] = x0 - box_margin, y0 - box_margin
+            outer[v, 2], outer[v, 3] = x1 + box_margin, y1 + box_margin
+    return reason, occ_offsets, occ[:n_occ], st_offsets, st[:n_st], in_env, blocked, plain, outer
+
+
+@numba.njit(cache=True)
+def checked_visible_angles(
+    coords,
+    offsets,
+    frame_starts,
+    view_starts,
+    target_offsets,
+    origins,
+    eyes,
+    transparent,
+    static_offsets,
+    static_inside,
+    st_seg,
+    st_source,
+    n_sources,
+    start,
+    width,
+    in_env,
+    blocked,
+    polygon_offsets,
+    polygons,
+    check_absolute,
+    check_relative,
+):
+    """Every target's visible angle (radians) from the visibility polygons of a chunk's viewpoints.
+
+    ``polygons[polygon_offsets[v]:polygon_offsets[v + 1]]`` are VisiLibity's vertices for viewpoint ``v``
+    (relative to its origin; none where it computed none); the other arguments as :func:`occlusion_by_view` takes
+    and returns them. A viewpoint with nothing blocking sees each target's whole extent. Each polygon is checked
+    (:func:`.polygon_check.nearer_edge_exists` on the edges of the environment's bodies) and attributed
+    (:func:`.attribution.attribute_visible_angles`).
+
+    Returns
+    -------
+    visible : ndarray, shape (t,)
+        Zero for targets of viewpoints without a polygon or failing the check.
+    failed : ndarray of bool, shape (v,)
+        Viewpoints whose polygon skips a nearer body.
+    """
+    visible = np.zeros(target_offsets[-1])
+    failed = np.zeros(len(eyes), dtype=np.bool_)
+    for f in range(len(frame_starts) - 1):
+        s, e = frame_starts[f], frame_starts[f + 1]
+        n = e - s
+        for v in range(view_starts[f], view_starts[f + 1]):
+            t0 = target_offsets[v]
+            if not blocked[v]:
+                visible[t0 : t0 + n] = width[t0 : t0 + n]
+                continue
+            p0, p1 = polygon_offsets[v], polygon_offsets[v + 1]
+            if p1 == p0:
+                continue
+            gx, gy, ox, oy = origins[v, 0], origins[v, 1], eyes[v, 0], eyes[v, 1]
+            seg, seg_body, seg_offsets = view_segments(coords, offsets, s, e, gx, gy, st_seg, st_source, n_sources)
+            for j in range(len(seg)):  # relative to the viewpoint
+                for p in range(2):
+                    seg[j, p, 0] -= ox
+                    seg[j, p, 1] -= oy
+            pts = np.empty((p1 - p0, 2))
+            for i in range(p1 - p0):
+                pts[i, 0], pts[i, 1] = polygons[p0 + i, 0] - ox, polygons[p0 + i, 1] - oy
+            statics_blocking = static_blocking(static_offsets, static_inside, v, n_sources)
+            check = np.empty(len(seg), dtype=np.bool_)
+            for j in range(len(seg)):
+                b = seg_body[j]
+                check[j] = in_env[t0 + b] if b < n else statics_blocking[b - n]
+            if nearer_edge_exists(pts, seg, check, check_absolute, check_relative):
+                failed[v] = True
+                continue
+            targets = np.empty(n, dtype=np.int64)
+            k = 0
+            for i in range(n):
+                if not transparent[t0 + i]:
+                    targets[k] = i
+                    k += 1
+            m_obj = offsets[e] - offsets[s]
+            angles = attribute_visible_angles(
+                pts, seg[:m_obj], seg_offsets[: n + 1], targets[:k], start[t0 : t0 + n], width[t0 : t0 + n], 1e-6
+            )
+            visible[t0 : t0 + n] = angles[:n]
+    return visible, failed
+
+
+def observe_chunk(engine: VisiLibityEngine, objects: ObjectTable, views: ChunkViewpoints) -> ChunkObservation:
+    """What every viewpoint of a chunk sees, all around without range (see the module docstring); the numbers of
+    ``engine.observe`` frame by frame."""
+    coords = np.ascontiguousarray(objects.rings.coords, dtype=np.float64)
+    offsets = np.ascontiguousarray(objects.rings.offsets, dtype=np.int64)
+    frame_starts = np.ascontiguousarray(objects.frame_starts, dtype=np.int64)
+    view_starts = np.ascontiguousarray(views.frame_starts, dtype=np.int64)
+    target_offsets = np.ascontiguousarray(views.target_offsets, dtype=np.int64)
+    transparent = np.ascontiguousarray(views.transparent, dtype=np.bool_)
+    static_offsets = np.ascontiguousarray(views.static_offsets, dtype=np.int64)
+    static_inside = np.ascontiguousarray(views.static_inside, dtype=np.int64)
+    positions = np.ascontiguousarray(views.position, dtype=np.float64).reshape(-1, 2)
+    if len(positions) == 0:
+        empty, no_offsets = np.zeros(0, dtype=np.int64), np.zeros(1, dtype=np.int64)
+        return ChunkObservation(np.zeros(0), np.zeros(0), np.zeros(0, np.int8), no_offsets, empty, no_offsets, empty)
+    origins = grid_origin(positions)
+    eyes = positions - origins
+    st_seg, st_offsets = engine._source_edges
+    st_source = np.repeat(np.arange(engine.statics.n_sources, dtype=np.int64), np.diff(st_offsets))
+    st_seg = np.ascontiguousarray(st_seg, dtype=np.float64).reshape(-1, 2, 2)
+
+    start, width = angular_extents(coords, offsets, frame_starts, view_starts, target_offsets, origins, eyes)
+
+    keys, view_key = np.unique(origins, axis=0, return_inverse=True)
+    parts = [_parts_at(engine, origin) for origin in keys]
+    part_offsets = np.zeros(len(keys) + 1, dtype=np.int64)
+    np.cumsum([len(bounds) for _, bounds, _ in parts], out=part_offsets[1:])
+    part_boxes = np.concatenate([bounds for _, bounds, _ in parts]).reshape(-1, 4)
+    key_plain = np.array([plain for _, _, plain in parts], dtype=np.bool_)
+    common = (coords, offsets, frame_starts, view_starts, target_offsets, origins, eyes, transparent)
+    statics = (static_offsets, static_inside, st_seg, st_source, engine.statics.n_sources, start, width)
+    reason, occ_offsets, occ, static_occ_offsets, static_occ, in_env, blocked, plain, outer = occlusion_by_view(
+        *common, *statics, view_key.ravel().astype(np.int64), part_offsets, part_boxes, key_plain, engine.box_margin
+    )
+
+    environments = (in_env, blocked, plain, outer, parts, view_key)
+    polygons = _visibility_polygons(engine, objects, views, origins, eyes, *environments)
+    polygon_offsets = np.zeros(len(eyes) + 1, dtype=np.int64)
+    np.cumsum([len(p) for p in polygons], out=polygon_offsets[1:])
+    points = np.concatenate(polygons).reshape(-1, 2) if polygons else np.zeros((0, 2))
+    visible, failed = checked_visible_angles(
+        *common, *statics, in_env, blocked, polygon_offsets, points, CHECK_ABSOLUTE, CHECK_RELATIVE
+    )
+    for v in np.flatnonzero(failed).tolist():  # polygons skipping a nearer body: the engine splits the holes
+        visible[target_offsets[v] : target_offsets[v + 1]] = _frame_observation(engine, objects, views, v).visible_angle
+    return ChunkObservation(visible, width, reason, occ_offsets, occ, static_occ_offsets, static_occ)
+
+
+def _parts_at(engine: VisiLibityEngine, origin: np.ndarray) -> tuple[list, np.ndarray, bool]:
+    """The static parts blocking a viewpoint inside none of them, in the grid cell of ``origin``: their VisiLibity
+    holes, bounding boxes (relative to the origin), and whether none encloses anything."""
+    engine._use_origin(origin)
+    _, bounds, holes, enclosing = engine._static_parts(np.ones(engine.statics.n_sources, dtype=bool))
+    return holes, np.asarray(bounds, dtype=np.float64).reshape(-1, 4), not enclosing
+
+
+def _visibility_polygons(engine, objects, views, origins, eyes, in_env, blocked, plain, outer, parts, view_key):
+    """VisiLibity's visibility polygon of every blocked viewpoint (relative to its origin; empty where none)."""
+    coords, offsets, frame_starts = objects.rings.coords, objects.rings.offsets, objects.frame_starts
+    frame_of_view = np.repeat(np.arange(len(frame_starts) - 1), np.diff(views.frame_starts))
+    polygons = [_NO_POLYGON] * len(eyes)
+    for v in np.flatnonzero(blocked).tolist():
+        f = int(frame_of_view[v])
+        s, e = int(frame_starts[f]), int(frame_starts[f + 1])
+        t0 = int(views.target_offsets[v])
+        rel = coords[offsets[s] : offsets[e]] - origins[v]
+        local = offsets[s : e + 1] - offsets[s]
+        env = in_env[t0 : t0 + e - s]
+        if plain[v]:
+            x0, y0, x1, y1 = outer[v]
+            box = vis_polygon(np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]]))
+            holes = vis_polygons_reversed(rel, local, np.flatnonzero(env).tolist())
+            polys = [box, *holes, *parts[view_key.flat[v]][0]]
+        else:  # groups of overlapping bodies, enclosures, viewpoints inside static occluders
+            engine._use_origin(views.position[v])
+            static_blocking = np.ones(engine.statics.n_sources, dtype=bool)
+            static_blocking[views.static_inside[views.static_offsets[v] : views.static_offsets[v + 1]]] = False
+            polys = engine._build_environment(Rings(rel, local), env, static_blocking, eyes[v])
+        polygons[v] = visibility_polygon_coords(polys, float(eyes[v, 0]), float(eyes[v, 1]), engine.epsilon)
+    return polygons
+
+
+_NO_POLYGON = np.zeros((0, 2))
+
+
+def _frame_observation(engine: VisiLibityEngine, objects: ObjectTable, views: ChunkViewpoints, v: int) -> Observation:
+    """Viewpoint ``v`` observed frame by frame (:meth:`.VisiLibityEngine.observe`)."""
+    f = int(np.searchsorted(views.frame_starts, v, side="right") - 1)
+    static_transparent = np.zeros(engine.statics.n_sources, dtype=bool)
+    static_transparent[views.static_inside[views.static_offsets[v] : views.static_offsets[v + 1]]] = True
+    t0, t1 = views.target_offsets[v], views.target_offsets[v + 1]
+    viewpoint = Viewpoint(views.position[v], 0.0, int(views.own[v]), views.transparent[t0:t1], static_transparent)
+    return engine.observe(objects.frame_objects(f), [viewpoint])[0]
