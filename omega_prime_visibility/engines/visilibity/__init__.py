@@ -15,6 +15,9 @@ Per frame and observer:
    observer (it subtends no angle). The angle subtended by a body's edges is its visible angle.
 4. Occluders: candidate bodies have an edge inside the target's angular extent nearer than the target's farthest
    point; the exact pairwise test of :mod:`..occlusion` keeps those really hit before the target.
+
+When every viewpoint of a chunk of frames sees all around without range, :mod:`.chunk` runs these steps over the
+whole chunk in compiled loops around VisiLibity's calls, with the same numbers.
 """
 
 from .engine import VisiLibityEngine
