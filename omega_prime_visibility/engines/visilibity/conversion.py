@@ -106,7 +106,10 @@ def polygon_coords(polygon: vis.Polygon) -> np.ndarray:
     --------
     >>> polygon_coords(vis_polygon(np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 1.5]]))).tolist()
     [[0.0, 0.0], [2.0, 0.0], [0.0, 1.5]]
+    >>> polygon_coords(vis.Polygon([vis.Point(1.0, 1.0), vis.Point(3.0, 1.0), vis.Point(1.0, 4.0)])).tolist()
+    [[1.0, 1.0], [3.0, 1.0], [1.0, 4.0]]
     """
+    polygon = getattr(polygon, "this", polygon)  # the SWIG object inside a proxy class
     if _READ_MEMORY:
         begin, end = _VECTOR_BOUNDS.from_address(int(polygon))
         if end - begin == 16 * _n_vertices(polygon):
