@@ -218,3 +218,39 @@ def test_polygon_coords_reads_the_vertex_array_as_swig_gives_it(monkeypatch) -> 
         got = conversion.polygon_coords(polygon)
         assert got.dtype == np.float64 and got.shape == want.shape and np.array_equal(got, want)
     assert len(through_swig[-1]) > 10
+
+
+def test_results_do_not_depend_on_the_side_of_zero_an_earlier_viewpoint_was_on() -> None:
+    from test_pipeline import assert_same_columns, frame_by_frame
+
+    from omega_prime_visibility.pipeline import run_chunk
+
+    # observer 0 lies left of and below x = y = 0 (np.round gives its grid origin as -0.0), observer 1 right of
+    # and above; objects 3 and 4 have vertices at exactly -0.0, which minus a -0.0 origin would become +0.0
+    outlines = {
+        0: (-1.5, -4.5, [[-19.0, -20.0], [-19.0, -19.0], [-20.0, -19.0], [-20.0, -20.0]]),
+        1: (0.0, 2.0, [[20.0, 19.0], [20.0, 20.0], [19.0, 20.0], [19.0, 19.0]]),
+        3: (1.0, -0.0, [[3.0, -2.0], [-0.0, -1.0], [-0.0, 3.0]]),
+        4: (-0.0, -4 / 3, [[1.0, -2.0], [-6.0, -1.0], [5.0, -1.0]]),
+        7: (-3.0, 1 / 3, [[-5.0, -6.0], [-6.0, 4.0], [2.0, 3.0]]),
+    }
+    table = pl.DataFrame(
+        [
+            {"frame": 0, "total_nanos": 0, "idx": i, "x": x, "y": y, "polygon": shapely.Polygon(c)}
+            for i, (x, y, c) in outlines.items()
+        ],
+        schema_overrides={"polygon": pl.Object},
+    )
+    objects = load_objects(table)
+    statics = load_static_occluders([])
+    frame = objects.frame_objects(0)
+    first, second = viewpoints(frame, np.array([0, 1]), statics)
+    alone = VisiLibityEngine(statics).observe(frame, [second])[0]
+    engine = VisiLibityEngine(statics)
+    engine.observe(frame, [first])
+    after = engine.observe(frame, [second])[0]
+    for name in ("visible_angle", "angular_extent"):
+        assert np.array_equal(getattr(alone, name).view(np.int64), getattr(after, name).view(np.int64)), name
+    for egos in ([0, 1], [1]):
+        expected, _ = frame_by_frame(objects, statics, np.array(egos), None, "visilibity")
+        assert_same_columns(run_chunk(objects, statics, np.array(egos), "visilibity")[0], expected)

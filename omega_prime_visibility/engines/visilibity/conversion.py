@@ -35,12 +35,15 @@ def grid_origin(points: np.ndarray) -> np.ndarray:
     """The multiple of :data:`ORIGIN_GRID` nearest to each point (metres, same shape), which VisiLibity's
     coordinates are taken relative to: results then depend on a viewpoint's position only.
 
+    Zero is always +0.0 (``np.round`` gives -0.0 for small negative coordinates): an exact -0.0 vertex minus the
+    origin must not depend on which side of zero the viewpoint lies.
+
     Examples
     --------
     >>> grid_origin(np.array([[1500.0, -300.0]])).tolist()
-    [[1024.0, -0.0]]
+    [[1024.0, 0.0]]
     """
-    return np.round(points / ORIGIN_GRID) * ORIGIN_GRID
+    return np.round(points / ORIGIN_GRID) * ORIGIN_GRID + 0.0
 
 
 @numba.njit(cache=True)
