@@ -23,6 +23,7 @@ import shapely
 from .kernels import segment_distance2
 
 TWO_PI = 2.0 * np.pi
+TOUCH_TOLERANCE = 1e-9  # metres: a body passing this near a viewpoint touches it (and is transparent to it)
 
 
 @dataclass(frozen=True, slots=True)
@@ -318,7 +319,11 @@ def _covers_points_by_frame(points, point_starts, coords, offsets, frame_starts,
 
 
 def covers_points_by_frame(
-    points: np.ndarray, point_starts: np.ndarray, rings: Rings, frame_starts: np.ndarray, tolerance: float = 1e-9
+    points: np.ndarray,
+    point_starts: np.ndarray,
+    rings: Rings,
+    frame_starts: np.ndarray,
+    tolerance: float = TOUCH_TOLERANCE,
 ) -> tuple[np.ndarray, np.ndarray]:
     """:func:`covers_points` for the points of many frames in one compiled call: the points
     ``point_starts[f]:point_starts[f + 1]`` against the rings ``frame_starts[f]:frame_starts[f + 1]``.
@@ -345,7 +350,7 @@ def covers_points_by_frame(
     return covered, offsets
 
 
-def covers_points(points: np.ndarray, rings: Rings, tolerance: float = 1e-9) -> np.ndarray:
+def covers_points(points: np.ndarray, rings: Rings, tolerance: float = TOUCH_TOLERANCE) -> np.ndarray:
     """:func:`covers_point` for several points at once (one compiled call), shape (k, n) bool.
 
     Examples
@@ -384,7 +389,7 @@ def points_in_boxes(points: np.ndarray, boxes: np.ndarray) -> np.ndarray:
     return _points_in_boxes(points, np.ascontiguousarray(boxes, dtype=np.float64).reshape(-1, 4))
 
 
-def covers_point(point: np.ndarray, rings: Rings, tolerance: float = 1e-9) -> np.ndarray:
+def covers_point(point: np.ndarray, rings: Rings, tolerance: float = TOUCH_TOLERANCE) -> np.ndarray:
     """Whether each ring's polygon contains ``point`` or has it within ``tolerance`` metres of its boundary.
 
     Returns

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from .engines import ChunkViewpoints, Engine, Viewpoint, get_engine
+from .engines import FALLBACK_ENGINE, ChunkViewpoints, Engine, EngineFailure, Viewpoint, get_engine
 from .geometry import covers_points, covers_points_by_frame
 from .rows import chunk_rows, frame_rows
 from .scene import FrameObjects, ObjectTable, VisibilityInputWarning
@@ -32,11 +32,20 @@ SensorSet = Sequence[Sensor] | dict[int, Sequence[Sensor]]
 
 
 class ContainmentLog:
-    """Counts objects that contain an observer, for one summarising warning."""
+    """Counts objects that contain an observer, and frames computed by the fallback engine, for one summarising
+    warning each."""
 
     def __init__(self) -> None:
         self.frames: Counter[tuple[int, int]] = Counter()
         self.first: dict[tuple[int, int], int] = {}
+        self.fallback_frames = 0
+        self.first_fallback: tuple[int, str] | None = None  # (frame, why)
+
+    def add_fallback(self, frame: int, why: str) -> None:
+        """A frame the engine failed on (:class:`..engines.EngineFailure` saying ``why``), computed by the fallback."""
+        self.fallback_frames += 1
+        if self.first_fallback is None:
+            self.first_fallback = (int(frame), why)
 
     def add_pairs(self, ego: np.ndarray, idx: np.ndarray, frame: np.ndarray) -> None:
         """Add many ``(observer idx, containing idx, frame)`` triples, in frame order."""
@@ -51,8 +60,19 @@ class ContainmentLog:
         self.frames.update(other.frames)
         for key, frame in other.first.items():
             self.first.setdefault(key, frame)
+        self.fallback_frames += other.fallback_frames
+        self.first_fallback = self.first_fallback or other.first_fallback
 
     def warn(self, stacklevel: int = 3) -> None:
+        if self.first_fallback is not None:
+            frame, why = self.first_fallback
+            warnings.warn(
+                f"{self.fallback_frames} frame(s) computed with engine={FALLBACK_ENGINE!r} (exact too; the engines "
+                f"agree within 1e-6) because the chosen engine could not compute them exactly; first frame {frame}: "
+                f"{why}",
+                VisibilityInputWarning,
+                stacklevel=stacklevel,
+            )
         if not self.frames:
             return
         parts = [
@@ -189,7 +209,11 @@ def observe_frame(
     if len(rows) == 0:
         return
     views = viewpoints(objects, rows, statics, sensors)
-    observations = engine.observe(objects, views)
+    try:
+        observations = engine.observe(objects, views)
+    except EngineFailure as failure:  # e.g. VisiLibity with the viewpoint within a wall's thickness
+        containment.add_fallback(objects.frame, str(failure))
+        observations = get_engine(FALLBACK_ENGINE)(statics).observe(objects, views)
     owns = np.array([view.own for view in views], dtype=np.int64)
     for view in views:
         if np.count_nonzero(view.transparent) > 1:  # more than its own body: it is inside some object
@@ -215,13 +239,16 @@ def run_chunk(
     containment = ContainmentLog()
     if hasattr(eng, "observe_chunk") and unlimited(sensors):  # the whole chunk in compiled loops
         views, owners = chunk_viewpoints(objects, egos, statics, sensors)
-        observation = eng.observe_chunk(objects, views)
-        per_observer = sensors_per_observer(sensors)
-        sensor_codes = None if sensors is None else np.tile(np.arange(per_observer), len(views) // per_observer)
-        _log_containment(containment, objects, views, owners)
-        return chunk_rows(observation, views, owners, objects.idx, objects.frame, objects.total_nanos, sensor_codes), (
-            containment
-        )
+        try:
+            observation = eng.observe_chunk(objects, views)
+        except EngineFailure:  # some frame needs the fallback engine: frame by frame, which finds it
+            pass
+        else:
+            per_observer = sensors_per_observer(sensors)
+            sensor_codes = None if sensors is None else np.tile(np.arange(per_observer), len(views) // per_observer)
+            _log_containment(containment, objects, views, owners)
+            rows = (objects.idx, objects.frame, objects.total_nanos, sensor_codes)
+            return chunk_rows(observation, views, owners, *rows), containment
     builder = TableBuilder()
     for k in range(objects.n_frames):
         observe_frame(eng, statics, objects.frame_objects(k), egos, builder, containment, sensors)

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 import shapely
 
-from .geometry import Rings, edges, orient, points_in_boxes, ring_ids, rings_from, signed_area
+from .geometry import TOUCH_TOLERANCE, Rings, edges, orient, points_in_boxes, ring_ids, rings_from, signed_area
 from .scene import MIN_AREA
 
 
@@ -58,13 +58,17 @@ class StaticOccluders:
 
     def containing_pairs(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(point, source)`` pairs (int64, ordered by point, then source) of occluders containing or touching
-        the points (shape (k, 2), metres); only occluders whose bounding box holds a point are tested exactly (the
-        boxes are closed), so a large map costs little."""
+        the points (shape (k, 2), metres): passing within :data:`~.geometry.TOUCH_TOLERANCE` of them, as for
+        objects (a viewpoint on a wall's line up to rounding is on the wall). Only occluders whose bounding box,
+        grown by that tolerance, holds a point are tested exactly, so a large map costs little."""
         points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
         if not self.n_sources or not len(points):
             return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-        v, s = np.nonzero(points_in_boxes(points, self.bounds))
-        hit = shapely.intersects(self.geometries[s], shapely.points(points[v])) if len(v) else np.zeros(0, bool)
+        grown = self.bounds + np.array([-TOUCH_TOLERANCE, -TOUCH_TOLERANCE, TOUCH_TOLERANCE, TOUCH_TOLERANCE])
+        v, s = np.nonzero(points_in_boxes(points, grown))
+        if not len(v):
+            return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+        hit = shapely.dwithin(self.geometries[s], shapely.points(points[v]), TOUCH_TOLERANCE)
         return v[hit].astype(np.int64), s[hit].astype(np.int64)
 
     def source_edges(self) -> tuple[np.ndarray, np.ndarray]:

@@ -133,3 +133,22 @@ def test_equal_distances_do_not_occlude(engine: str) -> None:
         warnings.simplefilter("error")
         df = run(engine, [(0, 0, 1, 1, 0), (10, 0, 2, 2, 0), (12, 3, 2, 2, 0)])
     assert row(df, 2)["occluder_idxs"] == [] and row(df, 2)["visibility"] == 1.0
+
+
+def test_a_wall_through_the_viewpoint_up_to_rounding_is_transparent(engine: str) -> None:
+    # a wall 0.5 nm above the observer (origin) passes within the touch tolerance (1 nm): the observer stands on
+    # it, so it hides neither the box above (2 = [-1, 1] x [9, 11]) nor the one below (3), and occludes nothing
+    boxes = [(0, 0, 1, 1, 0), (0, 10, 2, 2, 0), (0, -10, 2, 2, 0)]
+    df = run(engine, boxes, [shapely.LineString([(-5, 5e-10), (5, 5e-10)])])
+    for i in (1, 2):
+        assert row(df, i)["visibility"] == 1.0 and row(df, i)["static_occluder_idxs"] == [], i
+    # 2 nm above it the wall is a wall: the box above lies wholly behind it (its extent, 2 * atan(1 / 9), is inside
+    # the wall's, half a turn less 4e-10 rad); VisiLibity cannot place the observer outside its 20 nm thick walls
+    # and hands the frame to the sweep, saying so
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        df = run(engine, boxes, [shapely.LineString([(-5, 2e-9), (5, 2e-9)])])
+    assert row(df, 1)["visibility"] == 0.0 and row(df, 1)["static_occluder_idxs"] == [0]
+    assert row(df, 2)["visibility"] == 1.0 and row(df, 2)["static_occluder_idxs"] == []
+    handed_over = [w for w in caught if "computed with engine='sweep'" in str(w.message)]
+    assert len(handed_over) == (engine == "visilibity")

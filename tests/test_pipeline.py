@@ -198,3 +198,30 @@ def test_the_chunk_path_on_polygon_columns_far_from_the_origin(seed: int, engine
         assert_same_columns(columns, expected)
         assert log.frames == expected_log.frames
         assert expected["occluder_idxs"][1].size and 0 < np.count_nonzero(expected["visibility"] < 1)
+
+
+def test_frames_an_engine_fails_on_are_computed_by_the_fallback_and_counted() -> None:
+    # frames 0 and 2: the observer 2 nm below a wall, inside VisiLibity's 20 nm thick version of it (it raises
+    # EngineFailure); frame 1: 1 m below it. The box above the wall is hidden in every frame, the one below is not
+    table = pl.concat(
+        [
+            boxes_table([(0, y, 1, 1, 0), (0, 10, 2, 2, 0), (0, -10, 2, 2, 0)], f)
+            for f, y in enumerate([-2e-9, -1, -2e-9])
+        ]
+    )
+    wall = [shapely.LineString([(-5, 0), (5, 0)])]
+    for chunk_frames in (1, 500):  # the warnings of several chunks are summed
+        with pytest.warns(
+            UserWarning, match=r"2 frame\(s\) computed with engine='sweep'.*first frame 0: the viewpoint lies within"
+        ):
+            mixed = get_visibility_df(table, 0, wall, engine="visilibity", chunk_frames=chunk_frames)
+        assert mixed["visibility"].to_list() == [0.0, 1.0] * 3 and mixed["static_occluder_idxs"].to_list()[0] == [0]
+    swept = get_visibility_df(table, 0, wall, engine="sweep")
+    alone = get_visibility_df(table.filter(pl.col("frame") == 1), 0, wall, engine="visilibity")
+    assert mixed.filter(pl.col("frame") != 1).equals(swept.filter(pl.col("frame") != 1))
+    assert mixed.filter(pl.col("frame") == 1).equals(alone)
+    objects, statics = load_objects(table), load_static_occluders(wall)
+    expected, expected_log = frame_by_frame(objects, statics, np.array([0]), None, "visilibity")
+    columns, log = run_chunk(objects, statics, np.array([0]), "visilibity")  # the chunk path falls back too
+    assert_same_columns(columns, expected)
+    assert log.fallback_frames == expected_log.fallback_frames == 2 and log.first_fallback[0] == 0

@@ -405,3 +405,16 @@ def test_static_occlusion_test_is_occludes_one(seed: int) -> None:
         assert fast == exact
         answers.append(exact)
     assert 0 < sum(answers) < len(answers)
+
+
+def test_nearer_orders_a_piece_through_the_viewpoint_by_the_tie_rule() -> None:
+    from omega_prime_visibility.engines.sweep.heap_sweep import nearer
+    from omega_prime_visibility.engines.sweep.pieces import EX, EY, HI, LO, NUM, UHX, ULX
+
+    # two pieces over the same half turn [0, pi]: the unit directions at its ends cancel, the bisector is zero and
+    # a piece on a line through the viewpoint (NUM = 0) has distance 0 / 0; the tie rule decides, nothing raises
+    pieces = np.zeros((2, 9))
+    pieces[:, LO], pieces[:, HI] = 0.0, np.pi
+    pieces[:, ULX], pieces[:, UHX] = 1.0, -1.0
+    pieces[:, EX], pieces[:, EY], pieces[:, NUM] = 2.0, 0.0, 0.0
+    assert nearer(pieces, 0, 1) and not nearer(pieces, 1, 0)

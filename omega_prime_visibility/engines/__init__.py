@@ -12,6 +12,9 @@ Every engine has the same contract, so the front end never asks which one it run
   same numbers ``observe`` gives frame by frame (an engine with a compiled loop over frames offers it, so that
   small scenes pay no per-frame Python).
 
+An engine that cannot compute a frame exactly raises :class:`EngineFailure`; the pipeline then computes that frame
+with :data:`FALLBACK_ENGINE` and says so in a warning.
+
 What the numbers mean in the table (the policy keyed on the :class:`Reason` codes) lives in :mod:`..table`.
 A new engine is one module and one line in :data:`ENGINES`.
 """
@@ -30,6 +33,16 @@ import numpy as np
 from ..scene import FrameObjects
 from ..sensors import DRIVER_EYE_HEIGHT, TWO_PI
 from ..statics import StaticOccluders
+
+
+class EngineFailure(RuntimeError):
+    """An engine cannot compute this frame exactly (VisiLibity, say, when its visibility polygon keeps skipping a
+    body, or a viewpoint lies within its walls' thickness); the frame is computed by :data:`FALLBACK_ENGINE`."""
+
+
+FALLBACK_ENGINE = "sweep"
+"""The 2D engine that takes over the frames another engine fails on (exact, and without VisiLibity's thickened
+walls and snapping)."""
 
 
 class Reason(enum.IntEnum):

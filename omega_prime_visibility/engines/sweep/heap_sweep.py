@@ -16,13 +16,15 @@ from ...view import limited_angle
 from .pieces import EX, EY, HI, LO, NUM, TWO_PI, UHX, UHY, ULX, ULY
 
 
-@numba.njit(cache=True)
+# numpy's error model: a piece whose line passes through the viewpoint, shared over half a turn, has a zero
+# bisector and 0 / 0 as its distance (NaN: no order, the tie rule decides) instead of raising ZeroDivisionError
+@numba.njit(cache=True, error_model="numpy")
 def nearer(pieces, a, b):
     """Whether piece ``a`` is nearer than piece ``b`` along the bisector of the directions both cover.
 
     ``pieces`` is the (k, 9) piece table of :mod:`.pieces`; the distance of a piece along a direction ``d`` is
     ``NUM / (d x (q - p))``, here with ``d`` the (unnormalised) sum of the unit directions at the shared
-    interval's ends. Ties go to the lower piece number.
+    interval's ends. Ties (and distances that are not numbers) go to the lower piece number.
     """
     if pieces[a, LO] >= pieces[b, LO]:
         x1, y1 = pieces[a, ULX], pieces[a, ULY]

@@ -14,7 +14,7 @@ from ...occlusion import occluding_pairs
 from ...scene import FrameObjects, ObjectTable
 from ...statics import StaticOccluders, polygonal_and_lineal_parts
 from ...view import objects_in_view, restrict_observation
-from .. import ChunkObservation, ChunkViewpoints, Observation, Viewpoint, group_pairs
+from .. import ChunkObservation, ChunkViewpoints, EngineFailure, Observation, Viewpoint, group_pairs
 from .attribution import attribute_visible_angles
 from .chunk import observe_chunk
 from .conversion import (
@@ -204,13 +204,13 @@ class VisiLibityEngine:
         pts = self._polygon_points(polys, o) - o
         if nearer_edge_exists(pts, seg, in_env, CHECK_ABSOLUTE, CHECK_RELATIVE):
             holes = [polygon_coords(h) - o for h in polys[1:]]
+            if any(shapely.intersects(shapely.Polygon(hole), shapely.Point(0.0, 0.0)) for hole in holes):
+                # within a thickened wall, or a touch_gap of joined bodies, though in no body
+                raise EngineFailure("the viewpoint lies within VisiLibity's thickened walls or joined bodies")
             region = shapely.orient_polygons(self._region_by_parts(polys[0], polys[1:], holes, o), exterior_cw=False)
             pts = np.ascontiguousarray(shapely.get_coordinates(region.exterior)[:-1])
             if nearer_edge_exists(pts, seg, in_env, CHECK_ABSOLUTE, CHECK_RELATIVE):
-                raise RuntimeError(
-                    "VisiLibity's visibility polygon skips a nearer body even when computed body by body; "
-                    "use engine='sweep' for this recording and please report the scene"
-                )
+                raise EngineFailure("VisiLibity's visibility polygon skips a nearer body, even computed body by body")
         return pts
 
     def _region_by_parts(
@@ -229,7 +229,7 @@ class VisiLibityEngine:
         if not nearer_edge_exists(pts, seg, np.ones(len(seg), dtype=bool), CHECK_ABSOLUTE, CHECK_RELATIVE):
             return shapely.Polygon(pts)
         if len(holes) < 2:
-            raise RuntimeError("VisiLibity's visibility polygon skips the only hole of its environment")
+            raise EngineFailure("VisiLibity's visibility polygon skips the only hole of its environment")
         centres = np.array([c.mean(axis=0) for c in hole_coords])
         order = np.argsort(np.arctan2(centres[:, 1], centres[:, 0]))
         parts = [order[: len(order) // 2], order[len(order) // 2 :]]
@@ -238,7 +238,10 @@ class VisiLibityEngine:
         )
         region = shapely.intersection(first, second)
         # rounding can leave specks beside the star-shaped region around the observer: keep the piece holding it
-        return next(g for g in getattr(region, "geoms", [region]) if shapely.intersects(g, shapely.Point(0.0, 0.0)))
+        for piece in getattr(region, "geoms", [region]):
+            if shapely.intersects(piece, shapely.Point(0.0, 0.0)):
+                return piece
+        raise EngineFailure("VisiLibity's visibility polygons of two halves of the holes meet away from the viewpoint")
 
     def _build_environment(
         self, rings: Rings, obj_blocking: np.ndarray, static_blocking: np.ndarray, o: np.ndarray
@@ -365,4 +368,5 @@ class VisiLibityEngine:
         for piece in getattr(free, "geoms", [free]):
             if shapely.intersects(piece, point):
                 return piece
-        raise RuntimeError("internal error: the observer is not in free space although no body contains it")
+        # the viewpoint lies within a body's thickness (a wall's 2 * wall_half_width, or touch_gap) but in no body
+        raise EngineFailure("the viewpoint lies within VisiLibity's thickened walls or joined bodies")
