@@ -152,3 +152,24 @@ def test_a_wall_through_the_viewpoint_up_to_rounding_is_transparent(engine: str)
     assert row(df, 2)["visibility"] == 1.0 and row(df, 2)["static_occluder_idxs"] == []
     handed_over = [w for w in caught if "computed with engine='sweep'" in str(w.message)]
     assert len(handed_over) == (engine == "visilibity")
+
+
+def test_a_sliver_thinner_than_the_tolerance_is_credited_once(engine: str) -> None:
+    # a triangle 2 m long and 20 µm deep at 48 m, its front edge on x = 48 from y = -1 to 1: both of its sides lie
+    # on the same edge of the visibility polygon within the attribution's tolerance (1e-6 x 48 m). Box 2 at
+    # x = 10..11, y = 0..0.5 covers bearings 0 to 2.9 degrees, the sliver's upper half (0 to atan(1 / 48)), so
+    # half of it is seen
+    sliver = shapely.Polygon([(48, -1), (48 + 2e-5, 0), (48, 1)])
+    polys = [shapely.box(-0.5, -0.5, 0.5, 0.5), sliver, shapely.box(10, 0, 11, 0.5)]
+    table = pl.DataFrame(
+        {
+            "frame": [0] * 3,
+            "total_nanos": [0] * 3,
+            "idx": [0, 1, 2],
+            "x": [0.0, 48.0, 10.5],
+            "y": [0.0, 0.0, 0.25],
+            "polygon": pl.Series(polys, dtype=pl.Object),
+        }
+    )
+    df = get_visibility_df(table, 0, engine=engine)
+    assert row(df, 1)["visibility"] == pytest.approx(0.5, abs=1e-12) and row(df, 1)["occluder_idxs"] == [2]

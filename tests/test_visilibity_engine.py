@@ -254,3 +254,55 @@ def test_results_do_not_depend_on_the_side_of_zero_an_earlier_viewpoint_was_on()
     for egos in ([0, 1], [1]):
         expected, _ = frame_by_frame(objects, statics, np.array(egos), None, "visilibity")
         assert_same_columns(run_chunk(objects, statics, np.array(egos), "visilibity")[0], expected)
+
+
+def test_an_edge_seen_at_grazing_incidence_is_credited_despite_the_joining_gap() -> None:
+    # found by fuzzing: a lattice of boxes touching at corners inside a courtyard (VisiLibity's environment is the
+    # free space, joined by a 0.1 µm buffer), the viewpoint 2.4 mm left of box 6 = [4, 6] x [1, 2], whose left
+    # edge it sees almost end-on up to a wall: along that grazing ray the 0.1 µm offset of the polygon looked
+    # like 12 µm and the edge went uncredited (visibility 0 instead of 0.998, the reference's and the sweep's)
+    boxes = {
+        0: (5, 5, 7, 7),
+        1: (3, -3, 4, -2),
+        2: (4, -2, 6, -1),
+        3: (-4, -4, -3, -2),
+        5: (1, 5, 3, 6),
+        6: (4, 1, 6, 2),
+    }
+    boxes[8] = (5, -3, 7, -2)
+    polys = {i: shapely.box(*b) for i, b in boxes.items()}
+    polys[4] = shapely.box(-0.001, -0.001, 0.001, 0.001)  # the observer, at the viewpoint
+    polys[7] = shapely.Polygon(
+        [(0.5634104584673589, 3.618250996852551), (5.436589541532641, 3.618250996852551),
+         (5.436589541532641, 4.381749003147449), (0.5634104584673589, 4.381749003147449)]
+    )  # fmt: skip
+    viewpoint = (3.9975940006365924, 1.0141636614889045)
+    order = sorted(polys)
+    table = pl.DataFrame(
+        {
+            "frame": [0] * len(order),
+            "total_nanos": [0] * len(order),
+            "idx": order,
+            "x": [viewpoint[0] if i == 4 else polys[i].centroid.x for i in order],
+            "y": [viewpoint[1] if i == 4 else polys[i].centroid.y for i in order],
+            "polygon": pl.Series(
+                [shapely.affinity.translate(polys[i], *viewpoint) if i == 4 else polys[i] for i in order],
+                dtype=pl.Object,
+            ),
+        }
+    )
+    statics = [
+        shapely.box(-2.862974028594433, 5.8677402687465126, -1.6123510492277289, 6.555308930080902),
+        shapely.box(-0.2297401811445474, -5.001505680469389, 8.992541695693712, 4.22077619636887).difference(
+            shapely.box(0.7702598188554526, -4.001505680469389, 7.992541695693712, 3.22077619636887)
+        ),
+        shapely.LineString([(-1.5995423268295577, -3.8163261476068144), (14.40115457749291, 10.78576486147209)]),
+        shapely.MultiPolygon(
+            [shapely.box(-2.2429670374807027, 4.372625441698391, -0.2429670374807027, 6.372625441698391),
+             shapely.box(-0.2429670374807027, 6.372625441698391, 1.7570329625192973, 8.372625441698391)]
+        ),
+    ]  # fmt: skip
+    out = {e: get_visibility_df(table, 4, statics, engine=e) for e in ENGINES}
+    seen = {e: out[e].filter(pl.col("idx") == 6)["visibility"].item() for e in ENGINES}
+    assert seen["sweep"] == pytest.approx(0.997925, abs=2e-6)  # the 200,000-ray reference: 0.997925
+    assert seen["visilibity"] == pytest.approx(seen["sweep"], abs=1e-6)
