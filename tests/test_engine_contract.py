@@ -173,3 +173,16 @@ def test_a_sliver_thinner_than_the_tolerance_is_credited_once(engine: str) -> No
     )
     df = get_visibility_df(table, 0, engine=engine)
     assert row(df, 1)["visibility"] == pytest.approx(0.5, abs=1e-12) and row(df, 1)["occluder_idxs"] == [2]
+
+
+@pytest.mark.parametrize("second", [(10, 0, 4, 2, 0), (9, 0, 2, 2, 0)], ids=["duplicate", "nested"])
+def test_coincident_edges_behind_a_wall_are_each_seen_where_they_are_seen(engine: str, second) -> None:
+    # box 1 = [8, 12] x [-1, 1] and box 2, the same box again (a double detection) or [8, 10] x [-1, 1] inside it:
+    # both front edges lie on x = 8, y in [-1, 1] (bearings +-atan(1 / 8)). The wall from (5, 0) to (5, 3) covers
+    # bearings 0 to 31 degrees, the upper half; along the lower half both are hit first, neither before the other
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # (box 2 inside box 1 overlaps it)
+        df = run(engine, [(0, 0, 1, 1, 0), (10, 0, 4, 2, 0), second], [shapely.LineString([(5, 0), (5, 3)])])
+    for i in (1, 2):
+        assert row(df, i)["visibility"] == pytest.approx(0.5, abs=1e-12), i
+        assert row(df, i)["occluder_idxs"] == [] and row(df, i)["static_occluder_idxs"] == [0], i

@@ -4,7 +4,9 @@ Start and end events are sorted by bearing; the active pieces live in an indexed
 piece numbers, ``position[piece]`` where each sits, so a piece is deleted where it is, not when it surfaces) and
 only pieces active together are ever compared. Two pieces are compared along the bisector of the directions they
 share, where neither touches the other, which makes the comparison independent of the sweep position. Between two
-consecutive event bearings the heap's top is the nearest piece; the interval's angle is credited to its body.
+consecutive event bearings the heap's top is the nearest piece; the interval's angle is credited to its body, and
+to the bodies of pieces on the same line (coincident edges of overlapping or duplicated objects: along those
+directions no body is hit before the other, so each is the first thing hit, as :mod:`...occlusion` decides too).
 """
 
 from __future__ import annotations
@@ -12,8 +14,12 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from ...kernels import reserve
+from ...occlusion import RELATIVE_TOLERANCE
 from ...view import limited_angle
 from .pieces import EX, EY, HI, LO, NUM, TWO_PI, UHX, UHY, ULX, ULY
+
+PARALLEL = 1e-9  # radians (as sines): edges this close to parallel, and as near to the viewpoint, lie on one line
 
 
 # numpy's error model: a piece whose line passes through the viewpoint, shared over half a turn, has a zero
@@ -44,14 +50,28 @@ def nearer(pieces, a, b):
     return a < b
 
 
+@numba.njit(cache=True, inline="always")
+def _same_line(pieces, a, b):
+    """Whether pieces ``a`` and ``b`` lie on one line: parallel, and as far from the viewpoint (``NUM / |q - p|``
+    is the line's signed distance), within :data:`PARALLEL` and the occlusion test's relative tolerance."""
+    ax, ay, bx, by = pieces[a, EX], pieces[a, EY], pieces[b, EX], pieces[b, EY]
+    length_a, length_b = np.hypot(ax, ay), np.hypot(bx, by)
+    if abs(ax * by - ay * bx) > PARALLEL * length_a * length_b or ax * bx + ay * by <= 0.0:
+        return False
+    offset_a, offset_b = pieces[a, NUM] / length_a, pieces[b, NUM] / length_b
+    return abs(offset_a - offset_b) <= RELATIVE_TOLERANCE * max(abs(offset_a), abs(offset_b))
+
+
 @numba.njit(cache=True)
-def nearest_intervals(pieces):
+def nearest_intervals(pieces, with_ties=False):
     """The sweep: consecutive bearing intervals between events and the nearest piece over each.
 
     Parameters
     ----------
     pieces : ndarray, shape (k, 9)
         The piece table of :mod:`.pieces`.
+    with_ties : bool
+        Also list, per interval, the other pieces on the nearest piece's line (they tie with it all along).
 
     Returns
     -------
@@ -60,18 +80,26 @@ def nearest_intervals(pieces):
         the bearings where some piece is active, in ascending order.
     top : ndarray, shape (q,), int64
         The nearest piece over ``[lo[i], hi[i]]``.
+    tie_offsets : ndarray, shape (q + 1,), int64
+    ties : ndarray, int64
+        With ``with_ties``, the pieces tying with ``top[i]`` are ``ties[tie_offsets[i]:tie_offsets[i + 1]]`` (they
+        sit in the heap right below its top: every piece between them and the top is as near); else empty.
     """
     k = len(pieces)
     out_lo = np.empty(2 * k)
     out_hi = np.empty(2 * k)
     out_top = np.empty(2 * k, dtype=np.int64)
+    tie_offsets = np.zeros(2 * k + 1 if with_ties else 1, dtype=np.int64)
+    ties = np.empty(0, dtype=np.int64)
+    n_ties = 0
     q = 0
     if k == 0:
-        return out_lo, out_hi, out_top
+        return out_lo, out_hi, out_top, tie_offsets, ties
     by_lo = np.argsort(pieces[:, LO].copy())
     by_hi = np.argsort(pieces[:, HI].copy())
     heap = np.empty(k, dtype=np.int64)
     position = np.full(k, -1, dtype=np.int64)
+    stack = np.empty(k if with_ties else 0, dtype=np.int64)
     size = 0
     i = 0  # next start event, in by_lo
     j = 0  # next end event, in by_hi
@@ -129,8 +157,23 @@ def nearest_intervals(pieces):
             out_lo[q] = theta
             out_hi[q] = following
             out_top[q] = heap[0]
+            if with_ties and size > 1:  # the heap's slots below the top that tie with it, depth first
+                ties = reserve(ties, n_ties, n_ties + size)
+                stack[0] = 0
+                n_stack = 1
+                while n_stack > 0:
+                    n_stack -= 1
+                    slot = stack[n_stack]
+                    for child in (2 * slot + 1, 2 * slot + 2):
+                        if child < size and _same_line(pieces, heap[0], heap[child]):
+                            ties[n_ties] = heap[child]
+                            n_ties += 1
+                            stack[n_stack] = child
+                            n_stack += 1
+            if with_ties:
+                tie_offsets[q + 1] = n_ties
             q += 1
-    return out_lo[:q], out_hi[:q], out_top[:q]
+    return out_lo[:q], out_hi[:q], out_top[:q], tie_offsets[: q + 1 if with_ties else 1], ties[:n_ties]
 
 
 @numba.njit(cache=True)
@@ -150,13 +193,21 @@ def visible_angles(pieces, body, n_bodies, wedge_start, fov, max_range):
     """
     limited = fov < TWO_PI or max_range < np.inf
     visible = np.zeros(n_bodies)
-    lo, hi, top = nearest_intervals(pieces)
+    lo, hi, top, tie_offsets, ties = nearest_intervals(pieces, True)
+    credited = np.full(n_bodies, -1, dtype=np.int64)  # the last interval each body was credited
     for q in range(len(lo)):
         t = top[q]
-        if limited:
-            visible[body[t]] += limited_angle(
-                lo[q], hi[q], pieces[t, EX], pieces[t, EY], pieces[t, NUM], wedge_start, fov, max_range
-            )
-        else:
-            visible[body[t]] += hi[q] - lo[q]
+        credited[body[t]] = q
+        for r in range(tie_offsets[q] - 1, tie_offsets[q + 1]):  # the top, then the pieces on its line
+            if r >= tie_offsets[q]:
+                t = ties[r]
+                if credited[body[t]] == q:  # (another of this body's pieces)
+                    continue
+                credited[body[t]] = q
+            if limited:
+                visible[body[t]] += limited_angle(
+                    lo[q], hi[q], pieces[t, EX], pieces[t, EY], pieces[t, NUM], wedge_start, fov, max_range
+                )
+            else:
+                visible[body[t]] += hi[q] - lo[q]
     return visible

@@ -60,7 +60,7 @@ def visible_outline(pieces, wedge_start, fov, radius, arc_step):
     arc_step : float
         Radians between the points drawn on arcs of the range circle.
     """
-    lo, hi, top = nearest_intervals(pieces)
+    lo, hi, top, _, _ = nearest_intervals(pieces)
     # the whole circle, bearing order: the sweep's intervals and the gaps between them (top -1)
     q = len(lo)
     all_lo = np.empty(2 * q + 1)
