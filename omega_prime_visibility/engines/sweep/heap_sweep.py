@@ -55,10 +55,11 @@ def _same_line(pieces, a, b):
     """Whether pieces ``a`` and ``b`` lie on one line: parallel, and as far from the viewpoint (``NUM / |q - p|``
     is the line's signed distance), within :data:`PARALLEL` and the occlusion test's relative tolerance."""
     ax, ay, bx, by = pieces[a, EX], pieces[a, EY], pieces[b, EX], pieces[b, EY]
-    length_a, length_b = np.hypot(ax, ay), np.hypot(bx, by)
-    if abs(ax * by - ay * bx) > PARALLEL * length_a * length_b or ax * bx + ay * by <= 0.0:
-        return False
-    offset_a, offset_b = pieces[a, NUM] / length_a, pieces[b, NUM] / length_b
+    cross = ax * by - ay * bx
+    squared_a, squared_b = ax * ax + ay * ay, bx * bx + by * by
+    if cross * cross > PARALLEL * PARALLEL * squared_a * squared_b or ax * bx + ay * by <= 0.0:
+        return False  # (most pairs: no square root taken)
+    offset_a, offset_b = pieces[a, NUM] / np.sqrt(squared_a), pieces[b, NUM] / np.sqrt(squared_b)
     return abs(offset_a - offset_b) <= RELATIVE_TOLERANCE * max(abs(offset_a), abs(offset_b))
 
 
