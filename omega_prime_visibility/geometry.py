@@ -91,10 +91,22 @@ def edges(rings: Rings) -> tuple[np.ndarray, np.ndarray]:
 
 
 def signed_area(rings: Rings) -> np.ndarray:
-    """Signed area of each ring in square metres (positive when counter-clockwise), shape (n,)."""
+    """Signed area of each ring in square metres (positive when counter-clockwise), shape (n,).
+
+    Taken relative to each ring's first vertex: with map coordinates (UTM: 5e5, 5e6 m) the shoelace terms of
+    absolute coordinates are 1e12 m² and would drown the area of a thin ring, and its orientation with it.
+
+    Examples
+    --------
+    >>> far = Rings(np.array([[5e5, 5.4e6], [5e5 + 2.0, 5.4e6], [5e5 + 1.0, 5.4e6 + 2.0**-20]]), np.array([0, 3]))
+    >>> float(signed_area(far)[0]) == 2.0**-20  # a needle 2 m long, 1 µm high
+    True
+    """
     if len(rings) == 0:
         return np.zeros(0)
     a, b = edges(rings)
+    first = np.repeat(rings.coords[rings.offsets[:-1]], rings.sizes, axis=0)
+    a, b = a - first, b - first
     cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
     return 0.5 * np.add.reduceat(cross, rings.offsets[:-1]) if len(cross) else np.zeros(len(rings))
 

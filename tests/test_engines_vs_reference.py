@@ -96,9 +96,13 @@ def degenerate_traffic(rng: np.random.Generator):
             factor = rng.uniform(0.3, 0.8)
             extra.append(shapely.affinity.scale(polygon, factor, factor, origin=tuple(corner)))
         else:
-            # a sliver 1e-6 of its length thick, moved off the polygon (on its edge it would be thinner than the
-            # attribution's tolerance and thicker than the occlusion test's: which one is seen there is convention)
-            a, b = np.asarray(polygon.exterior.coords)[:2] + rng.normal(size=2) * 2.0
+            # a sliver 1e-6 of its length thick, through the polygon or moved off it (along its edge it would be
+            # thinner than the attribution's tolerance and thicker than the occlusion test's: convention)
+            if rng.random() < 0.5:
+                a, b = np.asarray(polygon.exterior.coords)[:2] + rng.normal(size=2) * 2.0
+            else:
+                centre, half = np.asarray(polygon.centroid.coords[0]), rng.normal(size=2) * 3.0
+                a, b = centre - half, centre + half
             extra.append(shapely.Polygon([a, b, (a + b) / 2 + 1e-6 * np.array([b[1] - a[1], a[0] - b[0]])]).normalize())
     corner = np.asarray(objects[-1].exterior.coords)[0]
     statics = [*statics, shapely.LineString([corner, corner + rng.normal(size=2) * 20])]
@@ -121,3 +125,25 @@ def test_engines_agree_with_each_other_and_the_reference_on_degenerate_traffic(s
     assert np.abs(sweep["visibility"].to_numpy() - visilibity["visibility"].to_numpy()).max() <= 1e-6
     assert sweep["occluder_idxs"].to_list() == visilibity["occluder_idxs"].to_list()
     assert sweep["static_occluder_idxs"].to_list() == visilibity["static_occluder_idxs"].to_list()
+
+
+@pytest.mark.parametrize("engine", sorted(ENGINES))
+@pytest.mark.parametrize("seed", range(6))
+def test_degenerate_traffic_moved_to_map_coordinates_gives_the_same_table(engine: str, seed: int) -> None:
+    # the same scene at UTM-like coordinates (moved by whole metres: the coordinates' differences stay exact);
+    # a micrometre sliver's orientation once came from shoelace terms of 1e12 m² and flipped
+    observer, objects, statics, _ = degenerate_traffic(np.random.default_rng(100 + seed))
+    shift = np.array([499712.0, 5399552.0])
+    tables = []
+    for offset in (np.zeros(2), shift):
+        moved = [shapely.affinity.translate(p, *offset) for p in objects]
+        moved_statics = [shapely.affinity.translate(g, *offset) for g in statics]
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            tables.append(
+                get_visibility_df(scene_table(observer + offset, moved, True), 0, moved_statics, engine=engine)
+            )
+    near, far = tables
+    assert np.abs(near["visibility"].to_numpy() - far["visibility"].to_numpy()).max() <= 1e-8
+    assert near["occluder_idxs"].to_list() == far["occluder_idxs"].to_list()
+    assert near["static_occluder_idxs"].to_list() == far["static_occluder_idxs"].to_list()

@@ -65,3 +65,14 @@ def test_covers_points_is_covers_point_for_each_point() -> None:
     polygons = shapely.polygons([rings.ring(i) for i in range(30)])
     inside = shapely.contains_xy(polygons[None, :], points[:40, :1], points[:40, 1:])  # random points: off the edges
     assert np.array_equal(many[:40], inside)
+
+
+def test_orientation_of_a_needle_at_map_coordinates() -> None:
+    # a needle 2 m long and 1 µm high at UTM-like coordinates, counter-clockwise: its area (2**-20 m²) is far below
+    # the rounding of shoelace terms of absolute coordinates (1e12 m²), which gave 0 and flipped it
+    x, y = 5e5, 5.4e6
+    ccw = np.array([[x, y], [x + 2.0, y], [x + 1.0, y + 2.0**-20]])
+    for ring, area in ((ccw, 2.0**-20), (ccw[::-1].copy(), -(2.0**-20))):
+        rings = Rings(ring, np.array([0, 3]))
+        assert signed_area(rings)[0] == area
+        assert signed_area(orient(rings, True))[0] == 2.0**-20
