@@ -213,7 +213,7 @@ def observe_frame(
         observations = engine.observe(objects, views)
     except EngineFailure as failure:  # e.g. VisiLibity with the viewpoint within a wall's thickness
         containment.add_fallback(objects.frame, str(failure))
-        observations = get_engine(FALLBACK_ENGINE)(statics).observe(objects, views)
+        observations = _fallback_engine(statics).observe(objects, views)
     owns = np.array([view.own for view in views], dtype=np.int64)
     for view in views:
         if np.count_nonzero(view.transparent) > 1:  # more than its own body: it is inside some object
@@ -225,6 +225,17 @@ def observe_frame(
     sensor_codes = None if sensors is None else np.tile(np.arange(sensors_per_observer(sensors)), len(rows))
     columns = frame_rows(observations, owns, objects.idx, sensor_codes)
     builder.add(columns, frame=objects.frame, total_nanos=objects.total_nanos)
+
+
+_FALLBACK: list = []  # [(statics, engine)]: the last fallback engine built, reused while the statics are the same
+
+
+def _fallback_engine(statics: StaticOccluders) -> Engine:
+    """The :data:`..engines.FALLBACK_ENGINE` for these static occluders, built once (a large map's static grid is
+    not built again for every frame that needs it)."""
+    if not _FALLBACK or _FALLBACK[0][0] is not statics:
+        _FALLBACK[:] = [(statics, get_engine(FALLBACK_ENGINE)(statics))]
+    return _FALLBACK[0][1]
 
 
 def run_chunk(
