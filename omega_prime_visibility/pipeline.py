@@ -19,8 +19,8 @@ from typing import Any
 
 import numpy as np
 
+from .containment import covers_points, covers_points_by_frame
 from .engines import FALLBACK_ENGINE, ChunkViewpoints, Engine, EngineFailure, Viewpoint, get_engine
-from .geometry import covers_points, covers_points_by_frame
 from .rows import chunk_rows, frame_rows
 from .scene import FrameObjects, ObjectTable, VisibilityInputWarning
 from .sensors import TWO_PI, Sensor, sensor_poses

@@ -10,7 +10,8 @@ from typing import Any
 import numpy as np
 import shapely
 
-from .geometry import TOUCH_TOLERANCE, Rings, edges, orient, points_in_boxes, ring_ids, rings_from, signed_area
+from .containment import TOUCH_TOLERANCE, points_in_boxes
+from .geometry import Rings, edges, orient, ring_ids, rings_from, signed_area
 from .scene import MIN_AREA
 
 
@@ -58,7 +59,7 @@ class StaticOccluders:
 
     def containing_pairs(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(point, source)`` pairs (int64, ordered by point, then source) of occluders containing or touching
-        the points (shape (k, 2), metres): passing within :data:`~.geometry.TOUCH_TOLERANCE` of them, as for
+        the points (shape (k, 2), metres): passing within :data:`~.containment.TOUCH_TOLERANCE` of them, as for
         objects (a viewpoint on a wall's line up to rounding is on the wall). Only occluders whose bounding box,
         grown by that tolerance, holds a point are tested exactly, so a large map costs little."""
         points = np.asarray(points, dtype=np.float64).reshape(-1, 2)

@@ -6,15 +6,8 @@ import numpy as np
 import pytest
 import shapely
 
-from omega_prime_visibility.geometry import (
-    Rings,
-    angular_extent,
-    box_rings,
-    covers_point,
-    covers_points,
-    orient,
-    signed_area,
-)
+from omega_prime_visibility.containment import covers_point, covers_points
+from omega_prime_visibility.geometry import Rings, angular_extent, box_rings, orient, signed_area
 
 
 def square(x: float, y: float, side: float = 2.0) -> Rings:

@@ -29,10 +29,11 @@ from reference import (
 from shapely import affinity
 
 from omega_prime_visibility import get_visibility_df
+from omega_prime_visibility.containment import covers_point
 from omega_prime_visibility.engines import Viewpoint, get_engine
 from omega_prime_visibility.engines.sweep import SweepEngine
 from omega_prime_visibility.engines.sweep.crossings import prepare_frame
-from omega_prime_visibility.geometry import angular_extent, box_rings, covers_point
+from omega_prime_visibility.geometry import angular_extent, box_rings
 from omega_prime_visibility.scene import FrameObjects, load_objects
 from omega_prime_visibility.statics import load_static_occluders
 
