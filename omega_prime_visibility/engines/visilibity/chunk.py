@@ -310,8 +310,9 @@ def observe_chunk(engine: VisiLibityEngine, objects: ObjectTable, views: ChunkVi
         *common, *statics, view_key.ravel().astype(np.int64), part_offsets, part_boxes, key_plain, engine.box_margin
     )
 
+    frame_of_view = np.repeat(np.arange(objects.n_frames), np.diff(view_starts))
     environments = (in_env, blocked, plain, outer, parts, view_key)
-    polygons = _visibility_polygons(engine, objects, views, origins, eyes, *environments)
+    polygons = _visibility_polygons(engine, objects, views, frame_of_view, origins, eyes, *environments)
     polygon_offsets = np.zeros(len(eyes) + 1, dtype=np.int64)
     np.cumsum([len(p) for p in polygons], out=polygon_offsets[1:])
     points = np.concatenate(polygons).reshape(-1, 2) if polygons else np.zeros((0, 2))
@@ -319,7 +320,8 @@ def observe_chunk(engine: VisiLibityEngine, objects: ObjectTable, views: ChunkVi
         *common, *statics, in_env, blocked, polygon_offsets, points, CHECK_ABSOLUTE, CHECK_RELATIVE
     )
     for v in np.flatnonzero(failed).tolist():  # polygons skipping a nearer body: the engine splits the holes
-        visible[target_offsets[v] : target_offsets[v + 1]] = _frame_observation(engine, objects, views, v).visible_angle
+        observation = _frame_observation(engine, objects, views, int(frame_of_view[v]), v)
+        visible[target_offsets[v] : target_offsets[v + 1]] = observation.visible_angle
     return ChunkObservation(visible, width, reason, occ_offsets, occ, static_occ_offsets, static_occ)
 
 
@@ -331,10 +333,11 @@ def _parts_at(engine: VisiLibityEngine, origin: np.ndarray) -> tuple[list, np.nd
     return holes, np.asarray(bounds, dtype=np.float64).reshape(-1, 4), not enclosing
 
 
-def _visibility_polygons(engine, objects, views, origins, eyes, in_env, blocked, plain, outer, parts, view_key):
+def _visibility_polygons(
+    engine, objects, views, frame_of_view, origins, eyes, in_env, blocked, plain, outer, parts, view_key
+):
     """VisiLibity's visibility polygon of every blocked viewpoint (relative to its origin; empty where none)."""
     coords, offsets, frame_starts = objects.rings.coords, objects.rings.offsets, objects.frame_starts
-    frame_of_view = np.repeat(np.arange(len(frame_starts) - 1), np.diff(views.frame_starts))
     polygons = [_NO_POLYGON] * len(eyes)
     for v in np.flatnonzero(blocked).tolist():
         f = int(frame_of_view[v])
@@ -350,8 +353,7 @@ def _visibility_polygons(engine, objects, views, origins, eyes, in_env, blocked,
             polys = [box, *holes, *parts[view_key.flat[v]][0]]
         else:  # groups of overlapping bodies, enclosures, viewpoints inside static occluders
             engine._use_origin(views.position[v])
-            static_blocking = np.ones(engine.statics.n_sources, dtype=bool)
-            static_blocking[views.static_inside[views.static_offsets[v] : views.static_offsets[v + 1]]] = False
+            static_blocking = ~_static_transparent(views, engine.statics.n_sources, v)
             polys = engine._build_environment(Rings(rel, local), env, static_blocking, eyes[v])
         polygons[v] = visibility_polygon_coords(polys, float(eyes[v, 0]), float(eyes[v, 1]), engine.epsilon)
     return polygons
@@ -360,11 +362,18 @@ def _visibility_polygons(engine, objects, views, origins, eyes, in_env, blocked,
 _NO_POLYGON = np.zeros((0, 2))
 
 
-def _frame_observation(engine: VisiLibityEngine, objects: ObjectTable, views: ChunkViewpoints, v: int) -> Observation:
-    """Viewpoint ``v`` observed frame by frame (:meth:`.VisiLibityEngine.observe`)."""
-    f = int(np.searchsorted(views.frame_starts, v, side="right") - 1)
-    static_transparent = np.zeros(engine.statics.n_sources, dtype=bool)
-    static_transparent[views.static_inside[views.static_offsets[v] : views.static_offsets[v + 1]]] = True
+def _static_transparent(views: ChunkViewpoints, n_sources: int, v: int) -> np.ndarray:
+    """The static sources containing viewpoint ``v``, shape (n_sources,) bool."""
+    inside = np.zeros(n_sources, dtype=bool)
+    inside[views.static_inside[views.static_offsets[v] : views.static_offsets[v + 1]]] = True
+    return inside
+
+
+def _frame_observation(
+    engine: VisiLibityEngine, objects: ObjectTable, views: ChunkViewpoints, f: int, v: int
+) -> Observation:
+    """Viewpoint ``v`` (of frame position ``f``) observed frame by frame (:meth:`.VisiLibityEngine.observe`)."""
+    static_transparent = _static_transparent(views, engine.statics.n_sources, v)
     t0, t1 = views.target_offsets[v], views.target_offsets[v + 1]
     viewpoint = Viewpoint(views.position[v], 0.0, int(views.own[v]), views.transparent[t0:t1], static_transparent)
     return engine.observe(objects.frame_objects(f), [viewpoint])[0]

@@ -113,11 +113,17 @@ def polygon_coords(polygon: vis.Polygon) -> np.ndarray:
     [[1.0, 1.0], [3.0, 1.0], [1.0, 4.0]]
     """
     polygon = getattr(polygon, "this", polygon)  # the SWIG object inside a proxy class
-    if _READ_MEMORY:
-        begin, end = _VECTOR_BOUNDS.from_address(int(polygon))
-        if end - begin == 16 * _n_vertices(polygon):
-            return np.frombuffer(ctypes.string_at(begin, end - begin), dtype=np.float64).reshape(-1, 2)
-    return _coords_through_swig(polygon)
+    coords = _vertex_array(polygon, _n_vertices(polygon)) if _READ_MEMORY else None
+    return coords if coords is not None else _coords_through_swig(polygon)
+
+
+def _vertex_array(polygon, n: int) -> np.ndarray | None:
+    """The polygon's vertex array read in memory, shape (n, 2); None unless its two bounding words are aligned
+    and span exactly ``n`` vertices (nothing is followed before that)."""
+    begin, end = _VECTOR_BOUNDS.from_address(int(polygon))
+    if begin == 0 or begin % 8 or end - begin != 16 * n:
+        return None
+    return np.frombuffer(ctypes.string_at(begin, end - begin), dtype=np.float64).reshape(-1, 2)
 
 
 def _coords_through_swig(polygon: vis.Polygon) -> np.ndarray:
@@ -130,11 +136,8 @@ def _memory_layout_holds() -> bool:
     two words span exactly its vertices, and they hold its coordinates)."""
     known = np.array([[0.5, -1.25], [3.0, 0.125], [-2.0, 7.5]])
     polygon = vis_polygon(known)
-    begin, end = _VECTOR_BOUNDS.from_address(int(polygon))
-    if begin == 0 or begin % 8 or end - begin != 16 * len(known):
-        return False
-    found = np.frombuffer(ctypes.string_at(begin, end - begin), dtype=np.float64).reshape(-1, 2)
-    return bool(np.array_equal(found, known)) and np.array_equal(_coords_through_swig(polygon), known)
+    found = _vertex_array(polygon, len(known))
+    return found is not None and np.array_equal(found, known) and np.array_equal(_coords_through_swig(polygon), known)
 
 
 def visibility_polygon_coords(environment, x: float, y: float, epsilon: float) -> np.ndarray:

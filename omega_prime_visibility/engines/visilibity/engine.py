@@ -30,6 +30,8 @@ from .conversion import (
 from .polygon_check import CHECK_ABSOLUTE, CHECK_RELATIVE, nearer_edge_exists
 
 BOX_MARGIN = 10.0  # metres of free space around everything
+# why a frame fails when the viewpoint is in no body but within a wall's 2 * wall_half_width or a touch_gap
+_INSIDE_THICKNESS = "the viewpoint lies within VisiLibity's thickened walls or joined bodies"
 
 
 class _Unenclosable(Exception):
@@ -205,8 +207,7 @@ class VisiLibityEngine:
         if nearer_edge_exists(pts, seg, in_env, CHECK_ABSOLUTE, CHECK_RELATIVE):
             holes = [polygon_coords(h) - o for h in polys[1:]]
             if any(shapely.intersects(shapely.Polygon(hole), shapely.Point(0.0, 0.0)) for hole in holes):
-                # within a thickened wall, or a touch_gap of joined bodies, though in no body
-                raise EngineFailure("the viewpoint lies within VisiLibity's thickened walls or joined bodies")
+                raise EngineFailure(_INSIDE_THICKNESS)
             region = shapely.orient_polygons(self._region_by_parts(polys[0], polys[1:], holes, o), exterior_cw=False)
             pts = np.ascontiguousarray(shapely.get_coordinates(region.exterior)[:-1])
             if nearer_edge_exists(pts, seg, in_env, CHECK_ABSOLUTE, CHECK_RELATIVE):
@@ -368,5 +369,4 @@ class VisiLibityEngine:
         for piece in getattr(free, "geoms", [free]):
             if shapely.intersects(piece, point):
                 return piece
-        # the viewpoint lies within a body's thickness (a wall's 2 * wall_half_width, or touch_gap) but in no body
-        raise EngineFailure("the viewpoint lies within VisiLibity's thickened walls or joined bodies")
+        raise EngineFailure(_INSIDE_THICKNESS)
