@@ -19,6 +19,9 @@ from .kernels import TWO_PI, nearest_offset, ray_line_distance, reserve, wrap_po
 
 RELATIVE_TOLERANCE = 1e-9  # J must be nearer by this fraction of T's distance to count as in front
 MIN_PIECE = 1e-12  # radians; thinner pieces are ignored
+# sine of the angle between two edges' lines under which the relative tolerance lets them tie along the bearings
+# where they lie that near; lines meeting at a wider angle (at a corner two bodies share) are ordered exactly
+TIE_PARALLEL = 1e-3
 
 
 @numba.njit(cache=True, inline="always")
@@ -32,6 +35,75 @@ def _line_distance(ox, oy, dx, dy, ax, ay, bx, by):
 def _edge_line_distance(ox, oy, dx, dy, seg, j):
     """:func:`_line_distance` to the line of edge ``seg[j]`` (shape (s, 2, 2), metres)."""
     return _line_distance(ox, oy, dx, dy, seg[j, 0, 0], seg[j, 0, 1], seg[j, 1, 0], seg[j, 1, 1])
+
+
+@numba.njit(cache=True, inline="always")
+def _hides(theta, num_e, ex, ey, num_f, fx, fy, keep):
+    """Whether, along the bearing ``theta``, line ``f`` is hit before line ``e``, nearer than ``keep`` times the
+    latter's distance (lines as in :func:`hidden_span`)."""
+    dx, dy = np.cos(theta), np.sin(theta)
+    den_e, den_f = dx * ey - dy * ex, dx * fy - dy * fx
+    if den_e == 0.0 or den_f == 0.0:  # a line seen edge-on hides nothing and is hidden by nothing
+        return False
+    return num_f / den_f < (num_e / den_e) * keep
+
+
+@numba.njit(cache=True)
+def hidden_span(base, lo, hi, num_e, ex, ey, num_f, fx, fy):
+    """The bearings ``base + [lo, hi]`` (radians, ``0 <= hi - lo < pi``) along which the line ``f`` hides the
+    line ``e``: ``f`` is hit nearer than ``(1 - RELATIVE_TOLERANCE)`` times the distance of ``e``, the rule of
+    :func:`occludes_one` and of the definition, so that nearly coincident edges tie; lines at an angle whose sine
+    exceeds :data:`TIE_PARALLEL` (edges meeting at a corner) tie nowhere but where they meet: ``f`` hides ``e``
+    wherever it is nearer.
+
+    A line is given by its direction ``(ex, ey)`` and ``num_e = p x (ex, ey)`` for a point ``p`` on it (relative
+    to the observer, metres); its distance along the unit direction ``d`` is ``num_e / (d x e)``. The two
+    distances are ratios linear in ``d``, so they swap order at most once within half a turn, along ``w = num_f e
+    - k num_e f`` (``k`` the factor above): the bearings hidden are an interval touching ``lo`` or ``hi``, or all
+    of them, or none.
+
+    Returns
+    -------
+    (float, float)
+        The hidden bearings relative to ``base``; ``lo >= hi`` when none.
+
+    Examples
+    --------
+    Seen from the origin between 45° and 90°, the line y = 2 (direction +x: ``num = (0, 2) x (1, 0) = -2``) is
+    hidden all along by the line y = 1, and hides none of it:
+
+    >>> import numpy as np
+    >>> [float(b) for b in hidden_span(np.pi / 4, 0.0, np.pi / 4, -2.0, 1.0, 0.0, -1.0, 1.0, 0.0)]
+    [0.0, 0.7853981633974483]
+    >>> lo, hi = hidden_span(np.pi / 4, 0.0, np.pi / 4, -1.0, 1.0, 0.0, -2.0, 1.0, 0.0)
+    >>> bool(lo >= hi)
+    True
+
+    The line y = 1 against the line through (1, 0) and (0, 2): they cross at (0.5, 1), bearing atan2(1, 0.5);
+    before it (from 45°) the slanted line is nearer:
+
+    >>> lo, hi = hidden_span(np.pi / 4, 0.0, np.pi / 4, -1.0, 1.0, 0.0, 2.0, -1.0, 2.0)
+    >>> bool(lo == 0.0 and np.isclose(np.pi / 4 + hi, np.arctan2(1.0, 0.5)))
+    True
+    """
+    cross = ex * fy - ey * fx
+    nearly_parallel = cross * cross <= TIE_PARALLEL * TIE_PARALLEL * (ex * ex + ey * ey) * (fx * fx + fy * fy)
+    keep = 1.0 - RELATIVE_TOLERANCE if nearly_parallel else 1.0
+    hides_lo = _hides(base + lo, num_e, ex, ey, num_f, fx, fy, keep)
+    hides_hi = _hides(base + hi, num_e, ex, ey, num_f, fx, fy, keep)
+    if hides_lo == hides_hi:
+        return (lo, hi) if hides_lo else (hi, hi)
+    # they swap order along w or -w, which lies within the bearings
+    wx = num_f * ex - keep * num_e * fx
+    wy = num_f * ey - keep * num_e * fy
+    ux, uy = np.cos(base + lo), np.sin(base + lo)
+    swap = np.arctan2(ux * wy - uy * wx, ux * wx + uy * wy)
+    # w or -w: the one within (or, by rounding, nearest to) the bearings
+    other = swap + np.pi if swap < 0.0 else swap - np.pi
+    if max(-other, other - (hi - lo)) < max(-swap, swap - (hi - lo)):
+        swap = other
+    swap = min(max(lo + swap, lo), hi)
+    return (lo, swap) if hides_lo else (swap, hi)
 
 
 @numba.njit(cache=True)

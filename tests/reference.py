@@ -34,6 +34,7 @@ from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 import numpy as np
+from shapely import make_valid
 from shapely.geometry import LineString, MultiLineString, MultiPolygon, Point, Polygon
 from shapely.geometry.base import BaseGeometry
 
@@ -41,6 +42,7 @@ __all__ = [
     "ReferenceResult",
     "Scene",
     "angular_extent_reference",
+    "dense_traffic",
     "geometry_segments",
     "long_static_scene",
     "nearest_hit_distances",
@@ -51,6 +53,7 @@ __all__ = [
     "random_static",
     "reference_visibility",
     "scene_series",
+    "walls_with_needles",
 ]
 
 TWO_PI = 2.0 * np.pi
@@ -697,6 +700,97 @@ try:  # pragma: no cover - depends on the environment
     from hypothesis import strategies as st
 except ImportError:  # pragma: no cover
     st = None
+
+
+def dense_traffic(
+    rng: np.random.Generator, n_objects: int = 40, pairs: int = 8, offset: Any = (0.0, 0.0)
+) -> np.ndarray:
+    """One frame of dense highway traffic as trackers deliver it: ``(x, y, length, width, yaw)`` rows, the ego
+    (row 0) at ``offset``, cars and trucks within ±60 m on five lanes with lateral noise, overlapping at random,
+    plus ``pairs`` bodies laid on an edge of a random car: their edge on its edge's line (exactly, or 0 to 50 µm
+    off to either side), parallel or turned by 1e-9 to 1e-8 rad, inside the car or outside touching it, some
+    followed by a third body on the same line.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+    n_objects : int
+        Rows before the laid bodies and their followers.
+    pairs : int
+    offset : array_like
+        Added to every position (metres): map coordinates such as UTM's for ``(5e5, 5.4e6)``.
+
+    Returns
+    -------
+    ndarray, shape (k, 5)
+        Metres, radians counter-clockwise from +x.
+    """
+    boxes = [(0.0, 0.0, 4.5, 1.8, rng.normal(0, 0.01))]
+    lanes = np.array([-7.0, -3.5, 0.0, 3.5, 7.0])
+    while len(boxes) < n_objects - 2 * pairs:
+        truck = rng.random() >= 0.8
+        length, width = (rng.uniform(8, 16), 2.5) if truck else (4.5, 1.8)
+        boxes.append((rng.uniform(-60, 60), rng.choice(lanes) + rng.normal(0, 0.2), length, width, rng.normal(0, 0.02)))
+    for _ in range(pairs):
+        ax, ay, al, aw, ayaw = boxes[1 + rng.integers(len(boxes) - 1)]
+        kind = rng.integers(4)
+        delta = 0.0 if kind == 0 else rng.uniform(0, 50e-6) * rng.choice([-1, 1])
+        turn = 0.0 if rng.random() < 0.5 else rng.choice([-1, 1]) * rng.choice([1e-9, 3e-9, 1e-8])
+        side = rng.choice([-1, 1])
+        bl, bw = rng.uniform(3.0, 6.0), rng.uniform(1.0, 2.2)
+        along = rng.uniform(-al, al) * (0.3 if kind == 3 else 1.0)
+        across = side * (aw / 2 + delta - bw / 2) if rng.random() >= 0.3 else side * (aw / 2 + delta + bw / 2)
+        c, s = np.cos(ayaw), np.sin(ayaw)
+        boxes.append((ax + c * along - s * across, ay + s * along + c * across, bl, bw, ayaw + turn))
+        if rng.random() < 0.5:  # a third body on the same line further along
+            along += rng.choice([-1, 1]) * rng.uniform(2, 6)
+            across = side * (aw / 2 + rng.uniform(0, 20e-6) - bw / 2)
+            boxes.append((ax + c * along - s * across, ay + s * along + c * across, bl, bw, ayaw - turn))
+    out = np.array(boxes)
+    out[:, :2] += np.asarray(offset, dtype=float)
+    return out
+
+
+def walls_with_needles(rng: np.random.Generator, n_objects: int = 11) -> Scene:
+    """A scene of static walls with degenerate geometry around the observer at the origin: three walls each
+    with a needle (a spike going out and coming back on itself: a line string ``a, foot, tip, foot, b``, or a
+    polygon with such a spike repaired by ``shapely.make_valid`` into a polygon and lines), three boxes with a
+    corner each on one ray from the observer (sight lines grazing collinear corners, on alternating sides),
+    and ``n_objects`` cars clear of the walls, some of them on that ray beyond the corners. Object 0 is the ego.
+    """
+    statics: list[BaseGeometry] = []
+    for _ in range(3):
+        c = rng.uniform(-20, 20, 2)
+        d = rng.normal(size=2)
+        d /= np.linalg.norm(d)
+        n = np.array([-d[1], d[0]]) * rng.choice([-1, 1])
+        a, b = c - d * rng.uniform(3, 8), c + d * rng.uniform(3, 8)
+        foot = c + d * rng.uniform(-2, 2)
+        tip = foot + n * rng.uniform(0.5, 4)
+        if rng.random() < 0.5:
+            statics.append(LineString([a, foot, tip, foot, b]))
+        else:
+            statics.append(make_valid(Polygon([a, foot, tip, foot, b, b - 0.3 * n, a - 0.3 * n])))
+    angle = rng.uniform(-np.pi, np.pi)
+    u = np.array([np.cos(angle), np.sin(angle)])
+    v = np.array([-u[1], u[0]])
+    for k, r in enumerate(rng.uniform(3, 25, 3)):
+        p, side = u * r, v * (1 if k % 2 else -1)
+        statics.append(Polygon([p, p + 1.5 * u, p + 1.5 * u + side, p + side]))
+    objects: list[BaseGeometry] = [Polygon(_rect(0.2, 0.2))]
+    while len(objects) < n_objects + 1:
+        if rng.random() < 0.3:  # on the ray through the corners
+            car = Polygon(_place(_rect(2.0, 1.0), u * rng.uniform(27, 35), rng.uniform(0, np.pi)))
+        else:
+            centre = rng.uniform(-30, 30, 2)
+            if np.hypot(*centre) < 2.0:
+                continue
+            car = Polygon(_place(_rect(4.0, 1.8), centre, rng.uniform(0, np.pi)))
+        if not any(car.intersects(s) for s in statics):
+            objects.append(car)
+    transparent = np.zeros(len(objects), dtype=bool)
+    transparent[0] = True
+    return Scene(np.zeros(2), objects, statics, transparent)
 
 
 def occlusion_confirmed(

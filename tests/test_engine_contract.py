@@ -11,7 +11,7 @@ import pytest
 import shapely
 from conftest import boxes_table
 
-from omega_prime_visibility import ENGINES, VisibilityInputWarning, get_visibility_df
+from omega_prime_visibility import ENGINES, Sensor, VisibilityInputWarning, get_visibility_df
 
 # the sweep is exact to rounding; VisiLibity joins bodies touching at a point by a 0.1 µm buffer, which moves
 # visible angles by up to about that over the distance (radians)
@@ -186,3 +186,44 @@ def test_coincident_edges_behind_a_wall_are_each_seen_where_they_are_seen(engine
     for i in (1, 2):
         assert row(df, i)["visibility"] == pytest.approx(0.5, abs=1e-12), i
         assert row(df, i)["occluder_idxs"] == [] and row(df, i)["static_occluder_idxs"] == [0], i
+
+
+def test_an_edge_micrometres_behind_a_nearer_one_is_hidden(engine: str) -> None:
+    # overlapping cars as trackers deliver them: 2's near edge (y = 10 + 5 µm, x in [-1, 3]) runs 5 µm behind 1's
+    # (y = 10, x in [-2, 2]); 1 hides it up to its corner (2, 10), beyond which 2 is seen up to its corner (3, y2).
+    # (VisiLibity joins the two edges; crediting 2 the joined edge gave it nearly 1.)
+    y2 = 10 + 5e-6
+    df = run(engine, [(0, 0, 1, 1, 0), (0, 11, 4, 2, 0), (1, y2 + 0.5, 4, 1, 0)])
+    extent = math.atan2(y2, -1.0) - math.atan2(y2, 3.0)
+    seen = math.atan2(10.0, 2.0) - math.atan2(y2, 3.0)
+    assert row(df, 2)["visibility"] == pytest.approx(seen / extent, abs=max(1e-9, EXACT[engine]))
+    assert row(df, 2)["occluder_idxs"] == [1]
+    assert row(df, 1)["visibility"] == 1.0 and row(df, 1)["occluder_idxs"] == []
+
+
+def test_edges_a_nanoradian_apart_tie(engine: str) -> None:
+    # 2 (x in [2, 8]) lies on 1's near edge y = 10 (x in [-5, 5]), turned by 1e-9 rad about (5, 10): along
+    # x in [2, 5] the two edges are under 3 nm apart, within the occlusion test's tolerance (1e-9 of 10 m): a
+    # tie, so 2 hides nothing of 1 there. 3, a post x in [-2, -1], y in [4.9, 5.1], hides the bearings from its
+    # corner (-1, 5.1) to its corner (-2, 4.9) of 1, whose extent runs from atan2(10, 5) to atan2(10, -5).
+    angle = 1e-9
+    centre = (5 - 0.25 * math.sin(angle), 10 + 0.25 * math.cos(angle))
+    df = run(engine, [(0, 0, 1, 1, 0), (0, 11, 10, 2, 0), (*centre, 6, 0.5, angle), (-1.5, 5, 1, 0.2, 0)])
+    extent = math.atan2(10, -5) - math.atan2(10, 5)
+    hidden = math.atan2(4.9, -2) - math.atan2(5.1, -1)
+    assert row(df, 1)["visibility"] == pytest.approx(1 - hidden / extent, abs=max(1e-9, EXACT[engine]))
+    assert row(df, 1)["occluder_idxs"] == [3]
+
+
+@pytest.mark.parametrize("beyond", [False, True])
+def test_a_target_seen_only_along_a_line_through_wall_corners_is_occluded(engine: str, beyond: bool) -> None:
+    # walls [1, 2] x [0, 1] (below y = x), [0, 2] x [2, 3] (above it) and [3, 4] x [2, 3] (below it) have their
+    # corners (1, 1), (2, 2), (3, 3) on the diagonal from the viewpoint: any ray off it hits a wall, so the car on
+    # the diagonal at (10, 10) is seen along no direction of positive measure (also with a wall across the
+    # diagonal beyond the corners): visibility 0, status occluded
+    walls = [shapely.box(1, 0, 2, 1), shapely.box(0, 2, 2, 3), shapely.box(3, 2, 4, 3)]
+    walls += [shapely.LineString([(6, 4), (4, 6)])] if beyond else []
+    table = boxes_table([(0, 0, 0.2, 0.2, 0), (10, 10, 2, 2, math.pi / 4)])
+    df = get_visibility_df(table, 0, walls, engine=engine, sensors=[Sensor("all_round")])
+    assert row(df, 1)["visibility"] == 0.0 and row(df, 1)["status"] == "occluded"
+    assert row(df, 1)["static_occluder_idxs"] == ([0, 1, 2, 3] if beyond else [0, 1, 2])

@@ -11,7 +11,7 @@ from reference import random_scene, reference_visibility
 
 from omega_prime_visibility import ENGINES, get_visibility_df
 from omega_prime_visibility.engines.visilibity import VisiLibityEngine
-from omega_prime_visibility.engines.visilibity.polygon_check import nearer_edge_exists
+from omega_prime_visibility.engines.visilibity.polygon_check import polygon_fails
 from omega_prime_visibility.geometry import edges
 from omega_prime_visibility.pipeline import viewpoints
 from omega_prime_visibility.scene import load_objects
@@ -103,11 +103,12 @@ def test_visilibity_polygon_that_skips_a_body_is_caught() -> None:
     o = view.position
     raw = engine._polygon_points(env, o - origin) - (o - origin)
     a, b = edges(frame.rings)
-    seg = np.stack([a, b], axis=1) - o
-    blocking = ~np.repeat(view.transparent, 4)
-    assert nearer_edge_exists(np.ascontiguousarray(raw), seg, blocking, 1e-7, 1e-9)
+    wall, _ = engine._source_edges
+    seg = np.ascontiguousarray(np.concatenate([np.stack([a, b], axis=1), wall]) - o)
+    blocking = np.concatenate([~np.repeat(view.transparent, 4), np.ones(len(wall), dtype=bool)])
+    assert polygon_fails(np.ascontiguousarray(raw), seg, blocking, 1e-7, 1e-9, 1e-6)
     fixed = np.asarray(engine.visible_region(frame, view).exterior.coords)[:-1] - o
-    assert not nearer_edge_exists(np.ascontiguousarray(fixed), seg, blocking, 1e-7, 1e-9)
+    assert not polygon_fails(np.ascontiguousarray(fixed), seg, blocking, 1e-7, 1e-9, 1e-6)
     # the corrected polygon holds target 32's corner at bearing -56.72° on its boundary
     corner = shapely.Point(19.622, -29.908)
     assert engine.visible_region(frame, view).boundary.distance(corner) < 1e-6

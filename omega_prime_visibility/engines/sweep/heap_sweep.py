@@ -5,8 +5,9 @@ piece numbers, ``position[piece]`` where each sits, so a piece is deleted where 
 only pieces active together are ever compared. Two pieces are compared along the bisector of the directions they
 share, where neither touches the other, which makes the comparison independent of the sweep position. Between two
 consecutive event bearings the heap's top is the nearest piece; the interval's angle is credited to its body, and
-to the bodies of pieces on the same line (coincident edges of overlapping or duplicated objects: along those
-directions no body is hit before the other, so each is the first thing hit, as :mod:`...occlusion` decides too).
+to the bodies of pieces that it does not hide by the occlusion test's relative tolerance (coincident or nearly
+coincident edges of overlapping or duplicated objects: along those directions no body is hit before the other, so
+each is the first thing hit, as :mod:`...occlusion` and the definition decide).
 """
 
 from __future__ import annotations
@@ -15,11 +16,9 @@ import numba
 import numpy as np
 
 from ...kernels import reserve
-from ...occlusion import RELATIVE_TOLERANCE
+from ...occlusion import MIN_PIECE, hidden_span
 from ...view import limited_angle
 from .pieces import EX, EY, HI, LO, NUM, TWO_PI, UHX, UHY, ULX, ULY
-
-PARALLEL = 1e-9  # radians (as sines): edges this close to parallel, and as near to the viewpoint, lie on one line
 
 
 # numpy's error model: a piece whose line passes through the viewpoint, shared over half a turn, has a zero
@@ -50,17 +49,21 @@ def nearer(pieces, a, b):
     return a < b
 
 
-@numba.njit(cache=True, inline="always")
-def _same_line(pieces, a, b):
-    """Whether pieces ``a`` and ``b`` lie on one line: parallel, and as far from the viewpoint (``NUM / |q - p|``
-    is the line's signed distance), within :data:`PARALLEL` and the occlusion test's relative tolerance."""
-    ax, ay, bx, by = pieces[a, EX], pieces[a, EY], pieces[b, EX], pieces[b, EY]
-    cross = ax * by - ay * bx
-    squared_a, squared_b = ax * ax + ay * ay, bx * bx + by * by
-    if cross * cross > PARALLEL * PARALLEL * squared_a * squared_b or ax * bx + ay * by <= 0.0:
-        return False  # (most pairs: no square root taken)
-    offset_a, offset_b = pieces[a, NUM] / np.sqrt(squared_a), pieces[b, NUM] / np.sqrt(squared_b)
-    return abs(offset_a - offset_b) <= RELATIVE_TOLERANCE * max(abs(offset_a), abs(offset_b))
+@numba.njit(cache=True)
+def unhidden_by_top(pieces, top, other, lo, hi):
+    """The bearings of ``[lo, hi]`` (radians, an interval between events) along which the nearest piece ``top``
+    does not hide piece ``other`` (:func:`...occlusion.hidden_span`: ``other`` lies within the occlusion test's
+    relative tolerance of it, as coincident edges of overlapping or duplicated objects do), ``(a, b)``; empty
+    (``a >= b``) when it hides all of them."""
+    h_lo, h_hi = hidden_span(
+        lo, 0.0, hi - lo, pieces[other, NUM], pieces[other, EX], pieces[other, EY],
+        pieces[top, NUM], pieces[top, EX], pieces[top, EY],
+    )  # fmt: skip
+    if h_hi <= h_lo:
+        return lo, hi
+    if h_lo > 0.0:
+        return lo, lo + h_lo
+    return lo + h_hi, hi
 
 
 @numba.njit(cache=True)
@@ -72,7 +75,8 @@ def nearest_intervals(pieces, with_ties=False):
     pieces : ndarray, shape (k, 9)
         The piece table of :mod:`.pieces`.
     with_ties : bool
-        Also list, per interval, the other pieces on the nearest piece's line (they tie with it all along).
+        Also list, per interval, the other pieces that the nearest piece does not hide along some of it (they
+        tie with it there: see :func:`unhidden_by_top`).
 
     Returns
     -------
@@ -84,7 +88,8 @@ def nearest_intervals(pieces, with_ties=False):
     tie_offsets : ndarray, shape (q + 1,), int64
     ties : ndarray, int64
         With ``with_ties``, the pieces tying with ``top[i]`` are ``ties[tie_offsets[i]:tie_offsets[i + 1]]`` (they
-        sit in the heap right below its top: every piece between them and the top is as near); else empty.
+        sit in the heap right below its top: every piece between them and the top ties with it too, being
+        nearer than they are); else empty.
     """
     k = len(pieces)
     out_lo = np.empty(2 * k)
@@ -166,7 +171,10 @@ def nearest_intervals(pieces, with_ties=False):
                     n_stack -= 1
                     slot = stack[n_stack]
                     for child in (2 * slot + 1, 2 * slot + 2):
-                        if child < size and _same_line(pieces, heap[0], heap[child]):
+                        if child >= size:
+                            continue
+                        a, b = unhidden_by_top(pieces, heap[0], heap[child], theta, following)
+                        if b - a >= MIN_PIECE:
                             ties[n_ties] = heap[child]
                             n_ties += 1
                             stack[n_stack] = child
@@ -181,7 +189,7 @@ def nearest_intervals(pieces, with_ties=False):
 def visible_angles(pieces, body, n_bodies, wedge_start, fov, max_range):
     """Angle (radians) along which each body's pieces are the nearest thing hit, inside the field of view
     ``[wedge_start, wedge_start + fov]`` and within ``max_range`` metres (see :func:`...view.limited_angle`),
-    shape (n_bodies,).
+    shape (n_bodies,); intervals thinner than :data:`...occlusion.MIN_PIECE` count for nothing.
 
     Parameters
     ----------
@@ -197,18 +205,22 @@ def visible_angles(pieces, body, n_bodies, wedge_start, fov, max_range):
     lo, hi, top, tie_offsets, ties = nearest_intervals(pieces, True)
     credited = np.full(n_bodies, -1, dtype=np.int64)  # the last interval each body was credited
     for q in range(len(lo)):
+        if hi[q] - lo[q] < MIN_PIECE:  # (rounding between events at one bearing, such as collinear corners)
+            continue
         t = top[q]
         credited[body[t]] = q
-        for r in range(tie_offsets[q] - 1, tie_offsets[q + 1]):  # the top, then the pieces on its line
+        for r in range(tie_offsets[q] - 1, tie_offsets[q + 1]):  # the top, then the pieces tying with it
+            a, b = lo[q], hi[q]
             if r >= tie_offsets[q]:
                 t = ties[r]
                 if credited[body[t]] == q:  # (another of this body's pieces)
                     continue
                 credited[body[t]] = q
+                a, b = unhidden_by_top(pieces, top[q], t, a, b)
             if limited:
                 visible[body[t]] += limited_angle(
-                    lo[q], hi[q], pieces[t, EX], pieces[t, EY], pieces[t, NUM], wedge_start, fov, max_range
+                    a, b, pieces[t, EX], pieces[t, EY], pieces[t, NUM], wedge_start, fov, max_range
                 )
             else:
-                visible[body[t]] += hi[q] - lo[q]
+                visible[body[t]] += b - a
     return visible

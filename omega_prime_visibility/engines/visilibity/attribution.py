@@ -5,8 +5,10 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...kernels import TWO_PI, ray_line_distance
+from ...kernels import TWO_PI, reserve_rows
+from ...occlusion import MIN_PIECE, hidden_span
 from ...view import limited_angle
+from .polygon_check import on_edge
 
 # radians: two edges of a target meeting at a vertex may share this much of a polygon edge through rounding of
 # their bearings; only wider overlaps (both sides of a sliver) are credited once
@@ -15,7 +17,20 @@ ROUNDING_OVERLAP = 1e-9
 
 @numba.njit(cache=True)
 def attribute_visible_angles(
-    pts, seg, seg_offsets, targets, extent_start, extent_width, tolerance, wedge_start=0.0, fov=TWO_PI, max_range=np.inf
+    pts,
+    seg,
+    seg_offsets,
+    targets,
+    extent_start,
+    extent_width,
+    tolerance,
+    occ_offsets,
+    occ,
+    st_offsets,
+    st,
+    wedge_start=0.0,
+    fov=TWO_PI,
+    max_range=np.inf,
 ):
     """Angle of the visibility polygon's boundary lying on each target, radians.
 
@@ -24,16 +39,26 @@ def attribute_visible_angles(
     extent are found by binary search. A polygon edge may run along several bodies (merging overlapping or
     touching bodies joins their collinear edges into one): each target is credited the bearings over which one
     of its edges lies on the polygon edge (the two lines' points on the ray agree within ``tolerance`` times the
-    distance, at least 1 m, at both ends of the shared bearings, measured across the body's edge: see
+    distance, at least 1 m, at both ends of the bearings credited, measured across the body's edge: see
     :func:`_on_edge`), each bearing once (both sides of a sliver thinner than that lie on the same polygon
     edge). Edges pointing at the observer subtend no angle. Only bearings inside the field of
     view ``[wedge_start, wedge_start + fov]`` along which the edge lies within ``max_range`` metres count (see
     :func:`...view.limited_angle`).
+
+    The polygon only says where *some* body's boundary is seen; which one is decided exactly: a target's edge is
+    not credited along bearings where an edge of one of its occluders is hit before it (by the occlusion test's
+    :data:`...occlusion.RELATIVE_TOLERANCE`, see :func:`_unhidden`). Bodies lying within the tolerance of each
+    other (overlapping cars whose edges are micrometres apart) thus get what the definition gives them, not both
+    the polygon edge; pieces thinner than :data:`...occlusion.MIN_PIECE` are not credited.
+
+    ``seg`` holds the edges of all bodies relative to the observer (objects ``0 .. n - 1``, then the static
+    sources), ``seg_offsets`` shape (bodies + 1,); the occluders of object ``t`` are the objects
+    ``occ[occ_offsets[t]:occ_offsets[t + 1]]`` and the static sources ``st[st_offsets[t]:st_offsets[t + 1]]``.
     """
     limited = fov < TWO_PI or max_range < np.inf
     m = len(pts)
-    n_bodies = len(seg_offsets) - 1
-    visible = np.zeros(n_bodies)
+    n_objects = len(occ_offsets) - 1
+    visible = np.zeros(n_objects)
     if m < 3:
         return visible
     two_pi = 2.0 * np.pi
@@ -79,35 +104,71 @@ def attribute_visible_angles(
                     shared_hi = min(max(rel_a, rel_b), span[i])
                     if shared_hi <= shared_lo:
                         continue
-                    if not _on_edge(bearing[i], shared_lo, shared_hi, px, py, qx, qy, ax, ay, bx, by, tolerance):
+                    # the polygon edge runs along this edge at one end of the shared bearings at least (a line
+                    # crossing it in between would be nearer than it on one side, and so on the polygon there)
+                    on_lo = on_edge(bearing[i] + shared_lo, px, py, qx, qy, ax, ay, bx, by, tolerance)
+                    on_hi = on_edge(bearing[i] + shared_hi, px, py, qx, qy, ax, ay, bx, by, tolerance)
+                    if not (on_lo or on_hi):
                         continue
-                    # bearings another edge of the target was credited on this polygon edge already (both sides of
-                    # a sliver thinner than the tolerance) are not credited twice
-                    n_credited = _credit(
-                        visible, t, shared_lo, shared_hi, credited_lo, credited_hi, n_credited, bearing[i],
-                        limited, bx - ax, by - ay, ax * (by - ay) - ay * (bx - ax), wedge_start, fov, max_range,
+                    pieces = _unhidden(
+                        px, py, bearing[i], shared_lo, shared_hi, ax, ay, bx, by, seg, seg_offsets,
+                        occ[occ_offsets[t] : occ_offsets[t + 1]], n_objects + st[st_offsets[t] : st_offsets[t + 1]],
                     )  # fmt: skip
+                    for k in range(len(pieces)):
+                        lo, hi = pieces[k, 0], pieces[k, 1]
+                        # credited where the polygon runs along the edge at both ends of the unhidden piece
+                        if lo != shared_lo or not on_lo:
+                            if not on_edge(bearing[i] + lo, px, py, qx, qy, ax, ay, bx, by, tolerance):
+                                continue
+                        if hi != shared_hi or not on_hi:
+                            if not on_edge(bearing[i] + hi, px, py, qx, qy, ax, ay, bx, by, tolerance):
+                                continue
+                        # bearings another edge of the target was credited on this polygon edge already (both sides
+                        # of a sliver thinner than the tolerance) are not credited twice
+                        n_credited = _credit(
+                            visible, t, lo, hi, credited_lo, credited_hi, n_credited, bearing[i], limited,
+                            bx - ax, by - ay, ax * (by - ay) - ay * (bx - ax), wedge_start, fov, max_range,
+                        )  # fmt: skip
     return visible
 
 
 @numba.njit(cache=True)
-def _on_edge(start, shared_lo, shared_hi, px, py, qx, qy, ax, ay, bx, by, tolerance):
-    """Whether the polygon edge ``p q`` runs along the body edge ``a b`` over the bearings ``start + [shared_lo,
-    shared_hi]``: at both ends the points of the two lines on the ray lie within ``tolerance`` times the distance
-    (at least 1 m) of each other, measured across the body's edge (along a grazing ray a tiny offset between
-    the lines, such as VisiLibity's joining gap, would otherwise look long)."""
+def _unhidden(px, py, start, lo, hi, ax, ay, bx, by, seg, seg_offsets, occluders, static_occluders):
+    """The pieces of the bearings ``start + [lo, hi]`` (radians, relative to the direction ``p`` of bearing
+    ``start``) along which no edge of the given bodies hides the edge ``a b`` (:func:`...occlusion.hidden_span`),
+    shape (k, 2), ascending, relative to ``start``; pieces thinner than :data:`...occlusion.MIN_PIECE` are
+    dropped."""
     ex, ey = bx - ax, by - ay
-    length = np.hypot(ex, ey)
-    for rel in (shared_lo, shared_hi):
-        theta = start + rel
-        dx, dy = np.cos(theta), np.sin(theta)
-        boundary = ray_line_distance(dx, dy, px, py, qx - px, qy - py)
-        body = ray_line_distance(dx, dy, ax, ay, ex, ey)
-        gap = abs(boundary - body)
-        allowed = tolerance * max(1.0, boundary)
-        if gap > allowed and gap * (abs(dx * ey - dy * ex) / length) > allowed:
-            return False
-    return True
+    num_e = ax * ey - ay * ex
+    hidden = np.empty((8, 2))
+    n_hidden = 0
+    for group in (occluders, static_occluders):
+        for body in group:
+            for f in range(seg_offsets[body], seg_offsets[body + 1]):
+                cx, cy, dx, dy = seg[f, 0, 0], seg[f, 0, 1], seg[f, 1, 0], seg[f, 1, 1]
+                rel_c = np.arctan2(px * cy - py * cx, px * cx + py * cy)
+                rel_d = rel_c + np.arctan2(cx * dy - cy * dx, cx * dx + cy * dy)
+                shared_lo, shared_hi = max(min(rel_c, rel_d), lo), min(max(rel_c, rel_d), hi)
+                if shared_hi <= shared_lo:
+                    continue
+                fx, fy = dx - cx, dy - cy
+                h_lo, h_hi = hidden_span(start, shared_lo, shared_hi, num_e, ex, ey, cx * fy - cy * fx, fx, fy)
+                if h_hi > h_lo:
+                    hidden = reserve_rows(hidden, n_hidden, n_hidden + 1)
+                    hidden[n_hidden, 0], hidden[n_hidden, 1] = h_lo, h_hi
+                    n_hidden += 1
+    pieces = np.empty((n_hidden + 1, 2))
+    n_pieces = 0
+    reached = lo
+    for q in np.argsort(hidden[:n_hidden, 0]):
+        if hidden[q, 0] - reached >= MIN_PIECE:
+            pieces[n_pieces, 0], pieces[n_pieces, 1] = reached, hidden[q, 0]
+            n_pieces += 1
+        reached = max(reached, hidden[q, 1])
+    if hi - reached >= MIN_PIECE:
+        pieces[n_pieces, 0], pieces[n_pieces, 1] = reached, hi
+        n_pieces += 1
+    return pieces[:n_pieces]
 
 
 @numba.njit(cache=True)

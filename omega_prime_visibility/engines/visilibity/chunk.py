@@ -33,7 +33,7 @@ from .. import ChunkObservation, ChunkViewpoints, Observation, Viewpoint, reason
 from .attribution import attribute_visible_angles
 from .chunk_geometry import angular_extents, static_blocking, view_segments
 from .conversion import box_overlaps, grid_origin, vis_polygon, vis_polygons_reversed, visibility_polygon_coords
-from .polygon_check import CHECK_ABSOLUTE, CHECK_RELATIVE, nearer_edge_exists
+from .polygon_check import CHECK_ABSOLUTE, CHECK_RELATIVE, ON_EDGE, polygon_fails
 
 if TYPE_CHECKING:
     from .engine import VisiLibityEngine
@@ -211,6 +211,10 @@ def checked_visible_angles(
     width,
     in_env,
     blocked,
+    occ_offsets,
+    occ,
+    st_offsets,
+    st,
     polygon_offsets,
     polygons,
     check_absolute,
@@ -221,7 +225,7 @@ def checked_visible_angles(
     ``polygons[polygon_offsets[v]:polygon_offsets[v + 1]]`` are VisiLibity's vertices for viewpoint ``v``
     (relative to its origin; none where it computed none); the other arguments as :func:`occlusion_by_view` takes
     and returns them. A viewpoint with nothing blocking sees each target's whole extent. Each polygon is checked
-    (:func:`.polygon_check.nearer_edge_exists` on the edges of the environment's bodies) and attributed
+    (:func:`.polygon_check.polygon_fails` on the edges of the environment's bodies) and attributed
     (:func:`.attribution.attribute_visible_angles`).
 
     Returns
@@ -229,7 +233,7 @@ def checked_visible_angles(
     visible : ndarray, shape (t,)
         Zero for targets of viewpoints without a polygon or failing the check.
     failed : ndarray of bool, shape (v,)
-        Viewpoints whose polygon skips a nearer body.
+        Viewpoints whose polygon fails the check (misses the nearest body somewhere).
     """
     visible = np.zeros(target_offsets[-1])
     failed = np.zeros(len(eyes), dtype=np.bool_)
@@ -258,7 +262,7 @@ def checked_visible_angles(
             for j in range(len(seg)):
                 b = seg_body[j]
                 check[j] = in_env[t0 + b] if b < n else statics_blocking[b - n]
-            if nearer_edge_exists(pts, seg, check, check_absolute, check_relative):
+            if polygon_fails(pts, seg, check, check_absolute, check_relative, ON_EDGE):
                 failed[v] = True
                 continue
             targets = np.empty(n, dtype=np.int64)
@@ -267,11 +271,10 @@ def checked_visible_angles(
                 if not transparent[t0 + i]:
                     targets[k] = i
                     k += 1
-            m_obj = offsets[e] - offsets[s]
-            angles = attribute_visible_angles(
-                pts, seg[:m_obj], seg_offsets[: n + 1], targets[:k], start[t0 : t0 + n], width[t0 : t0 + n], 1e-6
-            )
-            visible[t0 : t0 + n] = angles[:n]
+            visible[t0 : t0 + n] = attribute_visible_angles(
+                pts, seg, seg_offsets, targets[:k], start[t0 : t0 + n], width[t0 : t0 + n], ON_EDGE,
+                occ_offsets[t0 : t0 + n + 1], occ, st_offsets[t0 : t0 + n + 1], st,
+            )  # fmt: skip
     return visible, failed
 
 
@@ -317,8 +320,9 @@ def observe_chunk(engine: VisiLibityEngine, objects: ObjectTable, views: ChunkVi
     np.cumsum([len(p) for p in polygons], out=polygon_offsets[1:])
     points = np.concatenate(polygons).reshape(-1, 2) if polygons else np.zeros((0, 2))
     visible, failed = checked_visible_angles(
-        *common, *statics, in_env, blocked, polygon_offsets, points, CHECK_ABSOLUTE, CHECK_RELATIVE
-    )
+        *common, *statics, in_env, blocked, occ_offsets, occ, static_occ_offsets, static_occ, polygon_offsets, points,
+        CHECK_ABSOLUTE, CHECK_RELATIVE,
+    )  # fmt: skip
     for v in np.flatnonzero(failed).tolist():  # polygons skipping a nearer body: the engine splits the holes
         observation = _frame_observation(engine, objects, views, int(frame_of_view[v]), v)
         visible[target_offsets[v] : target_offsets[v + 1]] = observation.visible_angle

@@ -27,7 +27,7 @@ from .conversion import (
     vis_polygons_reversed,
     visibility_polygon_coords,
 )
-from .polygon_check import CHECK_ABSOLUTE, CHECK_RELATIVE, nearer_edge_exists
+from .polygon_check import CHECK_ABSOLUTE, CHECK_RELATIVE, ON_EDGE, polygon_fails
 
 BOX_MARGIN = 10.0  # metres of free space around everything
 # why a frame fails when the viewpoint is in no body but within a wall's 2 * wall_half_width or a touch_gap
@@ -169,18 +169,19 @@ class VisiLibityEngine:
         start, width, _ = angular_extent(o, rings)
         targets = np.flatnonzero(obj_blocking)
         body, target, hidden = occluding_pairs(o, segments, seg_offsets, blocking, targets, start, width, n)
+        is_obj = body < n
+        occ_offsets, occ = group_pairs(target[is_obj], body[is_obj], n)
+        st_offsets, st = group_pairs(target[~is_obj], body[~is_obj] - n, n)
         if blocking.any():
             # objects hidden behind a single nearer object change nothing in the visibility polygon: leave them out
             in_env = obj_blocking & ~hidden[:n]
             pts = self._checked_points(rings, in_env, static_blocking, o, segments, seg_offsets)
-            seg = np.ascontiguousarray(segments[: seg_offsets[n]] - o)
+            seg = np.ascontiguousarray(segments - o)
             view = (viewpoint.heading - 0.5 * viewpoint.fov, viewpoint.fov, viewpoint.range)
-            visible = attribute_visible_angles(pts, seg, seg_offsets[: n + 1], targets, start, width, 1e-6, *view)[:n]
+            occluders = (occ_offsets, occ, st_offsets, st)
+            visible = attribute_visible_angles(pts, seg, seg_offsets, targets, start, width, ON_EDGE, *occluders, *view)
         else:
             visible = width.copy()
-        is_obj = body < n
-        occ_offsets, occ = group_pairs(target[is_obj], body[is_obj], n)
-        st_offsets, st = group_pairs(target[~is_obj], body[~is_obj] - n, n)
         observation = Observation.from_parts(visible, width, occ_offsets, occ, st_offsets, st, transparent)
         if viewpoint.limited:
             observation = restrict_observation(observation, seen, objects.rings, *self._source_edges, viewpoint)
@@ -204,14 +205,16 @@ class VisiLibityEngine:
         in_env = np.repeat(np.concatenate([obj_blocking, static_blocking]), np.diff(seg_offsets))
         seg = np.ascontiguousarray(segments - o)
         pts = self._polygon_points(polys, o) - o
-        if nearer_edge_exists(pts, seg, in_env, CHECK_ABSOLUTE, CHECK_RELATIVE):
+        if polygon_fails(pts, seg, in_env, CHECK_ABSOLUTE, CHECK_RELATIVE, ON_EDGE):
             holes = [polygon_coords(h) - o for h in polys[1:]]
             if any(shapely.intersects(shapely.Polygon(hole), shapely.Point(0.0, 0.0)) for hole in holes):
                 raise EngineFailure(_INSIDE_THICKNESS)
             region = shapely.orient_polygons(self._region_by_parts(polys[0], polys[1:], holes, o), exterior_cw=False)
             pts = np.ascontiguousarray(shapely.get_coordinates(region.exterior)[:-1])
-            if nearer_edge_exists(pts, seg, in_env, CHECK_ABSOLUTE, CHECK_RELATIVE):
-                raise EngineFailure("VisiLibity's visibility polygon skips a nearer body, even computed body by body")
+            if polygon_fails(pts, seg, in_env, CHECK_ABSOLUTE, CHECK_RELATIVE, ON_EDGE):
+                raise EngineFailure(
+                    "VisiLibity's visibility polygon misses the nearest body, even computed body by body"
+                )
         return pts
 
     def _region_by_parts(
@@ -227,10 +230,10 @@ class VisiLibityEngine:
         pts = self._polygon_points([outer, *holes], o) - o
         edges_of = [np.stack([c, np.roll(c, -1, axis=0)], axis=1) for c in hole_coords]
         seg = np.ascontiguousarray(np.concatenate(edges_of)) if edges_of else np.zeros((0, 2, 2))
-        if not nearer_edge_exists(pts, seg, np.ones(len(seg), dtype=bool), CHECK_ABSOLUTE, CHECK_RELATIVE):
+        if not polygon_fails(pts, seg, np.ones(len(seg), dtype=bool), CHECK_ABSOLUTE, CHECK_RELATIVE, ON_EDGE):
             return shapely.Polygon(pts)
         if len(holes) < 2:
-            raise EngineFailure("VisiLibity's visibility polygon skips the only hole of its environment")
+            raise EngineFailure("VisiLibity's visibility polygon misses the nearest body, with one hole")
         centres = np.array([c.mean(axis=0) for c in hole_coords])
         order = np.argsort(np.arctan2(centres[:, 1], centres[:, 0]))
         parts = [order[: len(order) // 2], order[len(order) // 2 :]]

@@ -8,10 +8,14 @@ sliver of it) is missing from the polygon. Long edges, which stay queued over a 
 shorter ones, make this likely (a long thin wall among scattered cars does).
 
 Such a polygon is detectable: the boundary of a correct visibility polygon lies, in every direction, on the
-nearest body, so no blocking edge may come nearer than the boundary along any ray. :func:`nearer_edge_exists`
-checks exactly that. Within the bearing interval shared by one polygon edge and one body edge both are straight
-lines, whose depth order along a rotating ray changes at most once, so comparing the two at the interval's ends
-decides it (as in :mod:`..occlusion`).
+nearest body, so no blocking edge may come nearer than the boundary along any ray. Within the bearing interval
+shared by one polygon edge and one body edge both are straight lines, whose depth order along a rotating ray changes
+at most once, so comparing the two at the interval's ends decides it (as in :mod:`..occlusion`).
+
+The converse happens too: where bodies' edges meet at a kink of a few nanometres (merged overlapping cars whose
+edges are a nanoradian apart), VisiLibity's polygon can cut from one vertex straight to another, nearer than the
+bodies. Its edges must therefore each run along some body edge (or the box around everything) over all their
+bearings. :func:`polygon_fails` checks both.
 """
 
 from __future__ import annotations
@@ -19,7 +23,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...kernels import ray_line_distance
+from ...kernels import ray_line_distance, reserve_rows
 
 TWO_PI = 2.0 * np.pi
 MIN_SPAN = 1e-12  # radians; edges subtending less point at the observer and bound nothing
@@ -28,11 +32,32 @@ MIN_SPAN = 1e-12  # radians; edges subtending less point at the observer and bou
 MIN_SHARED = 1e-9
 CHECK_ABSOLUTE = 1e-7  # metres: a body must come this much nearer than the polygon's boundary to count as missed
 CHECK_RELATIVE = 1e-9  # ... plus this fraction of the boundary's distance
+BOX_SIDE = 1e-12  # relative to the polygon's size: its points on the box around everything lie this near its sides
+# metres: a polygon edge may run along no body over this length (the flat end of a wall thickened to 2e-8 m, a
+# 0.1 µm join between touching bodies)
+UNCOVERED = 1e-6
+ON_EDGE = 1e-6  # a polygon edge runs along a body edge within this fraction of the distance (at least 1 m)
 
 
 @numba.njit(cache=True)
-def nearer_edge_exists(pts, seg, check, absolute_tolerance, relative_tolerance):
-    """Whether some checked edge comes nearer than the boundary of a visibility polygon along some ray.
+def on_edge(theta, px, py, qx, qy, ax, ay, bx, by, tolerance):
+    """Whether, along the bearing ``theta``, the polygon edge ``p q`` runs along the body edge ``a b`` (relative
+    to the observer, metres): the points of the two lines on the ray lie within ``tolerance`` times the distance
+    (at least 1 m) of each other, measured across the body's edge (along a grazing ray a tiny offset between the
+    lines, such as VisiLibity's joining gap, would otherwise look long)."""
+    ex, ey = bx - ax, by - ay
+    dx, dy = np.cos(theta), np.sin(theta)
+    boundary = ray_line_distance(dx, dy, px, py, qx - px, qy - py)
+    body = ray_line_distance(dx, dy, ax, ay, ex, ey)
+    gap = abs(boundary - body)
+    allowed = tolerance * max(1.0, boundary)
+    return gap <= allowed or gap * (abs(dx * ey - dy * ex) / np.hypot(ex, ey)) <= allowed
+
+
+@numba.njit(cache=True)
+def polygon_fails(pts, seg, check, absolute_tolerance, relative_tolerance, on_tolerance):
+    """Whether a visibility polygon's boundary is not the first thing hit along some ray: a checked body edge
+    comes nearer than it, or it runs along no body (nor the box around everything) over some bearings.
 
     Parameters
     ----------
@@ -45,6 +70,9 @@ def nearer_edge_exists(pts, seg, check, absolute_tolerance, relative_tolerance):
         Edges of bodies that block the view (the others are ignored).
     absolute_tolerance, relative_tolerance : float
         An edge must be nearer than the boundary by more than ``absolute + relative * distance`` metres.
+    on_tolerance : float
+        A polygon edge runs along a body edge where they lie within this fraction of the distance (see
+        :func:`on_edge`); edges on the sides of the polygon's bounding box (the environment's outer box) need not.
 
     Returns
     -------
@@ -52,13 +80,21 @@ def nearer_edge_exists(pts, seg, check, absolute_tolerance, relative_tolerance):
 
     Examples
     --------
+    A square room seen from its centre, with a wall 5 m ahead: the wall comes nearer than the boundary.
+
     >>> import numpy as np
     >>> square = np.array([[10.0, -10.0], [10.0, 10.0], [-10.0, 10.0], [-10.0, -10.0]])
     >>> wall = np.array([[[5.0, -1.0], [5.0, 1.0]]])
-    >>> bool(nearer_edge_exists(square, wall, np.array([True]), 1e-9, 1e-9))
+    >>> bool(polygon_fails(square, wall, np.array([True]), 1e-9, 1e-9, 1e-6))
     True
-    >>> bool(nearer_edge_exists(square, wall + 10.0, np.array([True]), 1e-9, 1e-9))
+    >>> bool(polygon_fails(square, wall + 10.0, np.array([True]), 1e-9, 1e-9, 1e-6))
     False
+
+    A polygon that cuts a corner of the room runs along nothing there:
+
+    >>> cut = np.array([[10.0, -10.0], [10.0, 5.0], [5.0, 10.0], [-10.0, 10.0], [-10.0, -10.0]])
+    >>> bool(polygon_fails(cut, wall + 10.0, np.array([True]), 1e-9, 1e-9, 1e-6))
+    True
     """
     m = len(pts)
     if m < 3:
@@ -70,6 +106,8 @@ def nearer_edge_exists(pts, seg, check, absolute_tolerance, relative_tolerance):
         ax, ay = pts[i, 0], pts[i, 1]
         bx, by = pts[(i + 1) % m, 0], pts[(i + 1) % m, 1]
         start[i + 1] = start[i] + np.arctan2(ax * by - ay * bx, ax * bx + ay * by)
+    covered = np.empty((8, 3))  # (polygon edge, lo, hi): bearings along which it runs along a body edge
+    n_covered = 0
     for j in range(len(seg)):
         if not check[j]:
             continue
@@ -90,11 +128,63 @@ def nearer_edge_exists(pts, seg, check, absolute_tolerance, relative_tolerance):
                 shared_lo, shared_hi = max(lo - shift, start[k]), min(hi - shift, start[k + 1])
                 if start[k + 1] - start[k] >= MIN_SPAN and shared_hi - shared_lo >= MIN_SHARED:
                     p0, p1 = pts[k], pts[(k + 1) % m]
+                    along = True
                     for theta in (shared_lo, shared_hi):
                         dx, dy = np.cos(theta), np.sin(theta)
                         boundary = ray_line_distance(dx, dy, p0[0], p0[1], p1[0] - p0[0], p1[1] - p0[1])
                         body = ray_line_distance(dx, dy, ax, ay, bx - ax, by - ay)
                         if body < boundary - absolute_tolerance - relative_tolerance * boundary:
                             return True
+                        along = along and on_edge(theta, p0[0], p0[1], p1[0], p1[1], ax, ay, bx, by, on_tolerance)
+                    if along:
+                        covered = reserve_rows(covered, n_covered, n_covered + 1)
+                        covered[n_covered, 0], covered[n_covered, 1], covered[n_covered, 2] = k, shared_lo, shared_hi
+                        n_covered += 1
                 k += 1
+    return _uncovered(pts, start, covered[:n_covered])
+
+
+@numba.njit(cache=True)
+def _uncovered(pts, start, covered):
+    """Whether some polygon edge runs along no body edge (``covered``: rows ``(edge, lo, hi)`` of bearings where
+    it does) over a stretch longer than :data:`UNCOVERED` (and wider than :data:`MIN_SHARED`), and not along a
+    side of the polygon's bounding box (the environment's outer box)."""
+    m = len(pts)
+    x0, y0 = pts[:, 0].min(), pts[:, 1].min()
+    x1, y1 = pts[:, 0].max(), pts[:, 1].max()
+    scale = max(1.0, abs(x0), abs(y0), abs(x1), abs(y1))
+    order = np.argsort(covered[:, 1], kind="mergesort")
+    order = order[np.argsort(covered[order, 0], kind="mergesort")]  # by edge, then by bearing
+    q = 0
+    for k in range(m):
+        reached = start[k]
+        longest = 0.0  # metres: the longest stretch along which edge k runs along no body edge
+        while q < len(order) and covered[order[q], 0] == k:
+            r = order[q]
+            longest = max(longest, _stretch(pts, k, reached, covered[r, 1]))
+            reached = max(reached, covered[r, 2])
+            q += 1
+        longest = max(longest, _stretch(pts, k, reached, start[k + 1]))
+        if start[k + 1] - start[k] < MIN_SPAN or longest <= UNCOVERED:
+            continue
+        px, py = pts[k, 0], pts[k, 1]
+        qx, qy = pts[(k + 1) % m, 0], pts[(k + 1) % m, 1]
+        near = BOX_SIDE * scale  # on a side of the environment's outer box (VisiLibity rounds its points there)
+        on_x = max(abs(px - x0), abs(qx - x0)) <= near or max(abs(px - x1), abs(qx - x1)) <= near
+        on_y = max(abs(py - y0), abs(qy - y0)) <= near or max(abs(py - y1), abs(qy - y1)) <= near
+        if not (on_x or on_y):
+            return True
     return False
+
+
+@numba.njit(cache=True)
+def _stretch(pts, k, lo, hi):
+    """Length (metres) of polygon edge ``k`` between the bearings ``lo`` and ``hi``; 0 when narrower than
+    :data:`MIN_SHARED`."""
+    if hi - lo < MIN_SHARED:
+        return 0.0
+    px, py = pts[k, 0], pts[k, 1]
+    ex, ey = pts[(k + 1) % len(pts), 0] - px, pts[(k + 1) % len(pts), 1] - py
+    a = ray_line_distance(np.cos(lo), np.sin(lo), px, py, ex, ey)
+    b = ray_line_distance(np.cos(hi), np.sin(hi), px, py, ex, ey)
+    return np.hypot(b * np.cos(hi) - a * np.cos(lo), b * np.sin(hi) - a * np.sin(lo))
