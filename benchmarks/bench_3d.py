@@ -27,9 +27,9 @@ import polars as pl
 from omega_prime_visibility import get_visibility_df
 from omega_prime_visibility.engines import Reason, Viewpoint, get_engine
 from omega_prime_visibility.engines.silhouette3d import box_visibility
-from omega_prime_visibility.geometry import box_rings
-from omega_prime_visibility.scene import FrameObjects
-from omega_prime_visibility.statics import load_static_occluders
+from omega_prime_visibility.geometry.rings import box_rings
+from omega_prime_visibility.inputs.objects import FrameObjects
+from omega_prime_visibility.inputs.statics import load_static_occluders
 
 EGO = [0.0, 0.0, 0.75, 4.5, 1.8, 1.5, 0.0, 0.0, 0.0]
 CAR = (4.5, 1.8, 1.5)

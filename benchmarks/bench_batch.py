@@ -76,7 +76,7 @@ def overhead(repeats: int) -> tuple[float, float]:
     from omega_prime_visibility import get_visibility_df
     from omega_prime_visibility.batch import FileTask, process_file
     from omega_prime_visibility.batch.options import FileOptions
-    from omega_prime_visibility.io import read_recording
+    from omega_prime_visibility.inputs.io import read_recording
 
     options = FileOptions(ego=0)
     recording = read_recording(MCAP)

@@ -30,7 +30,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench import crowded_highway, with_polygons
 
 from omega_prime_visibility import Sensor, VisibilityInputWarning, get_visibility_df
-from omega_prime_visibility.area import visible_area_over_time
+from omega_prime_visibility.analysis.area import visible_area_over_time
 
 
 def best_of(fn, repeat: int = 3, clock=time.perf_counter) -> tuple[float, object]:

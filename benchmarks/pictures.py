@@ -17,7 +17,7 @@ import warnings
 from pathlib import Path
 
 from omega_prime_visibility import animate, write_report
-from omega_prime_visibility.io import read_recording
+from omega_prime_visibility.inputs.io import read_recording
 
 REPO = Path(__file__).resolve().parent.parent
 GIF_TARGET_S = 20.0

@@ -3,14 +3,14 @@
 >>> from omega_prime_visibility import get_visibility_df
 """
 
+from .analysis.combine import seen_by_any
+from .analysis.intervals import visible_intervals
 from .api import get_visibility_df, get_visibility_df_for_frame
 from .batch import run_batch
-from .combine import seen_by_any
 from .engines import ENGINES, ENGINES_3D, Observation, Reason, Viewpoint
-from .intervals import visible_intervals
-from .scene import VisibilityInputWarning
-from .sensors import Sensor
-from .table import SCHEMA
+from .inputs.objects import VisibilityInputWarning
+from .inputs.sensors import Sensor
+from .table.schema import SCHEMA
 
 __all__ = [
     "ENGINES",
@@ -53,7 +53,7 @@ def __getattr__(name: str):
         return getattr(plot, name)
     # the visible area builds on the sweep engine's kernels: load them only when asked for
     if name in ("visible_area", "visible_area_over_time"):
-        from . import area
+        from .analysis import area
 
         return getattr(area, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

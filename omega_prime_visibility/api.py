@@ -11,21 +11,20 @@ from concurrent.futures import ProcessPoolExecutor
 from contextlib import contextmanager, nullcontext
 from typing import Any, Literal
 
-import numpy as np
 import polars as pl
 import shapely
 from tqdm.auto import tqdm
 
 from .engines import get_engine
-from .output import PartWriter, atomic_directory, check_output_path
-from .pipeline import ContainmentLog, chunks, run
-from .scene import ObjectTable, OnInvalid, as_lazy, load_objects, observer_sizes
-from .sensors import Sensor, fitted_layout, is_layout, resolve_sensors
-from .table import STATUSES, empty_table, to_polars
+from .inputs.objects import ObjectTable, OnInvalid
+from .inputs.observers import EgoSpec, SensorSpec, describe_idx, resolve_egos  # noqa: F401 (public here too)
+from .inputs.scene import as_lazy, load_objects, observer_sizes
+from .inputs.sensors import fitted_layout, is_layout, resolve_sensors
+from .table.output import PartWriter, atomic_directory, check_output_path
+from .table.pipeline import ContainmentLog, chunks, run
+from .table.schema import STATUSES, empty_table, to_polars
 from .threed.mode import Finisher, check_mode, load_statics, resolve_engine, with_can_see
 
-EgoSpec = int | Sequence[int] | Literal["all"]
-SensorSpec = str | os.PathLike | Sensor | Sequence[Sensor] | None
 PROGRESS_MIN_FRAMES = 200
 PARALLEL_MIN_WORK = 5_000  # (frame, observer) pairs from which all cores are used by default
 CHUNK_FRAMES = 500
@@ -48,32 +47,6 @@ def chunk_size(objects: ObjectTable, n_egos: int, chunk_frames: int, n_sensors: 
     per_frame = len(objects.idx) / max(objects.n_frames, 1)
     rows = per_frame * min(n_egos, per_frame) * n_sensors
     return max(1, min(chunk_frames, int(CHUNK_ROWS // max(rows, 1.0))))
-
-
-def describe_idx(present: np.ndarray) -> str:
-    """The first 20 idx of ``present`` for an error message, with ``...`` when there are more."""
-    present = np.asarray(present)
-    return f"{present[:20].tolist()}{' ...' if len(present) > 20 else ''}"
-
-
-def resolve_egos(ego_idx: EgoSpec, objects: ObjectTable) -> tuple[np.ndarray, bool]:
-    """The observers' idx as an ascending array, and whether the table needs an ``idx_ego`` column."""
-    present = np.unique(objects.idx)
-    if isinstance(ego_idx, str):
-        if ego_idx != "all":
-            raise ValueError(f"ego_idx must be an int, a list of ints or 'all', not {ego_idx!r}")
-        return present, True
-    many = not isinstance(ego_idx, int | np.integer)
-    egos = np.unique(np.atleast_1d(np.asarray(ego_idx)))
-    if egos.size == 0 or not np.issubdtype(egos.dtype, np.integer):
-        raise ValueError(f"ego_idx must be an int, a list of ints or 'all', not {ego_idx!r}")
-    missing = egos[~np.isin(egos, present)]
-    if len(missing):
-        raise ValueError(
-            f"ego idx {missing.tolist()} never occurs among the usable rows of the table "
-            f"(idx present: {describe_idx(present)})"
-        )
-    return egos.astype(np.int64), many
 
 
 def check_epsilon(epsilon: object) -> None:

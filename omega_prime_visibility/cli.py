@@ -35,7 +35,7 @@ def parse_sensors(spec: str | None):
     """``--sensors`` as the API's ``sensors`` (checked before any computing); a bad value exits with one line."""
     if spec is None:
         return None
-    from .sensors import resolve_sensors
+    from .inputs.sensors import resolve_sensors
 
     try:
         return resolve_sensors(spec)
@@ -51,7 +51,7 @@ def fail(message: str) -> typer.Exit:
 
 def load_recording(path: Path, map_path: Path | None = None):
     """``io.read_recording``, turning a read error into a one-line message and exit status 2."""
-    from .io import RecordingReadError, read_recording
+    from .inputs.io import RecordingReadError, read_recording
 
     try:
         return read_recording(path, map_path)
@@ -74,7 +74,7 @@ Sensors = Annotated[str | None, typer.Option(help="look through sensors: 'roof',
 
 def load_static(path: Path | None) -> list | None:
     """``io.read_static_occluders``, a read error becoming a one-line message and exit status 2."""
-    from .io import RecordingReadError, read_static_occluders
+    from .inputs.io import RecordingReadError, read_static_occluders
 
     try:
         return None if path is None else read_static_occluders(path)
@@ -98,8 +98,9 @@ def run(
     map_occluders: MapOccluders = False,
 ) -> None:
     """Compute the visibility table of one recording; print it with a per-target summary, or write it."""
-    from .api import describe_idx, get_visibility_df
-    from .output import atomic_write, check_output_path
+    from .api import get_visibility_df
+    from .inputs.observers import describe_idx
+    from .table.output import atomic_write, check_output_path
 
     # every check that needs no computing comes first, so a typo never costs a long run
     from .threed.mode import check_mode, resolve_engine
@@ -209,7 +210,7 @@ def picture_inputs(
 ):
     """A picture command's checks that need no computing (engine, output path, frames, ego), then the recording
     and its ego (``--ego``, else the host vehicle): ``(recording, ego_idx, frames)``."""
-    from .output import check_output_path
+    from .table.output import check_output_path
 
     if engine not in ENGINES:
         raise fail(f"unknown engine {engine!r}; available: {sorted(ENGINES)}")

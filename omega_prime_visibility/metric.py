@@ -16,8 +16,9 @@ import polars as pl
 import shapely
 from omega_prime.metrics import metric
 
-from .api import EgoSpec, SensorSpec, get_visibility_df
-from .scene import OnInvalid
+from .api import get_visibility_df
+from .inputs.objects import OnInvalid
+from .inputs.observers import EgoSpec, SensorSpec
 
 
 @metric(computes_properties=["visibility"])

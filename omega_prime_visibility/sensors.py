@@ -1,277 +1,33 @@
-"""Sensors mounted on an observer: where they sit, where they look, how wide and how far they see.
+"""Sensors: where each sits on its observer and what it sees.
 
-A :class:`Sensor` is given in the observer's own frame: ``x`` forward and ``y`` left of the observer's
-bounding-box centre (metres), ``yaw`` counter-clockwise from the observer's heading (radians). Each frame the
-sensor's pose follows from the observer's ``x, y, yaw`` (:func:`sensor_poses`). ``fov`` is the full horizontal
-opening angle, centred on the sensor's heading; ``range`` the distance up to which a hit counts.
-
-``z`` (mounting height above the ground, metres) and ``vertical_fov``/``pitch`` are used only by the 3D mode;
-the 2D engines look in the ground plane.
-
-Ready-made layouts (:data:`LAYOUTS`, numbers in each function's docstring): :func:`roof` (one 360° sensor at the
-centre) and :func:`typical` (front camera, front long-range radar, four corner radars), both scaled to the
-observer's length and width.
-
->>> import math
->>> cam = Sensor("front_camera", x=1.0, fov=math.radians(60), range=150.0)
->>> round(cam.fov_degrees, 9)
-60.0
->>> [s.name for s in typical()]
-['front_camera', 'front_radar', 'corner_front_left', 'corner_front_right', 'corner_rear_left', 'corner_rear_right']
+They live in :mod:`.inputs.sensors`; this module keeps the documented import path
+``omega_prime_visibility.sensors``.
 """
 
-from __future__ import annotations
+from .inputs.sensors import (
+    DRIVER_EYE_HEIGHT,
+    LAYOUTS,
+    Sensor,
+    check_sensors,
+    fitted_layout,
+    is_layout,
+    read_sensors,
+    resolve_sensors,
+    roof,
+    sensor_poses,
+    typical,
+)
 
-import json
-import math
-import os
-from collections.abc import Iterable, Sequence
-from dataclasses import asdict, dataclass, fields
-from pathlib import Path
-
-import numpy as np
-
-TWO_PI = 2.0 * math.pi
-DRIVER_EYE_HEIGHT = 1.25
-"""Metres above the ground: the default eye point of the 3D mode."""
-
-
-@dataclass(frozen=True, slots=True)
-class Sensor:
-    """One sensor, mounted on the observer.
-
-    Attributes
-    ----------
-    name : str
-        Unique among the sensors of one call; the table's ``sensor`` column.
-    x, y : float
-        Mounting position, metres, in the observer's frame: ``x`` forward, ``y`` to the left of the centre of its
-        bounding box.
-    yaw : float
-        Direction the sensor faces, radians counter-clockwise from the observer's heading.
-    fov : float
-        Horizontal field of view, radians, ``0 < fov <= 2π``, centred on the sensor's heading.
-    range : float
-        Metres, ``> 0``; ``math.inf`` for no limit. A direction counts as seen only where its first hit is within
-        this distance of the sensor.
-    z : float
-        Mounting height above the ground, metres (3D mode only).
-    vertical_fov : float
-        Vertical field of view, radians, ``0 < vertical_fov <= π``, centred on ``pitch`` (3D mode only).
-    pitch : float
-        Radians, positive looking down, as OSI's pitch of a forward axis turned towards -z (3D mode only).
-    """
-
-    name: str
-    x: float = 0.0
-    y: float = 0.0
-    yaw: float = 0.0
-    fov: float = TWO_PI
-    range: float = math.inf
-    z: float = DRIVER_EYE_HEIGHT
-    vertical_fov: float = math.pi
-    pitch: float = 0.0
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.name, str) or not self.name:
-            raise ValueError(f"sensor name must be a non-empty string, not {self.name!r}")
-        for f in fields(self)[1:]:
-            value = getattr(self, f.name)
-            if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
-                raise ValueError(f"sensor {self.name!r}: {f.name} must be a number, not {value!r}")
-            if math.isnan(value) or (math.isinf(value) and f.name != "range"):
-                raise ValueError(f"sensor {self.name!r}: {f.name} must be finite, not {value!r}")
-            object.__setattr__(self, f.name, float(value))
-        if not 0.0 < self.fov <= TWO_PI + 1e-12:
-            raise ValueError(f"sensor {self.name!r}: fov must be in (0, 2π] radians, not {self.fov!r}")
-        if not self.range > 0.0:
-            raise ValueError(f"sensor {self.name!r}: range must be > 0 metres (inf for no limit), not {self.range!r}")
-        if not 0.0 < self.vertical_fov <= math.pi + 1e-12:
-            raise ValueError(f"sensor {self.name!r}: vertical_fov must be in (0, π] radians, not {self.vertical_fov!r}")
-
-    @property
-    def fov_degrees(self) -> float:
-        """The horizontal field of view in degrees."""
-        return math.degrees(self.fov)
-
-    @property
-    def full_circle(self) -> bool:
-        """Whether the sensor looks all around (``fov`` is 2π)."""
-        return self.fov >= TWO_PI
-
-    def to_dict(self) -> dict:
-        """The sensor as plain JSON-able values (``range`` inf becomes None)."""
-        out = asdict(self)
-        out["range"] = None if math.isinf(self.range) else self.range
-        return out
-
-
-def roof(length: float = 4.6, width: float = 1.85, *, range: float = math.inf, z: float = 2.0) -> list[Sensor]:
-    """One 360° sensor at the centre of the roof, named ``roof`` (like a roof lidar), unlimited range by default.
-
-    ``length`` and ``width`` are accepted for symmetry with :func:`typical` and do not move it.
-
-    >>> roof()[0].fov == 2 * math.pi, roof(range=120.0)[0].range
-    (True, 120.0)
-    """
-    _check_size(length, width)
-    return [Sensor("roof", fov=TWO_PI, range=range, z=z)]
-
-
-def typical(length: float = 4.6, width: float = 1.85) -> list[Sensor]:
-    """A common driver-assistance layout for a car of ``length`` x ``width`` metres (default a 4.6 m x 1.85 m
-    mid-size car), positions relative to its centre:
-
-    ========================  ========================  ==========  ======  =======  ======
-    name                      position (x, y)           yaw         fov     range    z
-    ========================  ========================  ==========  ======  =======  ======
-    ``front_camera``          (0.15 L, 0)               0°          60°     150 m    1.3 m
-    ``front_radar``           (L / 2, 0)                0°          20°     200 m    0.5 m
-    ``corner_front_left``     (L / 2, W / 2)            45°         150°    80 m     0.5 m
-    ``corner_front_right``    (L / 2, -W / 2)           -45°        150°    80 m     0.5 m
-    ``corner_rear_left``      (-L / 2, W / 2)           135°        150°    80 m     0.5 m
-    ``corner_rear_right``     (-L / 2, -W / 2)          -135°       150°    80 m     0.5 m
-    ========================  ========================  ==========  ======  =======  ======
-
-    The camera sits behind the windscreen, the radars in the bumpers; together they leave blind spots beside
-    the car's flanks at close range, as real layouts do.
-
-    >>> [round(s.x, 2) for s in typical(length=5.0)][:2]
-    [0.75, 2.5]
-    """
-    _check_size(length, width)
-    half_l, half_w = length / 2, width / 2
-    corner = math.radians(150)
-    return [
-        Sensor("front_camera", x=0.15 * length, fov=math.radians(60), range=150.0, z=1.3),
-        Sensor("front_radar", x=half_l, fov=math.radians(20), range=200.0, z=0.5),
-        Sensor("corner_front_left", x=half_l, y=half_w, yaw=math.radians(45), fov=corner, range=80.0, z=0.5),
-        Sensor("corner_front_right", x=half_l, y=-half_w, yaw=math.radians(-45), fov=corner, range=80.0, z=0.5),
-        Sensor("corner_rear_left", x=-half_l, y=half_w, yaw=math.radians(135), fov=corner, range=80.0, z=0.5),
-        Sensor("corner_rear_right", x=-half_l, y=-half_w, yaw=math.radians(-135), fov=corner, range=80.0, z=0.5),
-    ]
-
-
-LAYOUTS = {"roof": roof, "typical": typical}
-"""Ready-made layouts by name, each a function of the observer's ``length`` and ``width``."""
-
-
-def _check_size(length: float, width: float) -> None:
-    for name, value in (("length", length), ("width", width)):
-        if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
-            raise ValueError(f"{name} must be a positive number of metres, not {value!r}")
-
-
-def check_sensors(sensors: Iterable[Sensor]) -> tuple[Sensor, ...]:
-    """``sensors`` as a non-empty tuple of :class:`Sensor` with unique names, else a ``ValueError``."""
-    out = tuple(sensors)
-    if not out:
-        raise ValueError("sensors must hold at least one Sensor")
-    for s in out:
-        if not isinstance(s, Sensor):
-            raise ValueError(f"sensors must be Sensor objects, not {type(s).__name__} ({s!r})")
-    names = [s.name for s in out]
-    duplicates = sorted({n for n in names if names.count(n) > 1})
-    if duplicates:
-        raise ValueError(f"sensor names must be unique; repeated: {duplicates}")
-    return out
-
-
-def read_sensors(path: str | os.PathLike) -> tuple[Sensor, ...]:
-    """Sensors from a JSON file: a list of objects with :class:`Sensor`'s fields (angles in radians; ``range``
-    null or absent for no limit), or ``{"sensors": [...]}``. Any problem raises ``ValueError`` naming the file.
-    """
-    path = Path(path)
-    try:
-        data = json.loads(path.read_text())
-    except OSError as e:
-        raise ValueError(f"cannot read sensors file {path}: {e.strerror or e}") from None
-    except (json.JSONDecodeError, UnicodeDecodeError) as e:
-        raise ValueError(f"sensors file {path} is not valid JSON: {e}") from None
-    if isinstance(data, dict) and "sensors" in data:
-        data = data["sensors"]
-    if not isinstance(data, list):
-        raise ValueError(f"sensors file {path} must hold a list of sensors (or {{'sensors': [...]}})")
-    known = {f.name for f in fields(Sensor)}
-    out = []
-    for k, item in enumerate(data):
-        if not isinstance(item, dict):
-            raise ValueError(f"sensors file {path}: entry {k} is not an object")
-        unknown = sorted(set(item) - known)
-        if unknown:
-            raise ValueError(f"sensors file {path}: entry {k} has unknown field(s) {unknown}; known: {sorted(known)}")
-        if "name" not in item:
-            raise ValueError(f"sensors file {path}: entry {k} has no name")
-        item = dict(item)
-        if item.get("range", 0) is None:
-            item["range"] = math.inf
-        try:
-            out.append(Sensor(**item))
-        except ValueError as e:
-            raise ValueError(f"sensors file {path}: {e}") from None
-    try:
-        return check_sensors(out)
-    except ValueError as e:
-        raise ValueError(f"sensors file {path}: {e}") from None
-
-
-def resolve_sensors(
-    spec: str | os.PathLike | Sensor | Sequence[Sensor] | None, length: float = 4.6, width: float = 1.85
-) -> tuple[Sensor, ...] | None:
-    """Sensors from a layout name (:data:`LAYOUTS`), a JSON file path, one :class:`Sensor` or a sequence of them.
-
-    >>> [s.name for s in resolve_sensors("roof")]
-    ['roof']
-    >>> resolve_sensors(None) is None
-    True
-    """
-    if spec is None:
-        return None
-    if isinstance(spec, Sensor):
-        return (spec,)
-    if isinstance(spec, str) and spec in LAYOUTS:
-        return check_sensors(LAYOUTS[spec](length, width))
-    if isinstance(spec, str | os.PathLike):
-        path = Path(spec)
-        if path.suffix.lower() != ".json" and not path.exists():
-            raise ValueError(f"unknown sensor layout {str(spec)!r}; give one of {sorted(LAYOUTS)} or a .json file")
-        return read_sensors(path)
-    return check_sensors(spec)
-
-
-def is_layout(spec: object) -> bool:
-    """Whether ``spec`` names a ready-made layout (:data:`LAYOUTS`)."""
-    return isinstance(spec, str) and spec in LAYOUTS
-
-
-def fitted_layout(name: str, sizes: dict[int, tuple[float, float]]) -> dict[int, tuple[Sensor, ...]]:
-    """The layout ``name`` (:data:`LAYOUTS`) per observer, fitted to each one's ``(length, width)`` in ``sizes``
-    (metres, by idx).
-
-    >>> fitted = fitted_layout("typical", {0: (4.0, 1.8), 7: (12.0, 2.5)})
-    >>> [s.x for s in fitted[7] if s.name == "front_radar"], [s.x for s in fitted[0] if s.name == "front_radar"]
-    ([6.0], [2.0])
-    """
-    return {idx: check_sensors(LAYOUTS[name](length, width)) for idx, (length, width) in sizes.items()}
-
-
-def sensor_poses(
-    sensors: Sensor | Sequence[Sensor], position: np.ndarray, heading: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """World positions (metres) and headings (radians, counter-clockwise from +x) of ``sensors`` on observers at
-    ``position`` (shape (m, 2)) facing ``heading`` (shape (m,)): shape (m * s, 2) and (m * s,), observer by
-    observer, each with its sensors in order (one Sensor: shape (m, 2) and (m,)).
-
-    >>> p, h = sensor_poses(Sensor("s", x=2.0, yaw=math.pi / 2), np.array([[10.0, 0.0]]), np.array([math.pi / 2]))
-    >>> np.round(p, 12).tolist(), round(float(h[0]), 12)
-    ([[10.0, 2.0]], 3.14159265359)
-    """
-    sensors = [sensors] if isinstance(sensors, Sensor) else sensors
-    position = np.asarray(position, dtype=np.float64).reshape(-1, 1, 2)
-    heading = np.asarray(heading, dtype=np.float64).reshape(-1, 1)
-    mount = np.array([(s.x, s.y, s.yaw) for s in sensors], dtype=np.float64).reshape(1, -1, 3)
-    c, s = np.cos(heading), np.sin(heading)
-    dx = c * mount[..., 0] - s * mount[..., 1]
-    dy = s * mount[..., 0] + c * mount[..., 1]
-    world = position + np.stack([dx, dy], axis=-1)
-    return world.reshape(-1, 2), (heading + mount[..., 2]).reshape(-1)
+__all__ = [
+    "DRIVER_EYE_HEIGHT",
+    "LAYOUTS",
+    "Sensor",
+    "check_sensors",
+    "fitted_layout",
+    "is_layout",
+    "read_sensors",
+    "resolve_sensors",
+    "roof",
+    "sensor_poses",
+    "typical",
+]

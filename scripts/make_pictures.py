@@ -20,7 +20,7 @@ import polars as pl
 import shapely
 
 from omega_prime_visibility import animate, get_visibility_df, plot_frame, save_timeline, timeline_chart
-from omega_prime_visibility.io import read_recording
+from omega_prime_visibility.inputs.io import read_recording
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import threed_picture

@@ -12,12 +12,13 @@ import shapely
 from conftest import boxes_table, scene_table
 from reference import scene_series
 
-from omega_prime_visibility import Sensor, area
-from omega_prime_visibility.area import ARC_STEP, road_outline, visible_area, visible_area_over_time
+from omega_prime_visibility import Sensor
+from omega_prime_visibility.analysis import area
+from omega_prime_visibility.analysis.area import ARC_STEP, road_outline, visible_area, visible_area_over_time
 from omega_prime_visibility.engines.visilibity import VisiLibityEngine
-from omega_prime_visibility.pipeline import viewpoints
-from omega_prime_visibility.scene import load_objects
-from omega_prime_visibility.statics import load_static_occluders
+from omega_prime_visibility.inputs.scene import load_objects
+from omega_prime_visibility.inputs.statics import load_static_occluders
+from omega_prime_visibility.table.pipeline import viewpoints
 
 CAMERA = Sensor("cam", fov=math.pi / 2, range=100.0)
 

@@ -22,7 +22,7 @@ from polars.testing import assert_frame_equal
 
 from omega_prime_visibility import VisibilityInputWarning, get_visibility_df, run_batch
 from omega_prime_visibility.batch.files import OPTIONS_KEY, find_recordings
-from omega_prime_visibility.io import RecordingReadError, read_recording, read_static_occluders
+from omega_prime_visibility.inputs.io import RecordingReadError, read_recording, read_static_occluders
 
 MCAP = REPO / "highway_merge.mcap"
 SCRIPT = Path(sys.executable).parent / "omega-prime-visibility"

@@ -196,7 +196,7 @@ def test_cli_static_occluders_from_geojson(tmp_path) -> None:
     import shapely
 
     from omega_prime_visibility import get_visibility_df
-    from omega_prime_visibility.io import read_recording
+    from omega_prime_visibility.inputs.io import read_recording
 
     wall = shapely.LineString([(60, -5.4), (140, -5.4)])
     (tmp_path / "wall.geojson").write_text(shapely.to_geojson(wall))

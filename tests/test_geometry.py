@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 import shapely
 
-from omega_prime_visibility.containment import covers_point, covers_points
-from omega_prime_visibility.geometry import Rings, angular_extent, box_rings, orient, signed_area
+from omega_prime_visibility.geometry.rings import Rings, angular_extent, box_rings, orient, signed_area
+from omega_prime_visibility.inputs.containment import covers_point, covers_points
 
 
 def square(x: float, y: float, side: float = 2.0) -> Rings:

@@ -13,7 +13,7 @@ import shapely
 from conftest import REPO
 
 from omega_prime_visibility import get_visibility_df, metrics, visibility
-from omega_prime_visibility.scene import load_objects
+from omega_prime_visibility.inputs.scene import load_objects
 from omega_prime_visibility.sensors import typical
 
 WALL = shapely.Polygon([(-220, 10), (-120, 10), (-120, 0), (-220, 0)])
@@ -116,7 +116,7 @@ def test_real_osi_traces(shared_data, trace: str, xodr: str) -> None:
 
 
 def test_path_input_and_corrupt_file(tmp_path) -> None:
-    from omega_prime_visibility.io import RecordingReadError
+    from omega_prime_visibility.inputs.io import RecordingReadError
 
     table = get_visibility_df(str(REPO / "highway_merge.mcap"), 0, progress=False)
     assert table.height == 1206
@@ -129,7 +129,7 @@ def test_path_input_and_corrupt_file(tmp_path) -> None:
 
 
 def test_map_that_is_missing_or_no_map(tmp_path, shared_data) -> None:
-    from omega_prime_visibility.io import RecordingReadError, read_recording
+    from omega_prime_visibility.inputs.io import RecordingReadError, read_recording
 
     trace = shared_data / "pedestrian.osi"
     with pytest.raises(RecordingReadError, match=r"map .*nowhere\.xodr does not exist"):

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from omega_prime_visibility.geometry import angular_extent, box_rings, edges, ring_ids
-from omega_prime_visibility.occlusion import occludes
+from omega_prime_visibility.geometry.occlusion import occludes
+from omega_prime_visibility.geometry.rings import angular_extent, box_rings, edges, ring_ids
 
 
 def occluded_by(target: tuple, body: tuple) -> bool:

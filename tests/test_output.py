@@ -16,8 +16,9 @@ import pyarrow as pa
 import pytest
 from conftest import REPO, boxes_table
 
-from omega_prime_visibility import get_visibility_df, pipeline
-from omega_prime_visibility.output import PartWriter, atomic_directory, check_output_path, is_dataset
+from omega_prime_visibility import get_visibility_df
+from omega_prime_visibility.table import pipeline
+from omega_prime_visibility.table.output import PartWriter, atomic_directory, check_output_path, is_dataset
 
 SCENE = pl.concat([boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 4, 0), (20, 0, 4, 2, 0)], f) for f in range(6)])
 

@@ -12,12 +12,12 @@ from conftest import boxes_table
 
 from omega_prime_visibility import get_visibility_df
 from omega_prime_visibility.engines import get_engine
-from omega_prime_visibility.pipeline import ContainmentLog, chunks, observe_frame, run, run_chunk, viewpoints
-from omega_prime_visibility.rows import frame_rows, observation_rows
-from omega_prime_visibility.scene import load_objects
+from omega_prime_visibility.inputs.scene import load_objects
+from omega_prime_visibility.inputs.statics import load_static_occluders
 from omega_prime_visibility.sensors import Sensor, roof
-from omega_prime_visibility.statics import load_static_occluders
 from omega_prime_visibility.table import LIST_COLUMNS, TableBuilder, to_polars
+from omega_prime_visibility.table.pipeline import ContainmentLog, chunks, observe_frame, run, run_chunk, viewpoints
+from omega_prime_visibility.table.rows import frame_rows, observation_rows
 
 
 def moving_scene(frames: int) -> pl.DataFrame:

@@ -12,9 +12,9 @@ import shapely
 from omega_prime_visibility.engines import Reason, Viewpoint
 from omega_prime_visibility.engines.raycast3d import FastRaycastEngine, HighRaycastEngine, RaycastEngine
 from omega_prime_visibility.engines.silhouette3d import box_visibility
-from omega_prime_visibility.geometry import box_rings
-from omega_prime_visibility.scene import FrameObjects
-from omega_prime_visibility.statics import load_static_occluders
+from omega_prime_visibility.geometry.rings import box_rings
+from omega_prime_visibility.inputs.objects import FrameObjects
+from omega_prime_visibility.inputs.statics import load_static_occluders
 from omega_prime_visibility.threed.statics import static_solids
 
 EGO = [0.0, 0, 0.75, 4.5, 1.8, 1.5, 0, 0, 0]  # eye at its centre, 1.25 m above the ground

@@ -14,7 +14,7 @@ from conftest import REPO
 from PIL import Image
 
 from omega_prime_visibility import get_visibility_df
-from omega_prime_visibility.io import read_recording
+from omega_prime_visibility.inputs.io import read_recording
 from omega_prime_visibility.plot import write_report
 from omega_prime_visibility.plot.report import visibility_colour
 

@@ -11,8 +11,8 @@ import pytest
 import shapely
 
 from omega_prime_visibility import ENGINES, VisibilityInputWarning, get_visibility_df
-from omega_prime_visibility.scene import load_objects
-from omega_prime_visibility.statics import load_static_occluders, polygonal_and_lineal_parts
+from omega_prime_visibility.inputs.scene import load_objects
+from omega_prime_visibility.inputs.statics import load_static_occluders, polygonal_and_lineal_parts
 
 EGO = shapely.box(-2, -1, 2, 1)
 BOWTIE = shapely.Polygon([(10, -1), (12, 1), (12, -1), (10, 1), (10, -1)])  # self-crossing: a box, corners swapped

@@ -11,10 +11,11 @@ import shapely
 from conftest import scene_table
 from reference import scene_series
 
-from omega_prime_visibility import Sensor, area
-from omega_prime_visibility.area import visible_area, visible_area_over_time
-from omega_prime_visibility.star_union import star_union_area
-from omega_prime_visibility.union_rings import star_union
+from omega_prime_visibility import Sensor
+from omega_prime_visibility.analysis import area
+from omega_prime_visibility.analysis.area import visible_area, visible_area_over_time
+from omega_prime_visibility.geometry.star_union import star_union_area
+from omega_prime_visibility.geometry.union_rings import star_union
 
 
 def test_two_overlapping_squares() -> None:

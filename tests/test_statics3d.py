@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import shapely
 
-from omega_prime_visibility.statics import load_static_occluders
+from omega_prime_visibility.inputs.statics import load_static_occluders
 from omega_prime_visibility.threed.statics import BASE, DEFAULT_HEIGHT, check_heights, static_solids
 
 

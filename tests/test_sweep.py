@@ -29,13 +29,14 @@ from reference import (
 from shapely import affinity
 
 from omega_prime_visibility import get_visibility_df
-from omega_prime_visibility.containment import covers_point
 from omega_prime_visibility.engines import Viewpoint, get_engine
 from omega_prime_visibility.engines.sweep import SweepEngine
 from omega_prime_visibility.engines.sweep.crossings import prepare_frame
-from omega_prime_visibility.geometry import angular_extent, box_rings
-from omega_prime_visibility.scene import FrameObjects, load_objects
-from omega_prime_visibility.statics import load_static_occluders
+from omega_prime_visibility.geometry.rings import angular_extent, box_rings
+from omega_prime_visibility.inputs.containment import covers_point
+from omega_prime_visibility.inputs.objects import FrameObjects
+from omega_prime_visibility.inputs.scene import load_objects
+from omega_prime_visibility.inputs.statics import load_static_occluders
 
 AGREE = 1e-6  # visibility agreement with the VisiLibity engine
 TINY = 1e-3  # occluders blocking less than this fraction may be missed by the reference's rays
@@ -349,8 +350,8 @@ def test_object_occlusion_test_is_occludes_one(seed: int) -> None:
     a coarse grid (shared vertices, edges through the observer, touching and overlapping boxes)."""
     from omega_prime_visibility.engines.sweep.decide import _objects_occluded
     from omega_prime_visibility.engines.sweep.pieces import object_extents, shifted_object_edges
-    from omega_prime_visibility.geometry import box_rings
-    from omega_prime_visibility.occlusion import occludes_one
+    from omega_prime_visibility.geometry.occlusion import occludes_one
+    from omega_prime_visibility.geometry.rings import box_rings
 
     rng = np.random.default_rng(seed)
     n = 40
@@ -384,8 +385,8 @@ def test_static_occlusion_test_is_occludes_one(seed: int) -> None:
     ``occludes_one``'s answer, also on coordinates snapped to a coarse grid (shared end points, edges through the
     observer)."""
     from omega_prime_visibility.engines.sweep.decide import _scratch_occluded
-    from omega_prime_visibility.geometry import Rings, angular_extent, box_rings
-    from omega_prime_visibility.occlusion import occludes_one
+    from omega_prime_visibility.geometry.occlusion import occludes_one
+    from omega_prime_visibility.geometry.rings import Rings, angular_extent, box_rings
 
     rng = np.random.default_rng(seed)
     answers = []

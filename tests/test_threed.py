@@ -19,10 +19,10 @@ from conftest import REPO
 
 from omega_prime_visibility import VisibilityInputWarning, get_visibility_df
 from omega_prime_visibility.engines import get_engine
-from omega_prime_visibility.pipeline import viewpoints
-from omega_prime_visibility.rows import observation_rows
-from omega_prime_visibility.scene import load_objects
-from omega_prime_visibility.statics import load_static_occluders
+from omega_prime_visibility.inputs.scene import load_objects
+from omega_prime_visibility.inputs.statics import load_static_occluders
+from omega_prime_visibility.table.pipeline import viewpoints
+from omega_prime_visibility.table.rows import observation_rows
 
 EGO = (0.0, 0.0, 4.5, 1.8, 1.5)  # x, y, length, width, height; the eye is 1.25 m above the ground
 
@@ -253,7 +253,7 @@ def test_readme_3d_example_and_picture() -> None:
 def test_real_trace_in_3d(shared_data) -> None:
     # esmini's highway_merge trace: nothing in front in 2D means nothing in front in 3D; hidden in 3D means hidden in
     # 2D; the ray engine within its measured error of the exact one
-    from omega_prime_visibility.io import read_recording
+    from omega_prime_visibility.inputs.io import read_recording
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

@@ -12,10 +12,10 @@ from reference import random_scene, reference_visibility
 from omega_prime_visibility import ENGINES, get_visibility_df
 from omega_prime_visibility.engines.visilibity import VisiLibityEngine
 from omega_prime_visibility.engines.visilibity.polygon_check import polygon_fails
-from omega_prime_visibility.geometry import edges
-from omega_prime_visibility.pipeline import viewpoints
-from omega_prime_visibility.scene import load_objects
-from omega_prime_visibility.statics import load_static_occluders
+from omega_prime_visibility.geometry.rings import edges
+from omega_prime_visibility.inputs.scene import load_objects
+from omega_prime_visibility.inputs.statics import load_static_occluders
+from omega_prime_visibility.table.pipeline import viewpoints
 
 
 def engine_and_frame(table, statics):
@@ -135,7 +135,7 @@ def test_the_chunk_path_takes_each_environment_and_recomputes_polygons_that_skip
     from test_pipeline import assert_same_columns, frame_by_frame, moving_scene
 
     from omega_prime_visibility.engines.visilibity import chunk
-    from omega_prime_visibility.pipeline import run_chunk
+    from omega_prime_visibility.table.pipeline import run_chunk
 
     calls = {"plain": 0, "general": 0, "recomputed": 0}
 
@@ -170,7 +170,7 @@ def test_the_chunk_path_takes_each_environment_and_recomputes_polygons_that_skip
 def test_chunk_angular_extents_are_those_of_angular_extent_to_the_bit(seed: int) -> None:
     from omega_prime_visibility.engines.visilibity.chunk_geometry import angular_extents
     from omega_prime_visibility.engines.visilibity.conversion import grid_origin
-    from omega_prime_visibility.geometry import Rings, angular_extent
+    from omega_prime_visibility.geometry.rings import Rings, angular_extent
 
     # frames of random rings (3 to 9 vertices, any orientation) far from the origin, 0 to 3 viewpoints each
     rng = np.random.default_rng(seed)
@@ -224,7 +224,7 @@ def test_polygon_coords_reads_the_vertex_array_as_swig_gives_it(monkeypatch) -> 
 def test_results_do_not_depend_on_the_side_of_zero_an_earlier_viewpoint_was_on() -> None:
     from test_pipeline import assert_same_columns, frame_by_frame
 
-    from omega_prime_visibility.pipeline import run_chunk
+    from omega_prime_visibility.table.pipeline import run_chunk
 
     # observer 0 lies left of and below x = y = 0 (np.round gives its grid origin as -0.0), observer 1 right of
     # and above; objects 3 and 4 have vertices at exactly -0.0, which minus a -0.0 origin would become +0.0

@@ -7,6 +7,7 @@
 """
 
 from .options import FileOptions
-from .run import SUMMARY_NAME, BatchInterrupted, FileResult, FileTask, process_file, run_batch
+from .run import SUMMARY_NAME, BatchInterrupted, run_batch
+from .task import FileResult, FileTask, process_file
 
 __all__ = ["SUMMARY_NAME", "BatchInterrupted", "FileOptions", "FileResult", "FileTask", "process_file", "run_batch"]

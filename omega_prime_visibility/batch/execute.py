@@ -18,12 +18,17 @@ from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
 from pathlib import Path
 
-from . import run as batch
+from . import task as file_task
 from .files import remove_leftovers
-from .run import FileResult, FileTask, process_file
+from .task import FileResult, FileTask, process_file
 
 Report = Callable[[FileResult], None]
-PRELOAD = ["omega_prime", "omega_prime_visibility.api", "omega_prime_visibility.io", "omega_prime_visibility.batch"]
+PRELOAD = [
+    "omega_prime",
+    "omega_prime_visibility.api",
+    "omega_prime_visibility.inputs.io",
+    "omega_prime_visibility.batch",
+]
 MAX_ATTEMPTS = 2  # a file whose worker process dies this often is reported failed (the others go on)
 
 
@@ -116,8 +121,8 @@ def _init_worker(parent_pid: int) -> None:
 
 
 def _terminate(signum, frame) -> None:
-    if batch.BUSY:
-        raise batch.WorkerTerminated  # unwinds through atomic_write, which removes the temporary file
+    if file_task.BUSY:
+        raise file_task.WorkerTerminated  # unwinds through atomic_write, which removes the temporary file
     os._exit(143)
 
 

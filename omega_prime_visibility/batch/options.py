@@ -10,7 +10,7 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
-from ..sensors import LAYOUTS
+from ..inputs.sensors import LAYOUTS
 
 
 @dataclass(frozen=True)
@@ -57,7 +57,7 @@ class FileOptions:
     map_occluders: bool = False
 
     def __post_init__(self) -> None:
-        from ..sensors import resolve_sensors
+        from ..inputs.sensors import resolve_sensors
         from ..threed.mode import check_mode, resolve_engine
 
         ego = self.ego
@@ -95,8 +95,8 @@ class FileOptions:
 
     def check(self) -> None:
         """Read the option files once before any work, so a bad file fails the run instead of every recording."""
-        from ..io import RecordingReadError, read_static_occluders
-        from ..statics import load_static_occluders
+        from ..inputs.io import RecordingReadError, read_static_occluders
+        from ..inputs.statics import load_static_occluders
 
         try:
             if self.static is not None:

@@ -8,17 +8,16 @@ call runs in this process, in a spawn- or forkserver-started process pool, and o
 from __future__ import annotations
 
 import os
-import time
-import warnings
-from dataclasses import dataclass, fields
-from functools import lru_cache
+from dataclasses import fields
 from pathlib import Path
 from typing import Any
 
 import polars as pl
 
-from .files import OPTIONS_KEY, RECORDING_KEY, find_recordings, is_current, prepare_output_dir, remove_leftovers
+from . import execute
+from .files import find_recordings, is_current, prepare_output_dir, remove_leftovers
 from .options import FileOptions, is_int
+from .task import FileResult, FileTask
 
 SUMMARY_NAME = "_batch_summary.parquet"
 SUMMARY_SCHEMA = {
@@ -30,115 +29,6 @@ SUMMARY_SCHEMA = {
     "error": pl.String,
     "warnings": pl.String,
 }
-
-
-@dataclass(frozen=True)
-class FileTask:
-    """One recording to compute: paths are absolute, so a dask worker sharing the file system finds them."""
-
-    recording: str
-    result: str
-    options: FileOptions
-    fingerprint: str
-    workers: int = 1  # processes for this file's frames (more than 1 only when it is the batch's only file)
-
-
-@dataclass(frozen=True)
-class FileResult:
-    """A summary row: see ``SUMMARY_SCHEMA``."""
-
-    recording: str
-    result: str
-    status: str
-    rows: int | None = None
-    seconds: float = 0.0
-    error: str | None = None
-    warnings: str | None = None
-
-
-BUSY = False  # whether this process is inside process_file (a pool worker's SIGTERM handler asks)
-
-
-class WorkerTerminated(BaseException):
-    """Raised in a pool worker by SIGTERM, so a result being written is removed before the process ends."""
-
-
-def process_file(task: FileTask) -> FileResult:
-    """Compute one recording's visibility table and write it atomically to ``task.result`` with the options in its
-    parquet metadata; every error becomes a failed :class:`FileResult` with a one-line message."""
-    global BUSY
-    start = time.perf_counter()
-    caught: list[warnings.WarningMessage] = []
-    try:
-        BUSY = True
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            rows = _compute_and_write(task)
-    except WorkerTerminated:
-        os._exit(143)  # atomic_write has removed the temporary file on the way here
-    except Exception as e:
-        message = str(e) if isinstance(e, ValueError) else f"{type(e).__name__}: {e}"
-        return FileResult(task.recording, task.result, "failed", None, time.perf_counter() - start, _one_line(message))
-    finally:
-        BUSY = False
-    notes = sorted({_one_line(str(w.message)) for w in caught if not issubclass(w.category, DeprecationWarning)})
-    return FileResult(
-        task.recording, task.result, "done", rows, time.perf_counter() - start, None, " | ".join(notes) or None
-    )
-
-
-def _one_line(message: str, limit: int = 500) -> str:
-    message = " ".join(message.split())
-    return message if len(message) <= limit else message[: limit - 3] + "..."
-
-
-def _compute_and_write(task: FileTask) -> int:
-    from importlib.metadata import version
-
-    import numpy as np
-    import pyarrow.parquet as pq
-
-    from ..api import describe_idx, get_visibility_df
-    from ..io import read_recording
-    from ..output import atomic_write
-
-    options = task.options
-    map_path = options.map_for(Path(task.recording))
-    recording = read_recording(task.recording, map_path)
-    ego = options.ego
-    if ego is None:
-        if recording.host_vehicle_idx is None:
-            present = np.unique(recording._df["idx"].to_numpy())
-            raise ValueError(
-                f"{Path(task.recording).name} names no host vehicle: give an ego (--ego IDX or --ego all; "
-                f"idx present: {describe_idx(present)})"
-            )
-        ego = int(recording.host_vehicle_idx)
-    statics = None if options.static is None else _static_occluders(options.static, os.stat(options.static).st_mtime_ns)
-    ego_idx = list(ego) if isinstance(ego, tuple) else ego
-    table = get_visibility_df(
-        recording, ego_idx, statics, workers=task.workers, progress=False, **options.api_kwargs(map_path)
-    )
-    arrow = table.to_arrow()
-    metadata = {
-        **(arrow.schema.metadata or {}),
-        OPTIONS_KEY: task.fingerprint.encode(),
-        RECORDING_KEY: task.recording.encode(),
-        b"omega_prime_visibility.version": version("omega-prime-visibility").encode(),
-    }
-    Path(task.result).parent.mkdir(parents=True, exist_ok=True)
-    with atomic_write(task.result) as temp:
-        pq.write_table(arrow.replace_schema_metadata(metadata), temp)
-    return table.height
-
-
-@lru_cache(maxsize=4)
-def _static_occluders(path: str, mtime_ns: int) -> list:
-    """Read once per process and file version (a worker computes many files with the same occluders, and a dask
-    worker outlives a batch)."""
-    from ..io import read_static_occluders
-
-    return read_static_occluders(path)
 
 
 class BatchInterrupted(KeyboardInterrupt):
@@ -214,8 +104,7 @@ def run_batch(
     """
     from tqdm.auto import tqdm
 
-    from ..output import atomic_write
-    from . import execute
+    from ..table.output import atomic_write
 
     try:
         file_options = FileOptions(**options)

@@ -30,9 +30,9 @@ from typing import ClassVar, Protocol
 import numba
 import numpy as np
 
-from ..scene import FrameObjects
-from ..sensors import DRIVER_EYE_HEIGHT, TWO_PI
-from ..statics import StaticOccluders
+from ..inputs.objects import FrameObjects
+from ..inputs.sensors import DRIVER_EYE_HEIGHT, TWO_PI
+from ..inputs.statics import StaticOccluders
 
 
 class EngineFailure(RuntimeError):

@@ -31,8 +31,8 @@ from typing import ClassVar
 import numpy as np
 import shapely
 
-from ..scene import FrameObjects
-from ..statics import StaticOccluders
+from ..inputs.objects import FrameObjects
+from ..inputs.statics import StaticOccluders
 from ..threed.boxes import EDGES, contains, corners, farthest_distance, frames, nearest_distance, ray_entries
 from . import Observation, Viewpoint, group_pairs
 from .observe3d import eye_and_view, observation, own_body

@@ -11,7 +11,7 @@ import numpy as np
 import shapely
 from tqdm.auto import tqdm
 
-from ..output import atomic_write, check_output_path
+from ..table.output import atomic_write, check_output_path
 from ._optional import require
 from .data import FrameSpec, FrameViewer, load_source
 from .frame import FramePainter

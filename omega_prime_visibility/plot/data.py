@@ -18,11 +18,12 @@ import shapely
 
 from ..engines import get_engine
 from ..engines.visilibity import VisiLibityEngine
-from ..pipeline import ContainmentLog, observe_frame, observer_rows, viewpoints
-from ..scene import ObjectTable, as_polars, load_objects, observer_sizes
-from ..sensors import Sensor, fitted_layout, is_layout, resolve_sensors
-from ..statics import StaticOccluders, load_static_occluders
-from ..table import TableBuilder, to_polars
+from ..inputs.objects import ObjectTable
+from ..inputs.scene import as_polars, load_objects, observer_sizes
+from ..inputs.sensors import Sensor, fitted_layout, is_layout, resolve_sensors
+from ..inputs.statics import StaticOccluders, load_static_occluders
+from ..table.pipeline import ContainmentLog, observe_frame, observer_rows, viewpoints
+from ..table.schema import TableBuilder, to_polars
 
 FrameSpec = range | slice | Sequence[int] | None
 
@@ -110,7 +111,7 @@ def load_source(df: Any, static_occluder_polys: Sequence[shapely.Geometry] | Non
     ``lanes`` dict) or a sequence of shapely geometries gives them explicitly.
     """
     if isinstance(df, str) or hasattr(df, "__fspath__"):
-        from ..io import read_recording
+        from ..inputs.io import read_recording
 
         df = read_recording(df)
     table = as_polars(df)

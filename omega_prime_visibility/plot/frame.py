@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 import shapely
 
-from ..sensors import sensor_poses
+from ..inputs.sensors import sensor_poses
 from ._optional import require
 from .data import FrameView, FrameViewer, Source, load_source, sensor_list
 

@@ -21,7 +21,7 @@ import polars as pl
 import shapely
 from tqdm.auto import tqdm
 
-from ..output import atomic_write, check_output_path
+from ..table.output import atomic_write, check_output_path
 from ._optional import require
 from .data import FrameSpec, FrameView, FrameViewer, load_source
 from .timeline import chart_spec, timeline_chart
@@ -100,7 +100,7 @@ def write_report(
     if table is not None and sensors is not None:
         raise ValueError("give either table= or sensors=, not both")
     if isinstance(df, str | os.PathLike):
-        from ..io import read_recording
+        from ..inputs.io import read_recording
 
         title = Path(df).name if title is None else title
         df = read_recording(df)

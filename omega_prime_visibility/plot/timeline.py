@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 import polars as pl
 
-from ..output import atomic_write, check_output_path
+from ..table.output import atomic_write, check_output_path
 from ._optional import require
 
 STATUS_COLOURS = {

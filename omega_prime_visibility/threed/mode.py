@@ -22,8 +22,8 @@ import polars as pl
 import shapely
 
 from ..engines import ENGINES, ENGINES_3D
-from ..sensors import DRIVER_EYE_HEIGHT
-from ..statics import StaticOccluders, load_static_occluders
+from ..inputs.sensors import DRIVER_EYE_HEIGHT
+from ..inputs.statics import StaticOccluders, load_static_occluders
 from .statics import check_heights, static_solids
 
 Mode = Literal["2d", "3d"]

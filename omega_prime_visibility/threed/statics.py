@@ -8,7 +8,7 @@ the road (:data:`DEFAULT_HEIGHT`). Meshes (any file trimesh loads, or a ``trimes
 in the recording's coordinates.
 
 >>> import shapely
->>> from omega_prime_visibility.statics import load_static_occluders
+>>> from omega_prime_visibility.inputs.statics import load_static_occluders
 >>> wall = load_static_occluders([shapely.LineString([(0, 5), (10, 5)])])
 >>> solids = static_solids(wall, heights=[2.0])
 >>> solids.triangles.shape, float(solids.triangles[..., 2].max())
@@ -25,8 +25,8 @@ from typing import Any
 
 import numpy as np
 
-from ..geometry import edges
-from ..statics import StaticOccluders
+from ..geometry.rings import edges
+from ..inputs.statics import StaticOccluders
 
 DEFAULT_HEIGHT = 100.0
 """Metres: the height of a static occluder given without one (taller than anything on the road)."""

@@ -20,8 +20,8 @@ from typing import ClassVar
 
 import numpy as np
 
-from ...scene import FrameObjects
-from ...statics import StaticOccluders
+from ...inputs.objects import FrameObjects
+from ...inputs.statics import StaticOccluders
 from ...threed.boxes import _TRIANGLES, contains, corners, frames
 from ...threed.statics import static_solids
 from .. import Observation, Viewpoint, group_pairs

@@ -22,7 +22,7 @@ import numba
 import numpy as np
 import shapely
 
-from ...kernels import push_pair
+from ...geometry.kernels import push_pair
 from ...threed.boxes import _slab
 
 MISS = -1

@@ -20,7 +20,7 @@ Per observer, with everything shifted so that the observer sits at the origin (:
 
 Modules: :mod:`.engine` (the :class:`SweepEngine` class), :mod:`.crossings`, :mod:`.observe`, :mod:`.pieces`,
 :mod:`.heap_sweep`, :mod:`.occluders`, :mod:`.decide`; shared numba helpers are in
-:mod:`omega_prime_visibility.kernels`.
+:mod:`omega_prime_visibility.geometry.kernels`.
 """
 
 from __future__ import annotations

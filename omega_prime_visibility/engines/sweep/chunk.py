@@ -13,8 +13,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...kernels import next_vertex_index, reserve
-from ...sensors import TWO_PI
+from ...geometry.kernels import next_vertex_index, reserve
+from ...inputs.sensors import TWO_PI
 from .. import reason_of
 from .crossings import bearing_arguments_into, frame_crossings
 from .observe import observe_one

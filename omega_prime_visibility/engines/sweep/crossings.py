@@ -12,7 +12,7 @@ import math
 import numba
 import numpy as np
 
-from ...kernels import MIN_CAPACITY, next_vertex_index, prefix_sum, push_pair, reserve
+from ...geometry.kernels import MIN_CAPACITY, next_vertex_index, prefix_sum, push_pair, reserve
 
 GRID_CELLS = 256  # cells along the longer side of the static edges' grid
 

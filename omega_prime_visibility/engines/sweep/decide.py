@@ -15,8 +15,8 @@ import math
 import numba
 import numpy as np
 
-from ...kernels import insertion_sort, wrap_positive
-from ...occlusion import MIN_PIECE, RELATIVE_TOLERANCE, _edge_line_distance, _nearest_edge
+from ...geometry.kernels import insertion_sort, wrap_positive
+from ...geometry.occlusion import MIN_PIECE, RELATIVE_TOLERANCE, _edge_line_distance, _nearest_edge
 from .pieces import R_HI, R_LO
 
 TWO_PI = 2.0 * math.pi

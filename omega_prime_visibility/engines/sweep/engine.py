@@ -7,13 +7,13 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ...geometry import edges, ring_ids
-from ...kernels import ring_index
-from ...scene import FrameObjects, ObjectTable
-from ...sensors import TWO_PI
-from ...statics import StaticOccluders
-from ...view import objects_in_view, restrict_observation
+from ...geometry.kernels import ring_index
+from ...geometry.rings import edges, ring_ids
+from ...inputs.objects import FrameObjects, ObjectTable
+from ...inputs.sensors import TWO_PI
+from ...inputs.statics import StaticOccluders
 from .. import ChunkObservation, ChunkViewpoints, Observation, Viewpoint
+from ..limits import objects_in_view, restrict_observation
 from .chunk import bearing_arguments, observe_frames
 from .crossings import build_static_grid, prepare_frame, static_crossings
 from .observe import observe_frame, outline_one, reason_codes

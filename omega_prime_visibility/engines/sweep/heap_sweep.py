@@ -15,9 +15,9 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...kernels import reserve
-from ...occlusion import MIN_PIECE, hidden_span
-from ...view import limited_angle
+from ...geometry.kernels import reserve
+from ...geometry.occlusion import MIN_PIECE, hidden_span
+from ...geometry.view import limited_angle
 from .pieces import EX, EY, HI, LO, NUM, TWO_PI, UHX, UHY, ULX, ULY
 
 

@@ -22,8 +22,8 @@ from collections import namedtuple
 import numba
 import numpy as np
 
-from ...kernels import counting_sort, group_by_key, prefix_sum, reserve
-from ...occlusion import MIN_PIECE
+from ...geometry.kernels import counting_sort, group_by_key, prefix_sum, reserve
+from ...geometry.occlusion import MIN_PIECE
 from .decide import CANDIDATE_EPS, decided_pairs
 from .pieces import R_HI, R_LO
 

@@ -14,8 +14,8 @@ import math
 import numba
 import numpy as np
 
-from ...kernels import reserve_rows, wrap_positive
-from ...view import clip_circular
+from ...geometry.kernels import reserve_rows, wrap_positive
+from ...geometry.view import clip_circular
 from .heap_sweep import nearest_intervals
 from .pieces import EX, EY, NUM, PI, TWO_PI
 

@@ -23,7 +23,7 @@ from collections import namedtuple
 import numba
 import numpy as np
 
-from ...kernels import group_by_key, prefix_sum, segment_distance2
+from ...geometry.kernels import group_by_key, prefix_sum, segment_distance2
 
 PI = math.pi
 TWO_PI = 2.0 * math.pi

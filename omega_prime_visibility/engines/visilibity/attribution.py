@@ -5,9 +5,9 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...kernels import TWO_PI, reserve_rows
-from ...occlusion import MIN_PIECE, hidden_span
-from ...view import limited_angle
+from ...geometry.kernels import TWO_PI, reserve_rows
+from ...geometry.occlusion import MIN_PIECE, hidden_span
+from ...geometry.view import limited_angle
 from .polygon_check import on_edge
 
 # radians: two edges of a target meeting at a vertex may share this much of a polygon edge through rounding of

@@ -20,23 +20,20 @@ splits the holes); its numbers are the same by construction.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numba
 import numpy as np
 
-from ...geometry import Rings
-from ...kernels import reserve
-from ...occlusion import _candidate_pairs, _occludes_pairs
-from ...scene import ObjectTable
+from ...geometry.kernels import reserve
+from ...geometry.occlusion import _candidate_pairs, _occludes_pairs
+from ...geometry.rings import Rings
+from ...inputs.objects import ObjectTable
 from .. import ChunkObservation, ChunkViewpoints, Observation, Viewpoint, reason_of
 from .attribution import attribute_visible_angles
 from .chunk_geometry import angular_extents, static_blocking, view_segments
 from .conversion import box_overlaps, grid_origin, vis_polygon, vis_polygons_reversed, visibility_polygon_coords
 from .polygon_check import CHECK_ABSOLUTE, CHECK_RELATIVE, ON_EDGE, polygon_fails
-
-if TYPE_CHECKING:
-    from .engine import VisiLibityEngine
 
 
 @numba.njit(cache=True)
@@ -278,9 +275,10 @@ def checked_visible_angles(
     return visible, failed
 
 
-def observe_chunk(engine: VisiLibityEngine, objects: ObjectTable, views: ChunkViewpoints) -> ChunkObservation:
+def observe_chunk(engine: Any, objects: ObjectTable, views: ChunkViewpoints) -> ChunkObservation:
     """What every viewpoint of a chunk sees, all around without range (see the module docstring); the numbers of
-    ``engine.observe`` frame by frame."""
+    ``engine.observe`` frame by frame. ``engine`` is the :class:`.engine.VisiLibityEngine` calling this (its
+    environments, static parts and frame-by-frame path are used)."""
     coords = np.ascontiguousarray(objects.rings.coords, dtype=np.float64)
     offsets = np.ascontiguousarray(objects.rings.offsets, dtype=np.int64)
     frame_starts = np.ascontiguousarray(objects.frame_starts, dtype=np.int64)
@@ -329,7 +327,7 @@ def observe_chunk(engine: VisiLibityEngine, objects: ObjectTable, views: ChunkVi
     return ChunkObservation(visible, width, reason, occ_offsets, occ, static_occ_offsets, static_occ)
 
 
-def _parts_at(engine: VisiLibityEngine, origin: np.ndarray) -> tuple[list, np.ndarray, bool]:
+def _parts_at(engine: Any, origin: np.ndarray) -> tuple[list, np.ndarray, bool]:
     """The static parts blocking a viewpoint inside none of them, in the grid cell of ``origin``: their VisiLibity
     holes, bounding boxes (relative to the origin), and whether none encloses anything."""
     engine._use_origin(origin)
@@ -373,9 +371,7 @@ def _static_transparent(views: ChunkViewpoints, n_sources: int, v: int) -> np.nd
     return inside
 
 
-def _frame_observation(
-    engine: VisiLibityEngine, objects: ObjectTable, views: ChunkViewpoints, f: int, v: int
-) -> Observation:
+def _frame_observation(engine: Any, objects: ObjectTable, views: ChunkViewpoints, f: int, v: int) -> Observation:
     """Viewpoint ``v`` (of frame position ``f``) observed frame by frame (:meth:`.VisiLibityEngine.observe`)."""
     static_transparent = _static_transparent(views, engine.statics.n_sources, v)
     t0, t1 = views.target_offsets[v], views.target_offsets[v + 1]

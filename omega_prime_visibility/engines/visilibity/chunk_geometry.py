@@ -10,7 +10,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...kernels import TWO_PI
+from ...geometry.kernels import TWO_PI
 
 
 def angular_extents(coords, offsets, frame_starts, view_starts, target_offsets, origins, eyes):

@@ -11,7 +11,7 @@ import numpy as np
 import shapely
 import visilibity as vis
 
-from ...kernels import MIN_CAPACITY, push_pair
+from ...geometry.kernels import MIN_CAPACITY, push_pair
 
 # SWIG's flat functions, called directly: the proxy classes' Python wrappers cost more than the C++ calls (a
 # vis.Point(x, y) is three Python calls); the vector typemaps take the flat functions' objects as they are

@@ -9,12 +9,12 @@ import numpy as np
 import shapely
 import visilibity as vis
 
-from ...geometry import Rings, angular_extent, edges, ring_ids
-from ...occlusion import occluding_pairs
-from ...scene import FrameObjects, ObjectTable
-from ...statics import StaticOccluders, polygonal_and_lineal_parts
-from ...view import objects_in_view, restrict_observation
+from ...geometry.occlusion import occluding_pairs
+from ...geometry.rings import Rings, angular_extent, edges, ring_ids
+from ...inputs.objects import FrameObjects, ObjectTable
+from ...inputs.statics import StaticOccluders, polygonal_and_lineal_parts
 from .. import ChunkObservation, ChunkViewpoints, EngineFailure, Observation, Viewpoint, group_pairs
+from ..limits import objects_in_view, restrict_observation
 from .attribution import attribute_visible_angles
 from .chunk import observe_chunk
 from .conversion import (

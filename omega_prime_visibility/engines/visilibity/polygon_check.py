@@ -23,7 +23,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...kernels import ray_line_distance, reserve_rows
+from ...geometry.kernels import ray_line_distance, reserve_rows
 
 TWO_PI = 2.0 * np.pi
 MIN_SPAN = 1e-12  # radians; edges subtending less point at the observer and bound nothing

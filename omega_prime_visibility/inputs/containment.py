@@ -10,8 +10,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .geometry import Rings
-from .kernels import segment_distance2
+from ..geometry.kernels import segment_distance2
+from ..geometry.rings import Rings
 
 TOUCH_TOLERANCE = 1e-9  # metres: a body passing this near a viewpoint touches it (and is transparent to it)
 

@@ -14,7 +14,7 @@ import numpy as np
 import polars as pl
 import pyarrow as pa
 
-from .engines import Reason
+from ..engines import Reason
 
 STATUSES = ("visible", "partly_visible", "occluded", "out_of_fov", "out_of_range")
 """Why a target is seen as it is through a sensor, in :data:`SCHEMA`'s ``status`` column:

@@ -2,7 +2,7 @@
 
 Asked for by ``load_objects(..., three_d=True)`` (``mode="3d"``). ``height``, ``length`` and ``width`` are
 required (a ``ValueError`` names the missing ones). Defaults, each announced by one
-:class:`~.scene.VisibilityInputWarning`: without ``roll`` and ``pitch`` the boxes are level (0), without ``z``
+:class:`~.objects.VisibilityInputWarning`: without ``roll`` and ``pitch`` the boxes are level (0), without ``z``
 they stand on the ground z = 0 (``z = height / 2``). Rows with a NaN or infinite 3D value, or a height <= 0, are
 skipped like rows with a NaN pose. A table whose heights all equal the widths (as omega-prime 0.3.7 writes MCAP
 files) gets a warning.
@@ -14,6 +14,8 @@ import warnings
 
 import numpy as np
 import polars as pl
+
+from .objects import VisibilityInputWarning
 
 REQUIRED_3D = ("length", "width", "height")
 DEFAULTED_3D = ("z", "roll", "pitch")
@@ -38,7 +40,7 @@ def read_boxes3d(
             + ("level (roll = pitch = 0)" if set(absent) & {"roll", "pitch"} else "")
             + (" and " if "z" in absent and set(absent) & {"roll", "pitch"} else "")
             + ("standing on the ground z = 0 (z = height / 2)" if "z" in absent else ""),
-            _warning_category(),
+            VisibilityInputWarning,
             stacklevel=4,
         )
     height = values["height"]
@@ -47,7 +49,7 @@ def read_boxes3d(
         warnings.warn(
             "every row's height equals its width: the heights look like a copy of the widths (omega-prime 0.3.7 "
             "writes an object's width into the MCAP height field), so the 3D result may be wrong",
-            _warning_category(),
+            VisibilityInputWarning,
             stacklevel=4,
         )
     z = values.get("z", height / 2)
@@ -62,9 +64,3 @@ def read_boxes3d(
     if (finite & ~positive).any():
         problems.append(f"{int((finite & ~positive).sum())} box(es) with a length, width or height <= 0")
     return boxes, positive, problems
-
-
-def _warning_category() -> type[Warning]:
-    from ..scene import VisibilityInputWarning
-
-    return VisibilityInputWarning

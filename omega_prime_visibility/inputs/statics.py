@@ -10,8 +10,8 @@ from typing import Any
 import numpy as np
 import shapely
 
+from ..geometry.rings import Rings, edges, orient, ring_ids, rings_from, signed_area
 from .containment import TOUCH_TOLERANCE, points_in_boxes
-from .geometry import Rings, edges, orient, ring_ids, rings_from, signed_area
 from .scene import MIN_AREA
 
 

@@ -29,15 +29,16 @@ import numpy as np
 import polars as pl
 import shapely
 
-from .api import SensorSpec, resolve_egos
-from .engines import Viewpoint
-from .engines.sweep import SweepEngine
-from .pipeline import observer_rows, viewpoints
-from .scene import FrameObjects, ObjectTable, OnInvalid, load_objects, observer_sizes
-from .sensors import Sensor, fitted_layout, is_layout, resolve_sensors
-from .star_union import star_union_area
-from .statics import StaticOccluders, load_static_occluders
-from .union_rings import star_union
+from ..engines import Viewpoint
+from ..engines.sweep import SweepEngine
+from ..geometry.star_union import star_union_area
+from ..geometry.union_rings import star_union
+from ..inputs.objects import FrameObjects, ObjectTable, OnInvalid
+from ..inputs.observers import SensorSpec, resolve_egos
+from ..inputs.scene import load_objects, observer_sizes
+from ..inputs.sensors import Sensor, fitted_layout, is_layout, resolve_sensors
+from ..inputs.statics import StaticOccluders, load_static_occluders
+from ..table.pipeline import observer_rows, viewpoints
 
 ARC_STEP = math.radians(1.0)
 """Radians between the points drawn on range circles (the chords lose a share of about ``ARC_STEP² / 6`` of a

@@ -26,7 +26,7 @@ def visible_intervals(
     ----------
     table : polars.DataFrame or LazyFrame
         Any visibility table (with or without ``idx_ego`` and ``sensor``; e.g. after
-        :func:`~omega_prime_visibility.combine.seen_by_any`).
+        :func:`~omega_prime_visibility.analysis.combine.seen_by_any`).
     threshold : float
         Visible means ``visibility > threshold`` (default: any part visible).
     reaction_time : float, optional

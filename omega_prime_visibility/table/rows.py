@@ -11,8 +11,8 @@ from collections.abc import Sequence
 import numba
 import numpy as np
 
-from .engines import ChunkObservation, ChunkViewpoints, Observation, Reason
-from .table import Columns, view_of, visibility_of
+from ..engines import ChunkObservation, ChunkViewpoints, Observation, Reason
+from .schema import Columns, view_of, visibility_of
 
 _CONTAINS_OBSERVER = int(Reason.CONTAINS_OBSERVER)
 

@@ -19,13 +19,13 @@ from typing import Any
 
 import numpy as np
 
-from .containment import covers_points, covers_points_by_frame
-from .engines import FALLBACK_ENGINE, ChunkViewpoints, Engine, EngineFailure, Viewpoint, get_engine
+from ..engines import FALLBACK_ENGINE, ChunkViewpoints, Engine, EngineFailure, Viewpoint, get_engine
+from ..inputs.containment import covers_points, covers_points_by_frame
+from ..inputs.objects import FrameObjects, ObjectTable, VisibilityInputWarning
+from ..inputs.sensors import TWO_PI, Sensor, sensor_poses
+from ..inputs.statics import StaticOccluders
 from .rows import chunk_rows, frame_rows
-from .scene import FrameObjects, ObjectTable, VisibilityInputWarning
-from .sensors import TWO_PI, Sensor, sensor_poses
-from .statics import StaticOccluders
-from .table import Columns, TableBuilder
+from .schema import Columns, TableBuilder
 
 SensorSet = Sequence[Sensor] | dict[int, Sequence[Sensor]]
 """Sensors for every observer, or per observer idx (same names, same order)."""

@@ -1,0 +1,8 @@
+"""Analyses: what users compute from visibility tables.
+
+- :mod:`.combine`: :func:`~.combine.seen_by_any`, the best over sensors;
+- :mod:`.intervals`: :func:`~.intervals.visible_intervals`, runs of visible frames and when a target is noticed;
+- :mod:`.area`: :func:`~.area.visible_area`, the area seen (exact polygons).
+
+Takes tables (and, for the area, the scene arrays); gives tables.
+"""

@@ -1,0 +1,94 @@
+"""The per-frame scene arrays every stage after the inputs works on: :class:`ObjectTable` (all frames, sorted by
+``(frame, idx)``) and :class:`FrameObjects` (one frame's slice), and the warning raised for problems in the input."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+
+from ..geometry.rings import Rings
+
+OnInvalid = Literal["warn", "raise"]
+
+
+class VisibilityInputWarning(UserWarning):
+    """Rows or geometries were skipped, or treated specially, because of a problem in the input."""
+
+
+@dataclass(frozen=True, slots=True)
+class FrameObjects:
+    """The objects of one frame as arrays.
+
+    Attributes
+    ----------
+    frame, total_nanos : int
+        Frame number and timestamp (nanoseconds) of the frame.
+    idx : ndarray, shape (n,), int64
+        Object ids, ascending.
+    position : ndarray, shape (n, 2), float64
+        Bounding-box centres, metres.
+    yaw : ndarray, shape (n,), float64
+        Headings, radians counter-clockwise from +x (0 where the table had no ``yaw``).
+    rings : Rings
+        One counter-clockwise outline per object.
+    boxes3d : ndarray, shape (n, 9), or None
+        The objects' 3D boxes (:mod:`.threed.boxes`), when loaded with ``three_d=True``.
+    """
+
+    frame: int
+    total_nanos: int
+    idx: np.ndarray
+    position: np.ndarray
+    yaw: np.ndarray
+    rings: Rings
+    boxes3d: np.ndarray | None = None
+
+    def __len__(self) -> int:
+        return len(self.idx)
+
+
+@dataclass(frozen=True, slots=True)
+class ObjectTable:
+    """A validated moving-object table, sorted by ``(frame, idx)``, with one outline per row."""
+
+    frame: np.ndarray
+    total_nanos: np.ndarray
+    idx: np.ndarray
+    position: np.ndarray
+    yaw: np.ndarray
+    rings: Rings
+    frame_starts: np.ndarray  # (f + 1,) row where each frame starts
+    boxes3d: np.ndarray | None = None  # (rows, 9) with three_d=True
+
+    @property
+    def n_frames(self) -> int:
+        return len(self.frame_starts) - 1
+
+    def frame_objects(self, k: int) -> FrameObjects:
+        """The ``k``-th frame (0-based position, not the frame number)."""
+        s, e = int(self.frame_starts[k]), int(self.frame_starts[k + 1])
+        return FrameObjects(
+            frame=int(self.frame[s]),
+            total_nanos=int(self.total_nanos[s]),
+            idx=self.idx[s:e],
+            position=self.position[s:e],
+            yaw=self.yaw[s:e],
+            rings=self.rings.slice(s, e),
+            boxes3d=None if self.boxes3d is None else self.boxes3d[s:e],
+        )
+
+    def frame_range(self, start: int, stop: int) -> ObjectTable:
+        """Frames ``start`` to ``stop - 1`` (0-based positions) as a table of their own."""
+        s, e = int(self.frame_starts[start]), int(self.frame_starts[stop])
+        return ObjectTable(
+            self.frame[s:e],
+            self.total_nanos[s:e],
+            self.idx[s:e],
+            self.position[s:e],
+            self.yaw[s:e],
+            self.rings.slice(s, e),
+            self.frame_starts[start : stop + 1] - s,
+            None if self.boxes3d is None else self.boxes3d[s:e],
+        )

@@ -1,0 +1,42 @@
+"""Who observes: the ego specification of the front ends (an idx, a list of idx or ``"all"``) resolved against
+the table, and the forms a sensor specification takes."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from typing import Literal
+
+import numpy as np
+
+from .objects import ObjectTable
+from .sensors import Sensor
+
+EgoSpec = int | Sequence[int] | Literal["all"]
+SensorSpec = str | os.PathLike | Sensor | Sequence[Sensor] | None
+
+
+def describe_idx(present: np.ndarray) -> str:
+    """The first 20 idx of ``present`` for an error message, with ``...`` when there are more."""
+    present = np.asarray(present)
+    return f"{present[:20].tolist()}{' ...' if len(present) > 20 else ''}"
+
+
+def resolve_egos(ego_idx: EgoSpec, objects: ObjectTable) -> tuple[np.ndarray, bool]:
+    """The observers' idx as an ascending array, and whether the table needs an ``idx_ego`` column."""
+    present = np.unique(objects.idx)
+    if isinstance(ego_idx, str):
+        if ego_idx != "all":
+            raise ValueError(f"ego_idx must be an int, a list of ints or 'all', not {ego_idx!r}")
+        return present, True
+    many = not isinstance(ego_idx, int | np.integer)
+    egos = np.unique(np.atleast_1d(np.asarray(ego_idx)))
+    if egos.size == 0 or not np.issubdtype(egos.dtype, np.integer):
+        raise ValueError(f"ego_idx must be an int, a list of ints or 'all', not {ego_idx!r}")
+    missing = egos[~np.isin(egos, present)]
+    if len(missing):
+        raise ValueError(
+            f"ego idx {missing.tolist()} never occurs among the usable rows of the table "
+            f"(idx present: {describe_idx(present)})"
+        )
+    return egos.astype(np.int64), many
