@@ -759,7 +759,7 @@ def walls_with_needles(rng: np.random.Generator, n_objects: int = 11) -> Scene:
     and ``n_objects`` cars clear of the walls, some of them on that ray beyond the corners. Object 0 is the ego.
     """
     statics: list[BaseGeometry] = []
-    for _ in range(3):
+    while len(statics) < 3:
         c = rng.uniform(-20, 20, 2)
         d = rng.normal(size=2)
         d /= np.linalg.norm(d)
@@ -768,9 +768,11 @@ def walls_with_needles(rng: np.random.Generator, n_objects: int = 11) -> Scene:
         foot = c + d * rng.uniform(-2, 2)
         tip = foot + n * rng.uniform(0.5, 4)
         if rng.random() < 0.5:
-            statics.append(LineString([a, foot, tip, foot, b]))
+            wall = LineString([a, foot, tip, foot, b])
         else:
-            statics.append(make_valid(Polygon([a, foot, tip, foot, b, b - 0.3 * n, a - 0.3 * n])))
+            wall = make_valid(Polygon([a, foot, tip, foot, b, b - 0.3 * n, a - 0.3 * n]))
+        if wall.distance(Point(0.0, 0.0)) > 0.5:  # (a wall through the observer is transparent to it)
+            statics.append(wall)
     angle = rng.uniform(-np.pi, np.pi)
     u = np.array([np.cos(angle), np.sin(angle)])
     v = np.array([-u[1], u[0]])
