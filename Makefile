@@ -26,6 +26,7 @@ bench: | $(UV_DEP)
 	$(UV) run python benchmarks/bench.py --long 30000
 	$(UV) run python benchmarks/bench_sensors.py
 	$(UV) run python benchmarks/pictures.py
+	$(UV) run python benchmarks/agreement.py
 
 bench-batch: | $(UV_DEP)
 	$(UV) run python benchmarks/bench_batch.py
