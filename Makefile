@@ -14,6 +14,7 @@ PYTEST_ARGS ?= -n 2
 
 run: | $(UV_DEP)
 	$(UV) run omega-prime-visibility run highway_merge.mcap --ego 0
+	@echo "the command line: source .venv/bin/activate, then omega-prime-visibility --help"
 
 lint: | $(UV_DEP)
 	$(UV) run ruff check .
