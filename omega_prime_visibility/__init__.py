@@ -3,6 +3,7 @@
 >>> from omega_prime_visibility import get_visibility_df
 """
 
+from . import _compiled  # noqa: F401 (first: the kernels' cache follows the sources, see _compiled)
 from .analysis.combine import seen_by_any
 from .analysis.intervals import visible_intervals
 from .api import get_visibility_df, get_visibility_df_for_frame

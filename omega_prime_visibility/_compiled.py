@@ -1,0 +1,60 @@
+"""Where numba keeps the compiled kernels: one folder per version of the package's sources.
+
+numba checks a cached kernel against the file it is defined in only. A kernel that calls (and so compiles in) one
+from another module would keep the old machine code after that other module changed: after an upgrade in place or
+a ``git pull`` in a clone, silently wrong numbers. Keying the cache folder by a hash of all the package's sources
+rules that out; a new version compiles once into a new folder (``~/.cache/omega-prime-visibility/numba/<key>``,
+or under ``$XDG_CACHE_HOME``). ``NUMBA_CACHE_DIR``, when set, is the user's choice and is left alone; where no
+cache folder can be written, numba's default (next to the sources) applies.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from pathlib import Path
+
+import numba
+
+PACKAGE = Path(__file__).resolve().parent
+
+
+def sources_key(root: Path = PACKAGE) -> str:
+    """16 hex digits of the SHA-256 of every ``.py`` file under ``root`` (names and contents).
+
+    Examples
+    --------
+    >>> len(sources_key()), sources_key() == sources_key()
+    (16, True)
+    """
+    digest = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        digest.update(path.relative_to(root).as_posix().encode() + b"\0")
+        digest.update(path.read_bytes() + b"\0")
+    return digest.hexdigest()[:16]
+
+
+def cache_folder(key: str) -> Path:
+    """The cache folder for the sources with this key."""
+    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    return Path(base) / "omega-prime-visibility" / "numba" / key
+
+
+def use_versioned_cache() -> str | None:
+    """Point numba's cache at :func:`cache_folder` of the current sources (unless ``NUMBA_CACHE_DIR`` is set);
+    return the folder used, or ``None`` when numba's default applies."""
+    if os.environ.get("NUMBA_CACHE_DIR") or numba.config.CACHE_DIR:
+        return None
+    try:
+        folder = cache_folder(sources_key())
+        folder.mkdir(parents=True, exist_ok=True)
+        probe = folder / f".writable-{os.getpid()}"
+        probe.touch()
+        probe.unlink()
+    except (OSError, RuntimeError, KeyError):  # no home, a read-only file system: numba's default
+        return None
+    numba.config.CACHE_DIR = str(folder)
+    return str(folder)
+
+
+CACHE_FOLDER = use_versioned_cache()  # on import, before any kernel is defined (the package imports this first)

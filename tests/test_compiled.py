@@ -1,0 +1,50 @@
+"""The compiled kernels' cache follows the package's sources (omega_prime_visibility/_compiled.py)."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+from omega_prime_visibility._compiled import PACKAGE, sources_key
+
+PROBE = (
+    "import numba, omega_prime_visibility as o; from omega_prime_visibility.geometry.kernels import wrap_positive;"
+    " wrap_positive(-1.0); print(numba.config.CACHE_DIR); print(o._compiled.CACHE_FOLDER)"
+)
+
+
+def run_probe(**env: str) -> list[str]:
+    clean = {k: v for k, v in os.environ.items() if k not in ("NUMBA_CACHE_DIR", "XDG_CACHE_HOME")}
+    out = subprocess.run(
+        [sys.executable, "-c", PROBE], env={**clean, **env}, capture_output=True, text=True, check=True
+    )
+    return out.stdout.split()
+
+
+def test_the_key_changes_with_any_source_and_only_then(tmp_path: Path) -> None:
+    copy = tmp_path / "pkg"
+    shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__"))
+    key = sources_key(copy)
+    assert key == sources_key(PACKAGE) and len(key) == 16
+    # a module one kernel calls into changes (as after a git pull): a new folder, no stale machine code
+    kernels = copy / "geometry" / "kernels.py"
+    kernels.write_text(kernels.read_text() + "\n# changed\n")
+    assert sources_key(copy) != key
+    kernels.write_text(kernels.read_text().removesuffix("\n# changed\n"))
+    assert sources_key(copy) == key
+
+
+def test_kernels_are_cached_under_a_folder_keyed_by_the_sources(tmp_path: Path) -> None:
+    cache_dir, folder = run_probe(XDG_CACHE_HOME=str(tmp_path))
+    expected = tmp_path / "omega-prime-visibility" / "numba" / sources_key()
+    assert cache_dir == folder == str(expected)
+    assert list(expected.rglob("*.nbi")), "the kernel called was not cached there"
+
+
+def test_a_cache_folder_the_user_chose_is_left_alone(tmp_path: Path) -> None:
+    cache_dir, folder = run_probe(NUMBA_CACHE_DIR=str(tmp_path / "mine"))
+    assert cache_dir == str(tmp_path / "mine") and folder == "None"
+    assert list((tmp_path / "mine").rglob("*.nbi"))
