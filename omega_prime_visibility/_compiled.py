@@ -11,10 +11,13 @@ cache folder can be written, numba's default (next to the sources) applies.
 from __future__ import annotations
 
 import hashlib
+import inspect
 import os
+import sys
 from pathlib import Path
 
 import numba
+from numba.core.caching import UserProvidedCacheLocator
 
 PACKAGE = Path(__file__).resolve().parent
 
@@ -55,6 +58,34 @@ def use_versioned_cache() -> str | None:
         return None
     numba.config.CACHE_DIR = str(folder)
     return str(folder)
+
+
+def compiled_before(source: Path) -> bool:
+    """Whether numba's cache holds kernels of the module ``source`` (a ``.py`` file), or of any module in it (a
+    folder)."""
+    folder = source if source.is_dir() else source.parent
+    if numba.config.CACHE_DIR:
+        cached = Path(numba.config.CACHE_DIR) / UserProvidedCacheLocator.get_suitable_cache_subpath(str(folder / "_"))
+    else:
+        cached = folder / "__pycache__"
+    pattern = "*.nbi" if source.is_dir() else f"{source.stem}.*.nbi"
+    return any(cached.glob(pattern))
+
+
+def announce_compilation(name: str, engine_class: type) -> bool:
+    """Say on stderr that an engine's kernels are about to be compiled, when they were never compiled for these
+    sources (a first run stays silent for up to a minute or two otherwise); return whether it said so."""
+    module = Path(inspect.getfile(engine_class))
+    source = module.parent if module.parent != PACKAGE / "engines" else module  # its subpackage, or its module
+    if compiled_before(source):
+        return False
+    print(
+        f"omega-prime-visibility: compiling the {name} engine's kernels, once per version of the package "
+        "(up to a minute or two; later runs start at once)",
+        file=sys.stderr,
+        flush=True,
+    )
+    return True
 
 
 CACHE_FOLDER = use_versioned_cache()  # on import, before any kernel is defined (the package imports this first)

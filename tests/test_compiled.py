@@ -48,3 +48,39 @@ def test_a_cache_folder_the_user_chose_is_left_alone(tmp_path: Path) -> None:
     cache_dir, folder = run_probe(NUMBA_CACHE_DIR=str(tmp_path / "mine"))
     assert cache_dir == str(tmp_path / "mine") and folder == "None"
     assert list((tmp_path / "mine").rglob("*.nbi"))
+
+
+def test_compiled_before_looks_where_numba_caches(tmp_path: Path, monkeypatch) -> None:
+    import numba
+    from numba.core.caching import UserProvidedCacheLocator
+
+    from omega_prime_visibility._compiled import compiled_before
+
+    engine = tmp_path / "sweep"
+    (engine / "__pycache__").mkdir(parents=True)
+    (engine / "heap.py").write_text("")
+    monkeypatch.setattr(numba.config, "CACHE_DIR", "")
+    assert not compiled_before(engine) and not compiled_before(engine / "heap.py")
+    (engine / "__pycache__" / "heap.visible_angles-190.py311.nbi").write_bytes(b"")
+    assert compiled_before(engine) and compiled_before(engine / "heap.py")
+    assert not compiled_before(engine / "other.py")  # another module of the folder: not yet
+    cache = tmp_path / "cache"
+    monkeypatch.setattr(numba.config, "CACHE_DIR", str(cache))
+    assert not compiled_before(engine)  # numba now caches elsewhere
+    sub = cache / UserProvidedCacheLocator.get_suitable_cache_subpath(str(engine / "heap.py"))
+    sub.mkdir(parents=True)
+    (sub / "heap.visible_angles-190.py311.nbi").write_bytes(b"")
+    assert compiled_before(engine)
+
+
+def test_a_first_run_says_it_compiles_and_a_later_one_does_not(monkeypatch, capsys) -> None:
+    from conftest import boxes_table
+
+    from omega_prime_visibility import _compiled, get_visibility_df
+
+    table = boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 2, 0)])
+    for cold in (True, False):
+        monkeypatch.setattr(_compiled, "compiled_before", lambda source, cold=cold: not cold)
+        get_visibility_df(table, 0, engine="sweep")
+        said = capsys.readouterr().err
+        assert ("compiling the sweep engine's kernels" in said) == cold, said
