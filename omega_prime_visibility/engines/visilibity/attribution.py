@@ -40,7 +40,7 @@ def attribute_visible_angles(
     touching bodies joins their collinear edges into one): each target is credited the bearings over which one
     of its edges lies on the polygon edge (the two lines' points on the ray agree within ``tolerance`` times the
     distance, at least 1 m, at both ends of the bearings credited, measured across the body's edge: see
-    :func:`_on_edge`), each bearing once (both sides of a sliver thinner than that lie on the same polygon
+    :func:`.polygon_check.on_edge`), each bearing once (both sides of a sliver thinner than that lie on the same polygon
     edge). Edges pointing at the observer subtend no angle. Only bearings inside the field of
     view ``[wedge_start, wedge_start + fov]`` along which the edge lies within ``max_range`` metres count (see
     :func:`...view.limited_angle`).
@@ -115,18 +115,18 @@ def attribute_visible_angles(
                         occ[occ_offsets[t] : occ_offsets[t + 1]], n_objects + st[st_offsets[t] : st_offsets[t + 1]],
                     )  # fmt: skip
                     for k in range(len(pieces)):
-                        lo, hi = pieces[k, 0], pieces[k, 1]
+                        piece_lo, piece_hi = pieces[k, 0], pieces[k, 1]
                         # credited where the polygon runs along the edge at both ends of the unhidden piece
-                        if lo != shared_lo or not on_lo:
-                            if not on_edge(bearing[i] + lo, px, py, qx, qy, ax, ay, bx, by, tolerance):
+                        if piece_lo != shared_lo or not on_lo:
+                            if not on_edge(bearing[i] + piece_lo, px, py, qx, qy, ax, ay, bx, by, tolerance):
                                 continue
-                        if hi != shared_hi or not on_hi:
-                            if not on_edge(bearing[i] + hi, px, py, qx, qy, ax, ay, bx, by, tolerance):
+                        if piece_hi != shared_hi or not on_hi:
+                            if not on_edge(bearing[i] + piece_hi, px, py, qx, qy, ax, ay, bx, by, tolerance):
                                 continue
                         # bearings another edge of the target was credited on this polygon edge already (both sides
                         # of a sliver thinner than the tolerance) are not credited twice
                         n_credited = _credit(
-                            visible, t, lo, hi, credited_lo, credited_hi, n_credited, bearing[i], limited,
+                            visible, t, piece_lo, piece_hi, credited_lo, credited_hi, n_credited, bearing[i], limited,
                             bx - ax, by - ay, ax * (by - ay) - ay * (bx - ax), wedge_start, fov, max_range,
                         )  # fmt: skip
     return visible
