@@ -3,6 +3,9 @@
 >>> from omega_prime_visibility import get_visibility_df
 """
 
+from importlib.metadata import PackageNotFoundError
+from importlib.metadata import version as _version
+
 from . import _compiled  # noqa: F401 (first: the kernels' cache follows the sources, see _compiled)
 from .analysis.combine import seen_by_any
 from .analysis.intervals import visible_intervals
@@ -12,6 +15,11 @@ from .engines import ENGINES, ENGINES_3D, Observation, Reason, Viewpoint
 from .inputs.objects import VisibilityInputWarning
 from .inputs.sensors import Sensor
 from .table.schema import SCHEMA
+
+try:
+    __version__ = _version("omega-prime-visibility")
+except PackageNotFoundError:  # (the sources used without installing them)
+    __version__ = "0+unknown"
 
 __all__ = [
     "ENGINES",

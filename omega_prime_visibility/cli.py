@@ -19,6 +19,23 @@ from .engines import ENGINES, ENGINES_3D
 app = typer.Typer(add_completion=False, no_args_is_help=True, help=__doc__)
 
 
+def _print_version(asked: bool) -> None:
+    if asked:
+        from . import __version__
+
+        typer.echo(f"omega-prime-visibility {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _options(
+    version: Annotated[
+        bool, typer.Option("--version", callback=_print_version, is_eager=True, help="Print the version and exit.")
+    ] = False,
+) -> None:
+    """The options before the command."""
+
+
 def parse_ego(ego: str) -> int | list[int] | str:
     """``--ego`` as the API's ``ego_idx``; a bad value exits with a one-line error (not typer's boxed one)."""
     if ego == "all":

@@ -213,3 +213,17 @@ def test_cli_bad_static_file(tmp_path) -> None:
     assert_error(
         cli(MCAP, "--static", tmp_path / "none.wkt"), f"static occluders {tmp_path / 'none.wkt'} does not exist"
     )
+
+
+def test_version_on_the_command_line_and_in_the_package() -> None:
+    from importlib.metadata import version
+
+    import omega_prime_visibility
+
+    installed = version("omega-prime-visibility")
+    assert omega_prime_visibility.__version__ == installed
+    out = subprocess.run(
+        [sys.executable, "-m", "omega_prime_visibility.cli", "--version"], capture_output=True, text=True
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == f"omega-prime-visibility {installed}" and out.stderr == ""
