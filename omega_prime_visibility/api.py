@@ -189,13 +189,13 @@ def get_visibility_df(
     egos, with_ego = resolve_egos(ego_idx, objects)
     if is_layout(sensors):  # fitted to each observer's own size
         sensor_set = fitted_layout(sensors, observer_sizes(objects, egos))
-    get_engine(engine)  # unknown names fail here, not in a worker
+    engine_class = get_engine(engine)  # unknown names fail here, not in a worker
     if chunk_frames < 1:
         raise ValueError(f"chunk_frames must be at least 1, not {chunk_frames}")
     n_workers = auto_workers(objects.n_frames * len(egos)) if workers is None else max(1, int(workers))
     chunk_frames = chunk_size(objects, len(egos), chunk_frames, 1 if sensor_set is None else len(sensor_set))
     n_workers = min(n_workers, len(chunks(objects.n_frames, chunk_frames, n_workers)))
-    announce_compilation(engine, get_engine(engine))  # (the checks are done: work starts here)
+    announce_compilation(engine, engine_class)  # (the checks are done: work starts here)
     show = objects.n_frames >= PROGRESS_MIN_FRAMES if progress is None else progress
     bar = tqdm(total=objects.n_frames, disable=not show, desc="visibility", unit="frame")
     containment = ContainmentLog()
