@@ -16,7 +16,16 @@ import typer
 
 from .engines import ENGINES, ENGINES_3D
 
-app = typer.Typer(add_completion=False, no_args_is_help=True, help=__doc__)
+# plain help (no rich markup): option types are shown as the metavars below, never as <str>/<bool> tags, and
+# text in square brackets is printed as written
+HELP = (
+    "Exact visibility of road users in traffic recordings. 'run RECORDING' prints or writes the visibility table"
+    " of one recording; 'batch INPUTS -o FOLDER' computes many, locally or on a dask cluster; 'animate' renders a"
+    " GIF or MP4 and 'report' an interactive HTML page. Add --help after a command for its options."
+)
+app = typer.Typer(add_completion=False, no_args_is_help=True, help=HELP, rich_markup_mode=None)
+# an argument's metavar names it (RECORDING, INPUTS); typer would add its type as a tag (<path>, <list[str]>)
+typer.core.TyperArgument.display_type_rich = lambda self, ctx: None
 
 
 def _print_version(asked: bool) -> None:
@@ -30,7 +39,7 @@ def _print_version(asked: bool) -> None:
 @app.callback()
 def _options(
     version: Annotated[
-        bool, typer.Option("--version", callback=_print_version, is_eager=True, help="Print the version and exit.")
+        bool, typer.Option("--version", callback=_print_version, is_eager=True, help="print the version and exit")
     ] = False,
 ) -> None:
     """The options before the command."""
@@ -76,17 +85,48 @@ def load_recording(path: Path, map_path: Path | None = None):
         raise fail(str(e)) from e
 
 
+RUN_OUTPUT = (
+    "write the table here instead of printing it: a .parquet path becomes a folder of parquet parts, as the API's"
+    " get_visibility_df(output=...) writes it (read it back with polars.read_parquet); a .csv path becomes one"
+    " file with the list columns (occluder idx) joined by spaces. (batch writes one .parquet file per recording.)"
+)
+RUN_MAP = (
+    "OpenDRIVE map (.xodr) for an OSI trace, or a JSON list of [trace, map] pairs as batch takes it (the trace is"
+    " looked up by its file name). An MCAP file carries its own map. An OSI trace without --map is read without"
+    " a map: the visibility is the same, but there are no road objects for --map-occluders."
+)
+
 # options shared by run and batch
-Ego = Annotated[str, typer.Option(help="observer idx, comma-separated idx, or 'all'; default: host vehicle")]
-Engine = Annotated[
-    str | None, typer.Option(help=f"2D: one of {sorted(ENGINES)} (default visilibity); 3D: {sorted(ENGINES_3D)}")
+Ego = Annotated[
+    str, typer.Option(metavar="IDX", help="observer idx, comma-separated idx, or 'all'; default: host vehicle")
 ]
-Mode = Annotated[str, typer.Option(help="2d (bird's-eye view, exact) or 3d (boxes with heights, ray cast)")]
+Engine = Annotated[
+    str | None,
+    typer.Option(
+        metavar="NAME",
+        help=f"2D: {', '.join(sorted(ENGINES))} (default visilibity); 3D: {', '.join(sorted(ENGINES_3D))}",
+    ),
+]
+Mode = Annotated[
+    str, typer.Option(metavar="2d|3d", help="2d (bird's-eye view, exact) or 3d (boxes with heights, ray cast)")
+]
 MapOccluders = Annotated[
     bool, typer.Option("--map-occluders", help="road objects of the map (--map, or the recording's) as occluders")
 ]
-Static = Annotated[Path | None, typer.Option("--static", help="static occluders: GeoJSON or WKT file (metres)")]
-Sensors = Annotated[str | None, typer.Option(help="look through sensors: 'roof', 'typical' or a sensors .json file")]
+Static = Annotated[
+    Path | None, typer.Option("--static", metavar="FILE", help="static occluders: GeoJSON or WKT file (metres)")
+]
+Sensors = Annotated[
+    str | None,
+    typer.Option(
+        metavar="LAYOUT",
+        help="look through sensors: 'roof', 'typical' or a sensors .json file (angles in radians)",
+    ),
+]
+Recording = Annotated[
+    Path, typer.Argument(metavar="RECORDING", help="omega-prime MCAP file, or an OSI trace (.osi) with --map")
+]
+Progress = Annotated[bool, typer.Option(help="show a progress bar")]
 
 
 def load_static(path: Path | None) -> list | None:
@@ -99,17 +139,19 @@ def load_static(path: Path | None) -> list | None:
         raise fail(str(e)) from e
 
 
-@app.command()
+@app.command(short_help="the visibility table of one recording, printed or written")
 def run(
-    recording: Annotated[Path, typer.Argument(help="omega-prime MCAP (or OSI trace with --map)")],
+    recording: Recording,
     ego: Ego = "",
     engine: Engine = None,
-    output: Annotated[Path | None, typer.Option("-o", "--output", help="write .parquet or .csv here")] = None,
-    map_path: Annotated[Path | None, typer.Option("--map", help="OpenDRIVE map for OSI traces")] = None,
+    output: Annotated[Path | None, typer.Option("-o", "--output", metavar="PATH", help=RUN_OUTPUT)] = None,
+    map_path: Annotated[Path | None, typer.Option("--map", metavar="MAP", help=RUN_MAP)] = None,
     static: Static = None,
-    workers: Annotated[int | None, typer.Option(help="processes (default: all cores for long jobs)")] = None,
-    progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
-    rows: Annotated[int, typer.Option(help="rows to print when no output is given")] = 20,
+    workers: Annotated[
+        int | None, typer.Option(metavar="N", help="processes (default: all cores for long jobs)")
+    ] = None,
+    progress: Progress = True,
+    rows: Annotated[int, typer.Option(metavar="N", help="rows to print when no output is given")] = 20,
     sensors: Sensors = None,
     mode: Mode = "2d",
     map_occluders: MapOccluders = False,
@@ -244,25 +286,32 @@ def picture_inputs(
     return r, ego_idx, span
 
 
-FramesOption = Annotated[str, typer.Option(help="START:STOP[:STEP] frame numbers (stop excluded); default all")]
-EgoOption = Annotated[str, typer.Option(help="observer idx; default: host vehicle")]
-MapOption = Annotated[Path | None, typer.Option("--map", help="OpenDRIVE map for OSI traces")]
+FramesOption = Annotated[
+    str,
+    typer.Option(metavar="START:STOP", help="frame numbers START:STOP or START:STOP:STEP (stop excluded); default all"),
+]
+EgoOption = Annotated[str, typer.Option(metavar="IDX", help="observer idx; default: host vehicle")]
+MapOption = Annotated[Path | None, typer.Option("--map", metavar="MAP", help="OpenDRIVE map for an OSI trace")]
+PictureEngine = Annotated[str, typer.Option(metavar="NAME", help=f"2D engine: {', '.join(sorted(ENGINES))}")]
+ViewRange = Annotated[float, typer.Option(metavar="METRES", help="metres shown each side of the ego")]
 
 
-@app.command()
+@app.command(short_help="an animated GIF or MP4 of the scene seen from the ego")
 def animate(
-    recording: Annotated[Path, typer.Argument(help="omega-prime MCAP (or OSI trace with --map)")],
-    output: Annotated[Path, typer.Option("-o", "--output", help="write a .gif or .mp4 here")],
+    recording: Recording,
+    output: Annotated[Path, typer.Option("-o", "--output", metavar="PATH", help="write a .gif or .mp4 here")],
     ego: EgoOption = "",
     frames: FramesOption = "",
-    fps: Annotated[float, typer.Option(help="frames per second")] = 10.0,
+    fps: Annotated[float, typer.Option(metavar="FPS", help="frames per second")] = 10.0,
     follow: Annotated[bool, typer.Option(help="keep the ego in the middle (--no-follow: one fixed view)")] = True,
-    view_range: Annotated[float, typer.Option(help="metres shown each side of the ego")] = 60.0,
-    target: Annotated[int | None, typer.Option(help="outline this idx and its occluders")] = None,
-    sensors: Annotated[str | None, typer.Option(help="sensor layout (roof, typical) or JSON file to draw")] = None,
-    engine: Annotated[str, typer.Option(help=f"one of {sorted(ENGINES)}")] = "visilibity",
+    view_range: ViewRange = 60.0,
+    target: Annotated[int | None, typer.Option(metavar="IDX", help="outline this idx and its occluders")] = None,
+    sensors: Annotated[
+        str | None, typer.Option(metavar="LAYOUT", help="sensor layout to draw: 'roof', 'typical' or a .json file")
+    ] = None,
+    engine: PictureEngine = "visilibity",
     map_path: MapOption = None,
-    progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
+    progress: Progress = True,
 ) -> None:
     """Render the scene seen from the ego, frame by frame, to an animated GIF or an MP4 video."""
     from .plot import animate as render
@@ -276,19 +325,20 @@ def animate(
     typer.echo(f"wrote {output}")
 
 
-@app.command()
+@app.command(short_help="an interactive HTML report of one recording")
 def report(
-    recording: Annotated[Path, typer.Argument(help="omega-prime MCAP (or OSI trace with --map)")],
-    output: Annotated[Path, typer.Option("-o", "--output", help="write the .html report here")],
+    recording: Recording,
+    output: Annotated[Path, typer.Option("-o", "--output", metavar="PATH", help="write the .html report here")],
     ego: EgoOption = "",
     frames: FramesOption = "",
-    view_range: Annotated[float, typer.Option(help="metres shown each side of the ego")] = 60.0,
+    view_range: ViewRange = 60.0,
     sensors: Annotated[
-        str | None, typer.Option(help="timeline and summary through sensors: 'roof', 'typical' or a .json file")
+        str | None,
+        typer.Option(metavar="LAYOUT", help="timeline and summary through sensors: 'roof', 'typical' or a .json file"),
     ] = None,
-    engine: Annotated[str, typer.Option(help=f"one of {sorted(ENGINES)}")] = "visilibity",
+    engine: PictureEngine = "visilibity",
     map_path: MapOption = None,
-    progress: Annotated[bool, typer.Option(help="show a progress bar")] = True,
+    progress: Progress = True,
 ) -> None:
     """Write an interactive HTML report (frame slider, timeline, per-target summary) that works offline."""
     from .plot import write_report
@@ -303,26 +353,46 @@ def report(
     typer.echo(f"wrote {output}")
 
 
-@app.command()
+@app.command(short_help="one parquet result per recording into a folder, resumably")
 def batch(
-    inputs: Annotated[list[str], typer.Argument(help="recordings, folders (searched recursively) and glob patterns")],
-    output: Annotated[Path, typer.Option("-o", "--output", help="folder for the results and the summary")],
+    inputs: Annotated[
+        list[str],
+        typer.Argument(metavar="INPUTS", help="recordings, folders (searched recursively) and glob patterns"),
+    ],
+    output: Annotated[
+        Path, typer.Option("-o", "--output", metavar="FOLDER", help="folder for the results and the summary")
+    ],
     ego: Ego = "",
     engine: Engine = None,
     static: Static = None,
     map_path: Annotated[
-        Path | None, typer.Option("--map", help="OpenDRIVE map for the OSI traces, or a JSON list of [trace, map]")
+        Path | None,
+        typer.Option(
+            "--map",
+            metavar="MAP",
+            help="OpenDRIVE map for the OSI traces, or a JSON list of [trace, map] pairs (paths relative to it)",
+        ),
     ] = None,
-    workers: Annotated[int | None, typer.Option(help="local processes over files (default: the cores)")] = None,
+    workers: Annotated[
+        int | None, typer.Option(metavar="N", help="local processes over files (default: the cores)")
+    ] = None,
     sensors: Sensors = None,
     mode: Mode = "2d",
     map_occluders: MapOccluders = False,
-    scheduler: Annotated[str | None, typer.Option(help="dask scheduler address, e.g. tcp://host:8786")] = None,
-    scheduler_file: Annotated[Path | None, typer.Option(help="dask scheduler file (dask scheduler --help)")] = None,
+    scheduler: Annotated[
+        str | None, typer.Option(metavar="ADDRESS", help="dask scheduler address, e.g. tcp://host:8786")
+    ] = None,
+    scheduler_file: Annotated[
+        Path | None, typer.Option(metavar="FILE", help="dask scheduler file (see dask scheduler --help)")
+    ] = None,
     overwrite: Annotated[bool, typer.Option(help="recompute results that are current")] = False,
     progress: Annotated[bool, typer.Option(help="show a progress bar over files")] = True,
 ) -> None:
-    """Compute one parquet result per recording into OUTPUT, resumably, and print a summary of every file.
+    """Compute one result per recording into the --output folder, resumably, and print a summary of every file.
+
+    Each result is a single .parquet file (run -o x.parquet writes a folder of parquet parts instead; both read
+    back with polars.read_parquet). A file whose result is current is skipped; a failed one is named in the
+    summary with its reason.
 
     Exit status: 0 when every file is done or skipped, 1 when some failed, 2 for bad options, 130 when interrupted.
     """
@@ -364,7 +434,7 @@ def print_summary(summary: pl.DataFrame, path: Path) -> None:
     typer.echo(f"{summary.height} recordings: {counts}; {summary['seconds'].sum():.1f} s of work; summary in {path}")
 
 
-@app.command()
+@app.command(short_help="list the available engines")
 def engines() -> None:
     """List the available engines."""
     for name in sorted(ENGINES):

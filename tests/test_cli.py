@@ -227,3 +227,25 @@ def test_version_on_the_command_line_and_in_the_package() -> None:
     )
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == f"omega-prime-visibility {installed}" and out.stderr == ""
+
+
+@pytest.mark.parametrize("command", [[], ["run"], ["batch"], ["animate"], ["report"], ["engines"]])
+def test_help_reads_as_prose(command: list[str]) -> None:
+    """No type tags, no raw double backticks, and nothing cut off (a [trace, map] in the text included)."""
+    out = subprocess.run(
+        [sys.executable, "-m", "omega_prime_visibility.cli", *command, "--help"],
+        capture_output=True,
+        text=True,
+        env={**os.environ, "COLUMNS": "80"},
+    )
+    assert out.returncode == 0, out.stderr
+    text = out.stdout
+    for tag in ("<bool>", "<str>", "<path>", "<int>", "<float>", "<list", "``"):
+        assert tag not in text, tag
+    assert not any(line.rstrip().endswith("...") for line in text.splitlines()[1:]), text
+    flat = " ".join(text.split())
+    if command == ["batch"]:
+        assert "or a JSON list of [trace, map] pairs" in flat
+    if command == ["run"]:
+        assert "a .csv path becomes one file with the list columns" in flat
+        assert "batch writes one .parquet file per recording" in flat
