@@ -4,7 +4,9 @@ or MP4, ``report`` an interactive HTML page."""
 
 from __future__ import annotations
 
+import re
 import sys
+import warnings
 from pathlib import Path
 from typing import Annotated
 
@@ -42,7 +44,13 @@ def _options(
         bool, typer.Option("--version", callback=_print_version, is_eager=True, help="print the version and exit")
     ] = False,
 ) -> None:
-    """The options before the command."""
+    """The options before the command; warnings are shown as one line each, without Python's source line."""
+    warnings.showwarning = show_warning
+
+
+def show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning as one line on stderr, ``warning: ...``, in place of Python's two lines with file and source."""
+    typer.echo(f"warning: {' '.join(str(message).split())}", err=True)
 
 
 def parse_ego(ego: str) -> int | list[int] | str:
@@ -70,15 +78,42 @@ def parse_sensors(spec: str | None):
 
 
 def fail(message: str) -> typer.Exit:
-    """Print ``error: message`` to stderr; return the exit to raise (status 2)."""
-    typer.echo(f"error: {message}", err=True)
+    """Print ``error: message`` (in a shell user's words) to stderr; return the exit to raise (status 2)."""
+    typer.echo(f"error: {shell_words(message)}", err=True)
     return typer.Exit(2)
 
 
+def shell_words(message: str) -> str:
+    """An API message in a shell user's words: ``mode='3d'`` becomes ``--mode 3d``."""
+    return re.sub(r"\bmode='(2d|3d)'", r"--mode \1", message)
+
+
+def resolve_map(path: Path, map_path: Path | None) -> Path | None:
+    """``--map`` for the recording ``path``: a ``.json`` map is a list of [trace, map] pairs (as ``batch --map``
+    takes it), the trace looked up by its file name; an MCAP file needs no map."""
+    if map_path is None or map_path.suffix.lower() != ".json":
+        return map_path
+    if path.suffix == ".mcap":
+        return None
+    from .batch.options import _map_table
+
+    try:
+        table = _map_table(str(map_path), map_path.stat().st_mtime_ns)
+    except OSError as e:
+        raise fail(f"cannot read the map list {map_path}: {e.strerror or e}") from None
+    except ValueError as e:
+        raise fail(str(e)) from None
+    if path.name not in table:
+        raise fail(f"the map list {map_path} has no map for {path.name} (it lists {', '.join(sorted(table))})")
+    return Path(table[path.name])
+
+
 def load_recording(path: Path, map_path: Path | None = None):
-    """``io.read_recording``, turning a read error into a one-line message and exit status 2."""
+    """``io.read_recording`` (the map through :func:`resolve_map`), turning a read error into a one-line message
+    and exit status 2."""
     from .inputs.io import RecordingReadError, read_recording
 
+    map_path = resolve_map(path, map_path)
     try:
         return read_recording(path, map_path)
     except RecordingReadError as e:
@@ -177,6 +212,7 @@ def run(
     ego_idx = parse_ego(ego) if ego else None
     sensor_set = parse_sensors(sensors)
     statics = load_static(static)
+    map_path = resolve_map(recording, map_path)
     r = load_recording(recording, map_path)
     if ego_idx is None and r.host_vehicle_idx is None:
         present = np.unique(r._df["idx"].to_numpy())
@@ -317,6 +353,12 @@ def animate(
     from .plot import animate as render
 
     r, ego_idx, span = picture_inputs(recording, output, (".gif", ".mp4"), engine, frames, ego, map_path)
+    if target is not None:
+        from .inputs.observers import describe_idx
+
+        present = np.unique(r._df["idx"].to_numpy())
+        if target not in present:
+            raise fail(f"target idx {target} never occurs in the recording (idx present: {describe_idx(present)})")
     try:
         render(r, ego_idx, output, frames=span, fps=fps, follow=follow, view_range=view_range, target=target,
                sensors=sensors, engine=engine, progress=progress)  # fmt: skip
@@ -429,7 +471,8 @@ def print_summary(summary: pl.DataFrame, path: Path) -> None:
     with pl.Config(tbl_rows=30, tbl_cols=-1, tbl_hide_dataframe_shape=True, fmt_str_lengths=120):
         typer.echo(shown)
     for recording, error in summary.filter(pl.col("status") == "failed").select("recording", "error").iter_rows():
-        typer.echo(f"failed: {recording}: {error}")
+        # each failed path named once: most messages name their file already
+        typer.echo(f"failed: {error}" if str(recording) in str(error) else f"failed: {recording}: {error}")
     counts = ", ".join(f"{n} {status}" for status, n in summary["status"].value_counts(sort=True).iter_rows())
     typer.echo(f"{summary.height} recordings: {counts}; {summary['seconds'].sum():.1f} s of work; summary in {path}")
 

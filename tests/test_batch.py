@@ -72,8 +72,12 @@ def test_end_to_end_folder_with_bad_files(tmp_path, expected) -> None:
     failed = summary.filter(pl.col("status") == "failed")
     assert sorted(failed["result"]) == ["notes.mcap.parquet", "truncated.mcap.parquet"]
     for name, message in failed.select("result", "error").iter_rows():
-        assert f"cannot read {data / name.removesuffix('.parquet')} as an omega-prime recording" in message
-        assert "\n" not in message and f"failed: {data / name.removesuffix('.parquet')}: {message}\n" in run.stdout
+        path = data / name.removesuffix(".parquet")
+        cause = "the file is truncated" if name.startswith("truncated") else "as an omega-prime recording"
+        assert f"cannot read {path}" in message and cause in message
+        # one line per failure, naming the path once
+        assert "\n" not in message and f"failed: {message}\n" in run.stdout
+        assert sum(line.count(str(path)) for line in run.stdout.splitlines() if line.startswith("failed:")) == 1
     done = summary.filter(pl.col("status") == "done")
     names = ["copy0.mcap.parquet", "copy1.mcap.parquet", "highway_merge.mcap.parquet", "sub/highway_merge.mcap.parquet"]
     assert sorted(done["result"]) == sorted([*names, *(["pedestrian.osi.parquet"] if osi else [])])

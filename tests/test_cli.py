@@ -249,3 +249,66 @@ def test_help_reads_as_prose(command: list[str]) -> None:
     if command == ["run"]:
         assert "a .csv path becomes one file with the list columns" in flat
         assert "batch writes one .parquet file per recording" in flat
+
+
+def cli_command(*args: str | Path, cwd: Path | None = None) -> subprocess.CompletedProcess:
+    """Any command (``cli`` is ``run``'s)."""
+    cmd = [sys.executable, "-m", "omega_prime_visibility.cli", *map(str, args)]
+    return subprocess.run(cmd, capture_output=True, text=True, cwd=cwd)
+
+
+def test_cli_truncated_mcap_says_so(tmp_path) -> None:
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(MCAP.read_bytes()[:500_000])
+    out = cli(cut, "--no-progress")
+    assert_error(out, f"cannot read {cut}: the file is truncated")
+    assert "RecordLengthLimitExceeded" not in out.stderr
+
+
+def test_cli_sensor_yaw_in_degrees(tmp_path) -> None:
+    sensors = tmp_path / "deg.json"
+    sensors.write_text('[{"name": "left", "yaw": 90, "fov": 1.0}]')
+    assert_error(cli(MCAP, "--sensors", sensors), "deg.json", "yaw 90 looks like degrees; sensor angles are radians")
+
+
+def test_cli_animate_unknown_target(tmp_path) -> None:
+    out = cli_command("animate", MCAP, "-o", tmp_path / "a.gif", "--target", "99", "--no-progress")
+    assert_error(out, "target idx 99 never occurs in the recording", "idx present: [0, 1, 2, 3, 4, 5, 6]")
+    assert not (tmp_path / "a.gif").exists()
+
+
+def test_cli_engine_of_the_other_mode_names_the_flag() -> None:
+    out = cli(MCAP, "--engine", "raycast3d", "--no-progress")
+    assert_error(out, "unknown engine 'raycast3d'", "pass --mode 3d")
+    assert "mode='3d'" not in out.stderr
+
+
+def test_cli_3d_warning_is_one_readable_line(tmp_path) -> None:
+    out = cli(MCAP, "--mode", "3d", "--ego", "0", "--no-progress", "-o", tmp_path / "v.csv")
+    assert out.returncode == 0, out.stderr
+    warned = [line for line in out.stderr.splitlines() if line.startswith("warning: ")]
+    assert len(warned) == 1 and "the heights look like a copy of the widths" in warned[0]
+    # no Python warning format (file:line: Category: ...) and no source line under it
+    assert "VisibilityInputWarning" not in out.stderr and "get_visibility_df(" not in out.stderr
+    assert all(line.startswith(("warning: ", "omega-prime-visibility: ")) for line in out.stderr.splitlines())
+
+
+def test_cli_run_takes_the_batch_map_list(shared_data) -> None:
+    out = cli(shared_data / "pedestrian.osi", "--map", shared_data / "mapping.json", "--ego", "0", "--no-progress")
+    assert out.returncode == 0, out.stderr
+    assert "visibility" in out.stdout
+
+
+def test_cli_run_map_list_without_the_trace(shared_data, tmp_path) -> None:
+    (tmp_path / "maps.json").write_text(f'[["other.osi", "{shared_data / "fabriksgatan.xodr"}"]]')
+    out = cli(shared_data / "pedestrian.osi", "--map", tmp_path / "maps.json", "--ego", "0", "--no-progress")
+    assert_error(out, f"the map list {tmp_path / 'maps.json'} has no map for pedestrian.osi")
+
+
+def test_cli_osi_trace_without_map_is_read_without_one(shared_data) -> None:
+    """Documented: an OSI trace without --map is read without a map (the visibility needs none)."""
+    out = cli(shared_data / "pedestrian.osi", "--ego", "0", "--no-progress")
+    assert out.returncode == 0, out.stderr
+    assert "visibility" in out.stdout
+    help_text = " ".join(cli("--help").stdout.split())
+    assert "An OSI trace without --map is read without a map" in help_text

@@ -42,6 +42,11 @@ def read_recording(path: str | os.PathLike, map_path: str | os.PathLike | None =
             warnings.filterwarnings("always", message=NO_MAP)
             recording = omega_prime.Recording.from_file(str(path), compute_polygons=True, **kwargs)
     except Exception as e:  # omega-prime and its readers raise many kinds; report them as one, naming the file
+        if _truncated_mcap(path):  # the reader's own words (a record of absurd length) would hide the cause
+            raise RecordingReadError(
+                f"cannot read {path}: the file is truncated (an MCAP file cut off after {path.stat().st_size} bytes,"
+                " before its end; was it still being written or copied?)"
+            ) from e
         raise RecordingReadError(f"cannot read {path} as an omega-prime recording ({type(e).__name__}: {e})") from e
     map_failures = [str(w.message) for w in caught if str(w.message).startswith(NO_MAP)]
     for w in caught:  # pass every other warning on to the caller
@@ -50,6 +55,21 @@ def read_recording(path: str | os.PathLike, map_path: str | os.PathLike | None =
     if map_path is not None:
         _check_map(map_path, recording.map, map_failures)
     return recording
+
+
+MCAP_MAGIC = b"\x89MCAP0\r\n"
+
+
+def _truncated_mcap(path: Path) -> bool:
+    """Whether ``path`` starts as an MCAP file but lacks the magic bytes that end every complete one."""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(len(MCAP_MAGIC))
+            f.seek(max(0, path.stat().st_size - len(MCAP_MAGIC)))
+            tail = f.read()
+    except OSError:
+        return False
+    return head == MCAP_MAGIC and tail != MCAP_MAGIC
 
 
 def _check_map(map_path: Path, parsed: Any, failures: list[str]) -> None:

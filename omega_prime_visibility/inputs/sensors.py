@@ -82,6 +82,13 @@ class Sensor:
             if math.isnan(value) or (math.isinf(value) and f.name != "range"):
                 raise ValueError(f"sensor {self.name!r}: {f.name} must be finite, not {value!r}")
             object.__setattr__(self, f.name, float(value))
+        for angle in ("yaw", "pitch"):  # an angle beyond a full turn is degrees given for radians
+            value = getattr(self, angle)
+            if abs(value) > TWO_PI + 1e-12:
+                raise ValueError(
+                    f"sensor {self.name!r}: {angle} {value:g} looks like degrees; sensor angles are radians"
+                    f" ({value:g}° is {math.radians(value):.4g})"
+                )
         if not 0.0 < self.fov <= TWO_PI + 1e-12:
             raise ValueError(f"sensor {self.name!r}: fov must be in (0, 2π] radians, not {self.fov!r}")
         if not self.range > 0.0:
