@@ -327,7 +327,10 @@ FramesOption = Annotated[
     typer.Option(metavar="START:STOP", help="frame numbers START:STOP or START:STOP:STEP (stop excluded); default all"),
 ]
 EgoOption = Annotated[str, typer.Option(metavar="IDX", help="observer idx; default: host vehicle")]
-MapOption = Annotated[Path | None, typer.Option("--map", metavar="MAP", help="OpenDRIVE map for an OSI trace")]
+MapOption = Annotated[
+    Path | None,
+    typer.Option("--map", metavar="MAP", help="OpenDRIVE map for an OSI trace, or a JSON list of [trace, map] pairs"),
+]
 PictureEngine = Annotated[str, typer.Option(metavar="NAME", help=f"2D engine: {', '.join(sorted(ENGINES))}")]
 ViewRange = Annotated[float, typer.Option(metavar="METRES", help="metres shown each side of the ego")]
 
