@@ -93,6 +93,19 @@ def test_pedestrian_behind_a_low_wall_and_the_2d_height_rule() -> None:
     assert vis(both, 1) == 0.0 and both["static_occluder_idxs"].to_list() == [[1]]  # numbered in the full list
 
 
+def test_2d_height_rule_at_exactly_the_eye_height() -> None:
+    # The rule (README: "at least as tall as the eye"): a static footprint blocks in 2D iff its top >= 1.25 m.
+    # The walker at x = 10 (0.5 m square) lies wholly behind the 6 m wall at x = 5 (its shadow from the eye at the
+    # origin spans |y| <= 3 * 9.75 / 5 > 0.25): a blocking wall hides it (0.0), a left-out one leaves it whole (1.0).
+    df = table([EGO, (10.0, 0, 0.5, 0.5, 1.8)])
+    wall = shapely.LineString([(5, -3), (5, 3)])
+    at_eye = get_visibility_df(df, 0, [wall], static_occluder_heights=1.25)
+    assert vis(at_eye, 1) == 0.0 and at_eye["static_occluder_idxs"].to_list() == [[0]]
+    assert vis(get_visibility_df(df, 0, [wall], static_occluder_heights=1.24), 1) == 1.0
+    # per footprint: of two walls, the one at the eye still blocks when the other (1.0 m) is left out
+    assert vis(get_visibility_df(df, 0, [wall, wall], static_occluder_heights=[1.0, 1.25]), 1) == 0.0
+
+
 def test_missing_3d_columns_are_named() -> None:
     df = table([EGO, (10.0, 0, 4.0, 2.0, 1.5)])
     with pytest.raises(ValueError, match=r"mode='3d' needs the column\(s\) \['height'\]"):
