@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -60,3 +62,16 @@ def scene_table(observer, objects, include_ego: bool) -> pl.DataFrame:
             "polygon": pl.Series(polys, dtype=pl.Object),
         }
     )
+
+
+def interrupted_writer(monkeypatch, module, name: str, target: Path, old: bytes, partial: Callable[..., None]):
+    """Replace ``module.name`` (a writer) by one that writes part of its data with ``partial(path)``, checks that
+    ``target`` still holds ``old`` (what a reader sees meanwhile), and raises."""
+
+    def writer(*args, **kwargs):
+        path = next(a for a in (*args, *kwargs.values()) if isinstance(a, str | os.PathLike))
+        partial(Path(path))
+        assert target.read_bytes() == old  # a reader during the write sees the previous result whole
+        raise OSError("disk full")
+
+    monkeypatch.setattr(module, name, writer)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import polars as pl
 import pytest
+from conftest import interrupted_writer
 from PIL import Image
 
 from omega_prime_visibility.plot import animate
@@ -90,3 +91,17 @@ def test_unsupported_suffix_and_missing_ego_leave_no_file(tmp_path) -> None:
     with pytest.raises(ValueError, match="ego idx 0 is not present in frame 12"):
         animate(moving_table(drop_ego_at=2), 0, tmp_path / "a.gif", dpi=30, progress=False)
     assert list(tmp_path.iterdir()) == []  # neither the file nor a temporary one
+
+
+def test_an_interrupted_gif_keeps_the_previous_one(tmp_path, monkeypatch) -> None:
+    # the GIF writer writes half a file and fails: the earlier GIF stays whole under its name (also while the new
+    # one is being written) and nothing else is left in the folder
+    import importlib
+
+    target = animate(moving_table(2), 0, tmp_path / "a.gif", dpi=20, progress=False)
+    old = target.read_bytes()
+    module = importlib.import_module("omega_prime_visibility.plot.animate")
+    interrupted_writer(monkeypatch, module, "write_gif", target, old, lambda path: path.write_bytes(old[:100]))
+    with pytest.raises(OSError, match="disk full"):
+        animate(moving_table(3), 0, target, dpi=20, progress=False)
+    assert [p.name for p in tmp_path.iterdir()] == ["a.gif"] and target.read_bytes() == old

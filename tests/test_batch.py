@@ -17,7 +17,7 @@ import polars as pl
 import pyarrow.parquet as pq
 import pytest
 import shapely
-from conftest import REPO, SHARED_DATA
+from conftest import REPO, SHARED_DATA, interrupted_writer
 from polars.testing import assert_frame_equal
 
 from omega_prime_visibility import VisibilityInputWarning, get_visibility_df, run_batch
@@ -410,3 +410,52 @@ def test_batch_in_3d(tmp_path) -> None:
     again = run_batch([copy], tmp_path / "out", ego=0, workers=1, progress=False)
     assert again["status"].to_list() == ["done"]
     assert "can_see" not in pl.read_parquet(tmp_path / "out" / again["result"][0]).columns
+
+
+def test_printed_summary_shows_failures_first(capsys) -> None:
+    from omega_prime_visibility.batch.run import SUMMARY_SCHEMA
+    from omega_prime_visibility.cli import print_summary
+
+    # rows in input order: done, failed, interrupted, skipped, failed; shown: both failed (in input order), then
+    # the interrupted one, then the rest in input order
+    rows = [
+        ("a", "done", 10),
+        ("b", "failed", None),
+        ("c", "interrupted", None),
+        ("d", "skipped", 7),
+        ("e", "failed", None),
+    ]
+    summary = pl.DataFrame(
+        [
+            {"recording": f"{n}.mcap", "result": f"{n}.mcap.parquet", "status": s, "rows": r, "seconds": 1.0}
+            | {"error": "boom" if s == "failed" else None, "warnings": None}
+            for n, s, r in rows
+        ],
+        schema=SUMMARY_SCHEMA,
+    )
+    print_summary(summary, Path("out") / SUMMARY)
+    shown = [line for line in capsys.readouterr().out.splitlines() if ".mcap.parquet" in line]
+    assert [line.split()[1].strip('"') for line in shown] == [f"{n}.mcap.parquet" for n in "bec" + "ad"]
+
+
+def test_batch_result_and_summary_are_written_atomically(tmp_path, monkeypatch) -> None:
+    # A failure half-way through writing must leave the previous file under the final name with its old bytes,
+    # and nothing else in the folder (no half-written file, no temporary left over).
+    (a,) = copies(tmp_path / "in", 1)
+    out = tmp_path / "out"
+    run_batch([a], out, ego=0, workers=1, progress=False)
+    result, summary = out / "copy0.mcap.parquet", out / SUMMARY
+    old_result, old_summary = result.read_bytes(), summary.read_bytes()
+    half = lambda path: path.write_bytes(b"PAR1 half")  # noqa: E731
+    interrupted_writer(monkeypatch, pq, "write_table", result, old_result, half)
+    failed = run_batch([a], out, ego=0, engine="sweep", workers=1, progress=False)  # new options: recomputed
+    assert failed.select("status", "error").row(0) == ("failed", "OSError: disk full")
+    assert result.read_bytes() == old_result
+    assert sorted(p.name for p in out.iterdir()) == sorted([result.name, SUMMARY])
+    monkeypatch.undo()
+    old_summary = summary.read_bytes()
+    interrupted_writer(monkeypatch, pl.DataFrame, "write_parquet", summary, old_summary, half)
+    with pytest.raises(OSError, match="disk full"):
+        run_batch([a], out, ego=0, workers=1, progress=False)
+    assert summary.read_bytes() == old_summary
+    assert sorted(p.name for p in out.iterdir()) == sorted([result.name, SUMMARY])

@@ -12,32 +12,30 @@ STEP = 100_000_000  # 10 Hz
 
 
 def moving_scene() -> pl.DataFrame:
-    """Ego 0 at the origin, a parked van 1 at x = 10 hiding pedestrian 2, who walks out from behind it along +y
-    at 1 m per frame from y = -4; frame 6 is missing from the recording."""
+    """Ego 0 at the origin, a parked van 1 at x = 10 (5 x 2.5 m) hiding pedestrian 2 (0.5 m square), who walks
+    out from behind it along +y at 1 m per frame from y = -2 at x = 15; frame 6 is missing from the recording."""
     frames = []
     for f in [0, 1, 2, 3, 4, 5, 7, 8]:
-        frames.append(boxes_table([(0, 0, 4, 2, 0), (10, 0, 5, 2.5, 0), (15, -4 + f, 0.5, 0.5, 0)], frame=f))
+        frames.append(boxes_table([(0, 0, 4, 2, 0), (10, 0, 5, 2.5, 0), (15, -2 + f, 0.5, 0.5, 0)], frame=f))
     return pl.concat(frames)
 
 
-def test_intervals_with_a_gap_and_reaction_time() -> None:
+def test_a_missing_frame_splits_a_visible_run() -> None:
+    # On paper: the van's shadow from the eye at the origin is bounded by its near corners (7.5, +-1.25), i.e.
+    # |y| / x < 1/6. The pedestrian in frame f spans x in [14.75, 15.25], y in [f - 2.25, f - 1.75]; its worst
+    # corner (14.75, f - 1.75 or f - 2.25) has |y| / x < 1/6 (|y| < 2.458) for f = 0..4: hidden; in frame 5 the
+    # corner (14.75, 2.75) gives 0.186 > 1/6: partly visible, and so in frames 7 and 8. The van is never hidden.
     table = get_visibility_df(moving_scene(), 0)
     ped = table.filter(pl.col("idx") == 2).sort("frame")
-    visible_frames = ped.filter(pl.col("visibility") > 0)["frame"].to_list()
-    # hidden while its whole extent lies within the van's (|y| < 1.875 at x = 15 ... ) then visible
-    assert visible_frames == [k for k in [0, 1, 2, 3, 4, 5, 7, 8] if k in visible_frames]
-    out = visible_intervals(table, reaction_time=0.15).filter(pl.col("idx") == 2)
-    starts = out["start_frame"].to_list()
-    # the missing frame 6 splits what would otherwise be one run
-    assert 7 in starts
-    assert all(e < 6 or s > 6 for s, e in zip(out["start_frame"], out["end_frame"], strict=True))
-    first = out.row(0, named=True)
-    assert first["first_visible_nanos"] == first["start_nanos"] == visible_frames[0] * STEP
-    assert first["duration"] == pytest.approx((first["end_frame"] - first["start_frame"]) * 0.1)
-    # noticed 0.15 s after the start: two frames later, if the interval lasts that long
-    for row in out.iter_rows(named=True):
-        want = row["start_frame"] + 2 if row["end_frame"] >= row["start_frame"] + 2 else None
-        assert row["noticed_frame"] == want
+    assert ped.filter(pl.col("visibility") > 0)["frame"].to_list() == [5, 7, 8]
+    assert ped.filter(pl.col("frame") <= 4)["visibility"].to_list() == [0.0] * 5
+    # visible in 5, then frame 6 missing, then 7-8: two runs, not one; the van (visible in 0-5, 7-8) likewise.
+    # Noticed 0.1 s after the start: frame 8 of the second run (exactly 0.1 s), never in the one-frame first run.
+    out = visible_intervals(table, reaction_time=0.1)
+    rows = out.select("idx", "start_frame", "end_frame", "n_frames", "noticed_frame", "duration").rows()
+    assert rows == [(1, 0, 5, 6, 1, 0.5), (1, 7, 8, 2, 8, 0.1), (2, 5, 5, 1, None, 0.0), (2, 7, 8, 2, 8, 0.1)]
+    assert out.filter(pl.col("idx") == 2)["first_visible_nanos"].to_list() == [5 * STEP, 5 * STEP]
+    assert out.filter(pl.col("idx") == 2)["first_noticed_nanos"].to_list() == [8 * STEP, 8 * STEP]
 
 
 def test_hand_made_table() -> None:

@@ -18,7 +18,13 @@ from conftest import REPO, boxes_table
 
 from omega_prime_visibility import get_visibility_df
 from omega_prime_visibility.table import pipeline
-from omega_prime_visibility.table.output import PartWriter, atomic_directory, check_output_path, is_dataset
+from omega_prime_visibility.table.output import (
+    PartWriter,
+    atomic_directory,
+    atomic_write,
+    check_output_path,
+    is_dataset,
+)
 
 SCENE = pl.concat([boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 4, 0), (20, 0, 4, 2, 0)], f) for f in range(6)])
 
@@ -209,3 +215,45 @@ def test_relative_output_path(tmp_path, monkeypatch) -> None:
     monkeypatch.chdir(tmp_path)
     get_visibility_df(SCENE, 0, output="vis.parquet").collect()
     assert sorted(p.name for p in Path(".").iterdir()) == ["vis.parquet"]
+
+
+def test_an_interrupted_write_keeps_the_previous_dataset_readable(tmp_path, monkeypatch) -> None:
+    # A first run leaves a dataset of 3 parts (6 frames in chunks of 2). A second run whose parquet writer writes
+    # half a part and fails must leave those 3 parts, byte for byte, and nothing else in the folder; while it
+    # writes, a reader of the final name reads the first run's table.
+    from omega_prime_visibility.table import output
+
+    target = tmp_path / "vis.parquet"
+    first = get_visibility_df(SCENE, 0, workers=1, chunk_frames=2, output=target).collect()
+    old = {p.name: p.read_bytes() for p in target.iterdir()}
+    assert len(old) == 3
+    seen: list[int] = []
+
+    def half_then_fail(table, where, *args, **kwargs):
+        Path(where).write_bytes(b"PAR1 half a part")
+        assert {p.name: p.read_bytes() for p in target.iterdir()} == old
+        assert pl.read_parquet(target).equals(first)
+        seen.append(1)
+        raise OSError("disk full")
+
+    monkeypatch.setattr(output.pq, "write_table", half_then_fail)
+    with pytest.raises(OSError, match="disk full"):
+        get_visibility_df(SCENE, 0, workers=1, chunk_frames=2, output=target, engine="sweep")
+    assert seen == [1]
+    assert [p.name for p in tmp_path.iterdir()] == ["vis.parquet"]
+    assert {p.name: p.read_bytes() for p in target.iterdir()} == old
+
+
+def test_atomic_write_keeps_the_previous_file_until_the_new_one_is_complete(tmp_path) -> None:
+    # the unit every file writer here goes through (CSV from the CLI, batch results and summary, pictures, reports)
+    target = tmp_path / "t.csv"
+    target.write_bytes(b"old")
+    with pytest.raises(OSError, match="disk full"), atomic_write(target) as temp:
+        temp.write_bytes(b"ne")
+        assert target.read_bytes() == b"old"  # a reader meanwhile
+        raise OSError("disk full")
+    assert [p.name for p in tmp_path.iterdir()] == ["t.csv"] and target.read_bytes() == b"old"
+    with atomic_write(target) as temp:
+        temp.write_bytes(b"new")
+        assert target.read_bytes() == b"old"
+    assert [p.name for p in tmp_path.iterdir()] == ["t.csv"] and target.read_bytes() == b"new"

@@ -10,7 +10,7 @@ import numpy as np
 import polars as pl
 import pytest
 from chromium import Browser, find_chromium
-from conftest import REPO
+from conftest import REPO, interrupted_writer
 from PIL import Image
 
 from omega_prime_visibility import get_visibility_df
@@ -141,3 +141,16 @@ def test_report_in_a_headless_browser(report, expected, tmp_path) -> None:
         # frame 150: everyone in view is visible: no hidden colour left in the scene
         assert red_pixels(after, box) == 0
         assert browser.console_errors() == []
+
+
+def test_an_interrupted_report_keeps_the_previous_one(recording, tmp_path, monkeypatch) -> None:
+    # the page is written half and the write fails: the earlier report stays whole under its name (also while the
+    # new one is being written) and nothing else is left in the folder
+    from pathlib import Path
+
+    target = write_report(recording, 0, tmp_path / "r.html", frames=slice(0, 3), progress=False)
+    old = target.read_bytes()
+    interrupted_writer(monkeypatch, Path, "write_text", target, old, lambda path: path.write_bytes(old[:1000]))
+    with pytest.raises(OSError, match="disk full"):
+        write_report(recording, 0, target, frames=slice(0, 4), progress=False)
+    assert [p.name for p in tmp_path.iterdir()] == ["r.html"] and target.read_bytes() == old

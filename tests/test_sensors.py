@@ -337,3 +337,15 @@ def test_a_layout_by_name_is_fitted_to_each_observer(engine) -> None:
     assert by_name.filter(pl.col("idx_ego") == 0).drop("idx_ego").equals(truck)
     assert by_name.filter(pl.col("idx_ego") == 1).drop("idx_ego").equals(car)
     assert not truck.equals(get_visibility_df(table, 0, engine=engine, sensors=typical()))
+
+
+@pytest.mark.parametrize(("x", "y", "target"), [(2.5, 0.0, (0.0, 5.0)), (0.0, 2.5, (-5.0, 0.0))])
+def test_mounting_offset_on_an_ego_turned_by_90_degrees(x, y, target) -> None:
+    # The ego faces +y (yaw 90 degrees): its forward x = 2.5 is world (0, 2.5) and its left y = 2.5 is world
+    # (-2.5, 0). A 0.5 m square target 2.5 m further out along the same direction lies 2.25..2.8 m from the
+    # sensor, within its 3 m range: visibility 1. Applied in world axes the sensor would sit at (2.5, 0) resp.
+    # (0, 2.5), turned the wrong way at (0, -2.5) resp. (2.5, 0): every one at least 5.2 m from the target, out of
+    # range (visibility 0).
+    table = boxes_table([(0, 0, 4.5, 1.8, math.pi / 2), (*target, 0.5, 0.5, 0)])
+    row = one(get_visibility_df(table, 0, sensors=[Sensor("s", x=x, y=y, range=3.0)]), 1)
+    assert (row["visibility"], row["status"]) == (pytest.approx(1.0, abs=1e-12), "visible")

@@ -93,6 +93,19 @@ def test_pedestrian_behind_a_low_wall_and_the_2d_height_rule() -> None:
     assert vis(both, 1) == 0.0 and both["static_occluder_idxs"].to_list() == [[1]]  # numbered in the full list
 
 
+def test_2d_height_rule_at_exactly_the_eye_height() -> None:
+    # The rule (README: "at least as tall as the eye"): a static footprint blocks in 2D iff its top >= 1.25 m.
+    # The walker at x = 10 (0.5 m square) lies wholly behind the 6 m wall at x = 5 (its shadow from the eye at the
+    # origin spans |y| <= 3 * 9.75 / 5 > 0.25): a blocking wall hides it (0.0), a left-out one leaves it whole (1.0).
+    df = table([EGO, (10.0, 0, 0.5, 0.5, 1.8)])
+    wall = shapely.LineString([(5, -3), (5, 3)])
+    at_eye = get_visibility_df(df, 0, [wall], static_occluder_heights=1.25)
+    assert vis(at_eye, 1) == 0.0 and at_eye["static_occluder_idxs"].to_list() == [[0]]
+    assert vis(get_visibility_df(df, 0, [wall], static_occluder_heights=1.24), 1) == 1.0
+    # per footprint: of two walls, the one at the eye still blocks when the other (1.0 m) is left out
+    assert vis(get_visibility_df(df, 0, [wall, wall], static_occluder_heights=[1.0, 1.25]), 1) == 0.0
+
+
 def test_missing_3d_columns_are_named() -> None:
     df = table([EGO, (10.0, 0, 4.0, 2.0, 1.5)])
     with pytest.raises(ValueError, match=r"mode='3d' needs the column\(s\) \['height'\]"):
@@ -219,6 +232,38 @@ def test_sensors_in_3d_honour_height_vertical_view_and_range() -> None:
     tilted = replace(camera, pitch=math.radians(-25))  # looking up 25°: the sign is in view, the cars are not
     up = get_visibility_df(df, 0, mode="3d", sensors=[tilted]).sort("idx")
     assert up["status"].to_list()[:2] == ["visible", "out_of_fov"]
+
+
+def test_a_rolled_box_read_from_the_table_on_the_exact_engine() -> None:
+    # The occluder at x = 10 is 0.01 m long, 4 m wide and 0.5 m tall, centred 2 m up and rolled by 90 degrees about
+    # its forward axis: in the world a post 0.5 m wide (|y| <= 0.25) and 4 m tall (z 0..4). The target at x = 20 is
+    # a 0.01 m plate 2 x 2 m centred at the eye's height (1.25 m): from the eye (0, 0, 1.25) its face (x = 19.995)
+    # spans |y|, |z - 1.25| <= 1. The post's silhouette (its near face, x = 9.995) projects onto that plane as
+    # |y| <= h = 0.25 * 19.995 / 9.995 and z - 1.25 in [-1.25, 2.75] * 19.995 / 9.995, beyond the plate's height:
+    # hidden is a strip |y| <= h, |z - 1.25| <= 1. Unrolled (roll ignored), the slab's shadow would start at
+    # z - 1.25 = 0.75 * 19.995 / 10.005 > 1, above the plate: visibility 1.
+    d = 19.995
+    h = 0.25 * d / 9.995
+    paper = 1.0 - rect(-h, h, -1.0, 1.0, d) / rect(-1.0, 1.0, -1.0, 1.0, d)
+    df = table([EGO, (10.0, 0, 0.01, 4.0, 0.5, 2.0, math.pi / 2), (20.0, 0, 0.01, 2.0, 2.0, 1.25)])
+    out = get_visibility_df(df, 0, mode="3d", engine="silhouette3d")
+    assert vis(out, 2) == pytest.approx(paper, rel=1e-9)
+    assert out.filter(pl.col("idx") == 2)["occluder_idxs"].to_list() == [[1]]
+
+
+def test_a_sensor_high_enough_sees_over_a_thin_plate() -> None:
+    from omega_prime_visibility import Sensor
+
+    # A plate at x = 10 (0.01 m thick, 4 m wide, z 0..2) and a 1 m cube on the ground at x = 30 (x 29.5..30.5).
+    # From z = 3.5 the lowest ray, to the cube's bottom front edge (29.5, 0), crosses the plate's far face
+    # x = 10.005 at z = 3.5 * (1 - 10.005 / 29.5) = 2.31 > 2: the whole cube is seen, visibility 1. From the eye
+    # at 1.25 the highest ray, to the cube's top (z = 1), crosses x = 10 below z = 1.25 < 2, at |y| < 0.5 * 10
+    # / 29.5 < 2: the whole cube is hidden, visibility 0.
+    df = table([EGO, (10.0, 0, 0.01, 4.0, 2.0), (30.0, 0, 1.0, 1.0, 1.0)])
+    for z, want in [(3.5, 1.0), (1.25, 0.0)]:
+        for engine in ["silhouette3d", "raycast3d"]:
+            out = get_visibility_df(df, 0, mode="3d", engine=engine, sensors=[Sensor("mast", z=z)])
+            assert vis(out, 2) == pytest.approx(want, abs=1e-9), (z, engine)
 
 
 def test_readme_3d_example_and_picture() -> None:

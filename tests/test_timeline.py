@@ -6,6 +6,7 @@ import json
 
 import polars as pl
 import pytest
+from conftest import interrupted_writer
 from PIL import Image
 
 from omega_prime_visibility.plot import save_timeline, timeline_chart
@@ -107,3 +108,16 @@ def test_bad_input_is_a_clear_error(tmp_path) -> None:
         timeline_chart(table([1.0], [[]]), by="status")
     with pytest.raises(ValueError, match=r"must end in \.png or \.svg or \.html or \.json"):
         save_timeline(table([1.0], [[]]), tmp_path / "t.jpg")
+
+
+def test_an_interrupted_export_keeps_the_previous_file(tmp_path, monkeypatch) -> None:
+    # the SVG text is written half and the write fails: the earlier file stays whole under its name (also while
+    # the new one is being written) and nothing else is left in the folder
+    from pathlib import Path
+
+    target = save_timeline(table([1.0, 0.0], [[], [1]]), tmp_path / "t.svg")
+    old = target.read_bytes()
+    interrupted_writer(monkeypatch, Path, "write_text", target, old, lambda path: path.write_bytes(b"<svg"))
+    with pytest.raises(OSError, match="disk full"):
+        save_timeline(table([0.5, 1.0], [[1], []]), target)
+    assert [p.name for p in tmp_path.iterdir()] == ["t.svg"] and target.read_bytes() == old

@@ -24,7 +24,7 @@ import shapely
 from ..engines import ENGINES, ENGINES_3D
 from ..inputs.sensors import DRIVER_EYE_HEIGHT
 from ..inputs.statics import StaticOccluders, load_static_occluders
-from .statics import check_heights, static_solids
+from .statics import blocks_in_2d, check_heights, static_solids
 
 Mode = Literal["2d", "3d"]
 DEFAULT_ENGINES = {"2d": "visilibity", "3d": "raycast3d"}
@@ -77,7 +77,7 @@ def load_statics(
     if mode == "2d":
         if meshes:
             raise ValueError("static_meshes are 3D occluders: pass mode='3d'")
-        keep = np.flatnonzero(above_road >= DRIVER_EYE_HEIGHT)
+        keep = np.flatnonzero(blocks_in_2d(above_road, DRIVER_EYE_HEIGHT))
         statics = load_static_occluders([geoms[k] for k in keep])
         return statics, (keep if len(keep) < len(geoms) else None)
     statics = load_static_occluders(geoms)

@@ -146,13 +146,15 @@ def static_solids(
     return StaticSolids(triangles, source, heights, statics.n_sources + len(meshes))
 
 
-def blocks_in_2d(height: float, eye_height: float, rule_height: float | None = None) -> bool:
+def blocks_in_2d(height: float | np.ndarray, eye_height: float, rule_height: float | None = None) -> bool | np.ndarray:
     """The 2D height rule for static occluders: a footprint blocks the 2D view when it is at least as tall as the
-    eye (``height >= eye_height``, metres above the ground), or ``rule_height`` when given.
+    eye (``height >= eye_height``, metres above the ground), or ``rule_height`` when given. ``height`` may be an
+    array (one answer per footprint); :func:`.mode.load_statics` applies the rule through this function.
 
-    A 0.8 m railing does not hide a car from a driver's eye at 1.25 m; a 2 m noise barrier does.
+    A 0.8 m railing does not hide a car from a driver's eye at 1.25 m; a 2 m noise barrier does, and so does one
+    exactly at the eye.
 
-    >>> blocks_in_2d(0.8, 1.25), blocks_in_2d(2.0, 1.25), blocks_in_2d(float("inf"), 1.25)
-    (False, True, True)
+    >>> blocks_in_2d(0.8, 1.25), blocks_in_2d(2.0, 1.25), blocks_in_2d(1.25, 1.25), blocks_in_2d(float("inf"), 1.25)
+    (False, True, True, True)
     """
     return height >= (eye_height if rule_height is None else rule_height)
