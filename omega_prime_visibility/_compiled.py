@@ -2,17 +2,19 @@
 
 numba checks a cached kernel against the file it is defined in only. A kernel that calls (and so compiles in) one
 from another module would keep the old machine code after that other module changed: after an upgrade in place or
-a ``git pull`` in a clone, silently wrong numbers. Keying the cache folder by a hash of all the package's sources
-rules that out; a new version compiles once into a new folder (``~/.cache/omega-prime-visibility/numba/<key>``,
+a ``git pull`` in a clone, silently wrong numbers. Keying the cache folder by a hash of every source a kernel can
+reach rules that out; a new version compiles once into a new folder (``~/.cache/omega-prime-visibility/numba/<key>``,
 or under ``$XDG_CACHE_HOME``). ``NUMBA_CACHE_DIR``, when set, is the user's choice and is left alone; where no
 cache folder can be written, numba's default (next to the sources) applies.
 """
 
 from __future__ import annotations
 
+import ast
 import hashlib
 import inspect
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -20,10 +22,47 @@ import numba
 from numba.core.caching import UserProvidedCacheLocator
 
 PACKAGE = Path(__file__).resolve().parent
+USES_NUMBA = re.compile(rb"^\s*(?:import numba|from numba[ .])", re.MULTILINE)
+
+
+def kernel_sources(root: Path = PACKAGE) -> list[Path]:
+    """The modules compiled kernels can reach: those that use numba, and every module of the package they import
+    (at any depth, imports inside functions included). Front ends (plots, batch, CLI) are not among them, so
+    editing those does not recompile anything."""
+    modules = {path.relative_to(root).with_suffix("").as_posix().replace("/", "."): path for path in root.rglob("*.py")}
+    modules = {name.removesuffix(".__init__"): path for name, path in modules.items()}
+
+    def imported(name: str) -> set[str]:
+        tree = ast.parse(modules[name].read_bytes())
+        package = name if modules[name].name == "__init__.py" else name.rpartition(".")[0]
+        found = set()
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom):
+                base = package.split(".")
+                base = base[: len(base) - node.level + 1] if node.level else []
+                stem = ".".join(filter(None, [*base, node.module or ""]))
+                if node.level == 0 and not stem.startswith(root.name):
+                    continue
+                stem = stem.removeprefix(root.name).lstrip(".")
+                found |= {stem} | {f"{stem}.{alias.name}".lstrip(".") for alias in node.names}
+            elif isinstance(node, ast.Import):
+                found |= {
+                    a.name.removeprefix(root.name).lstrip(".") for a in node.names if a.name.startswith(root.name)
+                }
+        return {m for m in found if m in modules}
+
+    todo = [name for name, path in modules.items() if USES_NUMBA.search(path.read_bytes())]
+    reached: set[str] = set()
+    while todo:
+        name = todo.pop()
+        if name not in reached:
+            reached.add(name)
+            todo.extend(imported(name) - reached)
+    return sorted(modules[name] for name in reached)
 
 
 def sources_key(root: Path = PACKAGE) -> str:
-    """16 hex digits of the SHA-256 of every ``.py`` file under ``root`` (names and contents).
+    """16 hex digits of the SHA-256 of the :func:`kernel_sources` under ``root`` (names and contents).
 
     Examples
     --------
@@ -31,7 +70,7 @@ def sources_key(root: Path = PACKAGE) -> str:
     (16, True)
     """
     digest = hashlib.sha256()
-    for path in sorted(root.rglob("*.py")):
+    for path in kernel_sources(root):
         digest.update(path.relative_to(root).as_posix().encode() + b"\0")
         digest.update(path.read_bytes() + b"\0")
     return digest.hexdigest()[:16]

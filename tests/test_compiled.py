@@ -35,6 +35,24 @@ def test_the_key_changes_with_any_source_and_only_then(tmp_path: Path) -> None:
     assert sources_key(copy) != key
     kernels.write_text(kernels.read_text().removesuffix("\n# changed\n"))
     assert sources_key(copy) == key
+    # a module kernels reach only through an import inside a function counts too
+    (copy / "geometry" / "helper_constants.py").write_text("TOLERANCE = 1e-9\n")
+    assert sources_key(copy) == key  # nothing imports it yet
+    kernels.write_text(kernels.read_text() + "\ndef _late():\n    from .helper_constants import TOLERANCE\n")
+    changed = sources_key(copy)
+    (copy / "geometry" / "helper_constants.py").write_text("TOLERANCE = 1e-6\n")
+    assert sources_key(copy) not in (key, changed)
+
+
+def test_editing_a_front_end_does_not_recompile_the_kernels(tmp_path: Path) -> None:
+    copy = tmp_path / "pkg"
+    shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__"))
+    key = sources_key(copy)
+    for front_end in ("cli.py", "plot/frame.py", "batch/run.py", "analysis/intervals.py"):
+        path = copy / front_end
+        if path.exists():
+            path.write_text(path.read_text() + "\n# changed\n")
+    assert sources_key(copy) == key
 
 
 def test_kernels_are_cached_under_a_folder_keyed_by_the_sources(tmp_path: Path) -> None:
