@@ -48,7 +48,7 @@ def test_editing_a_front_end_does_not_recompile_the_kernels(tmp_path: Path) -> N
     copy = tmp_path / "pkg"
     shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__"))
     key = sources_key(copy)
-    for front_end in ("cli.py", "plot/frame.py", "batch/run.py", "analysis/intervals.py"):
+    for front_end in ("cli/run.py", "plot/frame.py", "batch/run.py", "analysis/intervals.py"):
         path = copy / front_end
         if path.exists():
             path.write_text(path.read_text() + "\n# changed\n")

@@ -1,0 +1,94 @@
+"""``batch``: one result per recording into a folder, and the summary it prints."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import polars as pl
+import typer
+
+from .app import app
+from .common import Ego, Engine, MapOccluders, Mode, Sensors, Static, fail, parse_ego
+
+
+@app.command(short_help="one parquet result per recording into a folder, resumably")
+def batch(
+    inputs: Annotated[
+        list[str],
+        typer.Argument(metavar="INPUTS", help="recordings, folders (searched recursively) and glob patterns"),
+    ],
+    output: Annotated[
+        Path, typer.Option("-o", "--output", metavar="FOLDER", help="folder for the results and the summary")
+    ],
+    ego: Ego = "",
+    engine: Engine = None,
+    static: Static = None,
+    map_path: Annotated[
+        Path | None,
+        typer.Option(
+            "--map",
+            metavar="MAP",
+            help="OpenDRIVE map for the OSI traces, or a JSON list of [trace, map] pairs (paths relative to it)",
+        ),
+    ] = None,
+    workers: Annotated[
+        int | None, typer.Option(metavar="N", help="local processes over files (default: the cores)")
+    ] = None,
+    sensors: Sensors = None,
+    mode: Mode = "2d",
+    map_occluders: MapOccluders = False,
+    scheduler: Annotated[
+        str | None, typer.Option(metavar="ADDRESS", help="dask scheduler address, e.g. tcp://host:8786")
+    ] = None,
+    scheduler_file: Annotated[
+        Path | None, typer.Option(metavar="FILE", help="dask scheduler file (see dask scheduler --help)")
+    ] = None,
+    overwrite: Annotated[bool, typer.Option(help="recompute results that are current")] = False,
+    progress: Annotated[bool, typer.Option(help="show a progress bar over files")] = True,
+) -> None:
+    """Compute one result per recording into the --output folder, resumably, and print a summary of every file.
+
+    Each result is a single .parquet file (run -o x.parquet writes a folder of parquet parts instead; both read
+    back with polars.read_parquet). A file whose result is current is skipped; a failed one is named in the
+    summary with its reason.
+
+    Exit status: 0 when every file is done or skipped, 1 when some failed, 2 for bad options, 130 when interrupted.
+    """
+    from ..batch import SUMMARY_NAME, BatchInterrupted, run_batch
+
+    options = {"ego": parse_ego(ego) if ego else None, "engine": engine, "static": static, "map": map_path}
+    options.update(sensors=sensors, mode=mode, map_occluders=map_occluders)
+    try:
+        summary = run_batch(
+            inputs,
+            output,
+            workers=workers,
+            scheduler=scheduler,
+            scheduler_file=scheduler_file,
+            overwrite=overwrite,
+            progress=progress,
+            **options,
+        )
+    except BatchInterrupted as e:
+        print_summary(e.summary, output / SUMMARY_NAME)
+        typer.echo("interrupted: run the same command again to continue where it stopped", err=True)
+        raise typer.Exit(130) from None
+    except ValueError as e:
+        raise fail(str(e)) from None
+    print_summary(summary, output / SUMMARY_NAME)
+    if (summary["status"] == "failed").any():
+        raise typer.Exit(1)
+
+
+def print_summary(summary: pl.DataFrame, path: Path) -> None:
+    """The summary table (failures first), one line per failure with its message, and one line of counts."""
+    order = pl.col("status").replace_strict({"failed": 0, "interrupted": 1}, default=2, return_dtype=pl.Int8)
+    shown = summary.sort(order, maintain_order=True).select("result", "status", "rows", "seconds")
+    with pl.Config(tbl_rows=30, tbl_cols=-1, tbl_hide_dataframe_shape=True, fmt_str_lengths=120):
+        typer.echo(shown)
+    for recording, error in summary.filter(pl.col("status") == "failed").select("recording", "error").iter_rows():
+        # each failed path named once: most messages name their file already
+        typer.echo(f"failed: {error}" if str(recording) in str(error) else f"failed: {recording}: {error}")
+    counts = ", ".join(f"{n} {status}" for status, n in summary["status"].value_counts(sort=True).iter_rows())
+    typer.echo(f"{summary.height} recordings: {counts}; {summary['seconds'].sum():.1f} s of work; summary in {path}")

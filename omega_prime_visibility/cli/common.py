@@ -1,0 +1,138 @@
+"""What the commands share: the one-line error, the parsing of ``--ego``/``--sensors``/``--map``, reading a
+recording or static occluders as a shell user's error, and the options run and batch take alike."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ..engines import ENGINES, ENGINES_3D
+
+
+def show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning as one line on stderr, ``warning: ...``, in place of Python's two lines with file and source."""
+    typer.echo(f"warning: {' '.join(str(message).split())}", err=True)
+
+
+def parse_ego(ego: str) -> int | list[int] | str:
+    """``--ego`` as the API's ``ego_idx``; a bad value exits with a one-line error (not typer's boxed one)."""
+    if ego == "all":
+        return "all"
+    try:
+        values = [int(v) for v in ego.split(",")]
+    except ValueError:
+        hint = " (write 'all' in lower case)" if ego.lower() == "all" else ""
+        raise fail(f"--ego takes an idx, a comma-separated list of idx, or 'all', not {ego!r}{hint}") from None
+    return values[0] if len(values) == 1 else values
+
+
+def parse_sensors(spec: str | None):
+    """``--sensors`` as the API's ``sensors`` (checked before any computing); a bad value exits with one line."""
+    if spec is None:
+        return None
+    from ..inputs.sensors import resolve_sensors
+
+    try:
+        return resolve_sensors(spec)
+    except ValueError as e:
+        raise fail(str(e)) from None
+
+
+def fail(message: str) -> typer.Exit:
+    """Print ``error: message`` (in a shell user's words) to stderr; return the exit to raise (status 2)."""
+    typer.echo(f"error: {shell_words(message)}", err=True)
+    return typer.Exit(2)
+
+
+def shell_words(message: str) -> str:
+    """An API message in a shell user's words: ``mode='3d'`` becomes ``--mode 3d``."""
+    return re.sub(r"\bmode='(2d|3d)'", r"--mode \1", message)
+
+
+def resolve_map(path: Path, map_path: Path | None) -> Path | None:
+    """``--map`` for the recording ``path``: a ``.json`` map is a list of [trace, map] pairs (as ``batch --map``
+    takes it), the trace looked up by its file name; an MCAP file needs no map."""
+    if map_path is None or map_path.suffix.lower() != ".json":
+        return map_path
+    if path.suffix == ".mcap":
+        return None
+    from ..batch.options import _map_table
+
+    try:
+        table = _map_table(str(map_path), map_path.stat().st_mtime_ns)
+    except OSError as e:
+        raise fail(f"cannot read the map list {map_path}: {e.strerror or e}") from None
+    except ValueError as e:
+        raise fail(str(e)) from None
+    if path.name not in table:
+        raise fail(f"the map list {map_path} has no map for {path.name} (it lists {', '.join(sorted(table))})")
+    return Path(table[path.name])
+
+
+def load_recording(path: Path, map_path: Path | None = None):
+    """``io.read_recording`` (the map through :func:`resolve_map`), turning a read error into a one-line message
+    and exit status 2."""
+    from ..inputs.io import RecordingReadError, read_recording
+
+    map_path = resolve_map(path, map_path)
+    try:
+        return read_recording(path, map_path)
+    except RecordingReadError as e:
+        raise fail(str(e)) from e
+
+
+RUN_OUTPUT = (
+    "write the table here instead of printing it: a .parquet path becomes a folder of parquet parts, as the API's"
+    " get_visibility_df(output=...) writes it (read it back with polars.read_parquet); a .csv path becomes one"
+    " file with the list columns (occluder idx) joined by spaces. (batch writes one .parquet file per recording.)"
+)
+RUN_MAP = (
+    "OpenDRIVE map (.xodr) for an OSI trace, or a JSON list of [trace, map] pairs as batch takes it (the trace is"
+    " looked up by its file name). An MCAP file carries its own map. An OSI trace without --map is read without"
+    " a map: the visibility is the same, but there are no road objects for --map-occluders."
+)
+
+# options shared by run and batch
+Ego = Annotated[
+    str, typer.Option(metavar="IDX", help="observer idx, comma-separated idx, or 'all'; default: host vehicle")
+]
+Engine = Annotated[
+    str | None,
+    typer.Option(
+        metavar="NAME",
+        help=f"2D: {', '.join(sorted(ENGINES))} (default visilibity); 3D: {', '.join(sorted(ENGINES_3D))}",
+    ),
+]
+Mode = Annotated[
+    str, typer.Option(metavar="2d|3d", help="2d (bird's-eye view, exact) or 3d (boxes with heights, ray cast)")
+]
+MapOccluders = Annotated[
+    bool, typer.Option("--map-occluders", help="road objects of the map (--map, or the recording's) as occluders")
+]
+Static = Annotated[
+    Path | None, typer.Option("--static", metavar="FILE", help="static occluders: GeoJSON or WKT file (metres)")
+]
+Sensors = Annotated[
+    str | None,
+    typer.Option(
+        metavar="LAYOUT",
+        help="look through sensors: 'roof', 'typical' or a sensors .json file (angles in radians)",
+    ),
+]
+Recording = Annotated[
+    Path, typer.Argument(metavar="RECORDING", help="omega-prime MCAP file, or an OSI trace (.osi) with --map")
+]
+Progress = Annotated[bool, typer.Option(help="show a progress bar")]
+
+
+def load_static(path: Path | None) -> list | None:
+    """``io.read_static_occluders``, a read error becoming a one-line message and exit status 2."""
+    from ..inputs.io import RecordingReadError, read_static_occluders
+
+    try:
+        return None if path is None else read_static_occluders(path)
+    except RecordingReadError as e:
+        raise fail(str(e)) from e

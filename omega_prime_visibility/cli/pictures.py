@@ -1,0 +1,139 @@
+"""``animate`` and ``report``: the picture commands, with the checks they share."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+
+from ..engines import ENGINES
+from .app import app
+from .common import Progress, Recording, fail, load_recording, parse_ego, parse_sensors
+
+
+def parse_frames(frames: str) -> slice | None:
+    """``--frames START:STOP[:STEP]`` (frame numbers, stop excluded, either end may be left out) as a slice."""
+    if not frames:
+        return None
+    parts = frames.split(":")
+    try:
+        if len(parts) not in (2, 3):
+            raise ValueError
+        values = [int(p) if p.strip() else None for p in parts]
+    except ValueError:
+        raise fail(
+            f"--frames takes START:STOP or START:STOP:STEP (frame numbers, stop excluded), not {frames!r}"
+        ) from None
+    if len(values) == 3 and values[2] is not None and values[2] <= 0:
+        raise fail(f"--frames: the step must be a positive number of frames, not {values[2]}")
+    return slice(*values)
+
+
+def single_ego(ego: str) -> int | None:
+    """``--ego`` for a picture: one idx, or None for the recording's host vehicle."""
+    if not ego:
+        return None
+    value = parse_ego(ego)
+    if not isinstance(value, int):
+        raise fail(f"--ego takes one idx for a picture, not {ego!r}")
+    return value
+
+
+def picture_inputs(
+    recording: Path, output: Path, suffixes: tuple[str, ...], engine: str, frames: str, ego: str, map_path: Path | None
+):
+    """A picture command's checks that need no computing (engine, output path, frames, ego), then the recording
+    and its ego (``--ego``, else the host vehicle): ``(recording, ego_idx, frames)``."""
+    from ..table.output import check_output_path
+
+    if engine not in ENGINES:
+        raise fail(f"unknown engine {engine!r}; available: {sorted(ENGINES)}")
+    try:
+        check_output_path(output, suffixes)
+    except ValueError as e:
+        raise fail(str(e)) from None
+    span, ego_idx = parse_frames(frames), single_ego(ego)
+    r = load_recording(recording, map_path)
+    if ego_idx is None:
+        if r.host_vehicle_idx is None:
+            raise fail("the recording names no host vehicle: pass --ego IDX")
+        ego_idx = int(r.host_vehicle_idx)
+    return r, ego_idx, span
+
+
+FramesOption = Annotated[
+    str,
+    typer.Option(metavar="START:STOP", help="frame numbers START:STOP or START:STOP:STEP (stop excluded); default all"),
+]
+EgoOption = Annotated[str, typer.Option(metavar="IDX", help="observer idx; default: host vehicle")]
+MapOption = Annotated[
+    Path | None,
+    typer.Option("--map", metavar="MAP", help="OpenDRIVE map for an OSI trace, or a JSON list of [trace, map] pairs"),
+]
+PictureEngine = Annotated[str, typer.Option(metavar="NAME", help=f"2D engine: {', '.join(sorted(ENGINES))}")]
+ViewRange = Annotated[float, typer.Option(metavar="METRES", help="metres shown each side of the ego")]
+
+
+@app.command(short_help="an animated GIF or MP4 of the scene seen from the ego")
+def animate(
+    recording: Recording,
+    output: Annotated[Path, typer.Option("-o", "--output", metavar="PATH", help="write a .gif or .mp4 here")],
+    ego: EgoOption = "",
+    frames: FramesOption = "",
+    fps: Annotated[float, typer.Option(metavar="FPS", help="frames per second")] = 10.0,
+    follow: Annotated[bool, typer.Option(help="keep the ego in the middle (--no-follow: one fixed view)")] = True,
+    view_range: ViewRange = 60.0,
+    target: Annotated[int | None, typer.Option(metavar="IDX", help="outline this idx and its occluders")] = None,
+    sensors: Annotated[
+        str | None, typer.Option(metavar="LAYOUT", help="sensor layout to draw: 'roof', 'typical' or a .json file")
+    ] = None,
+    engine: PictureEngine = "visilibity",
+    map_path: MapOption = None,
+    progress: Progress = True,
+) -> None:
+    """Render the scene seen from the ego, frame by frame, to an animated GIF or an MP4 video."""
+    from ..plot import animate as render
+
+    r, ego_idx, span = picture_inputs(recording, output, (".gif", ".mp4"), engine, frames, ego, map_path)
+    if target is not None:
+        from ..inputs.observers import describe_idx
+
+        present = np.unique(r._df["idx"].to_numpy())
+        if target not in present:
+            raise fail(f"target idx {target} never occurs in the recording (idx present: {describe_idx(present)})")
+    try:
+        render(r, ego_idx, output, frames=span, fps=fps, follow=follow, view_range=view_range, target=target,
+               sensors=sensors, engine=engine, progress=progress)  # fmt: skip
+    except (ValueError, ImportError) as e:
+        raise fail(str(e)) from None
+    typer.echo(f"wrote {output}")
+
+
+@app.command(short_help="an interactive HTML report of one recording")
+def report(
+    recording: Recording,
+    output: Annotated[Path, typer.Option("-o", "--output", metavar="PATH", help="write the .html report here")],
+    ego: EgoOption = "",
+    frames: FramesOption = "",
+    view_range: ViewRange = 60.0,
+    sensors: Annotated[
+        str | None,
+        typer.Option(metavar="LAYOUT", help="timeline and summary through sensors: 'roof', 'typical' or a .json file"),
+    ] = None,
+    engine: PictureEngine = "visilibity",
+    map_path: MapOption = None,
+    progress: Progress = True,
+) -> None:
+    """Write an interactive HTML report (frame slider, timeline, per-target summary) that works offline."""
+    from ..plot import write_report
+
+    sensor_set = parse_sensors(sensors)
+    r, ego_idx, span = picture_inputs(recording, output, (".html",), engine, frames, ego, map_path)
+    try:
+        write_report(r, ego_idx, output, frames=span, view_range=view_range, engine=engine, progress=progress,
+                     title=recording.name, sensors=sensor_set)  # fmt: skip
+    except (ValueError, ImportError) as e:
+        raise fail(str(e)) from None
+    typer.echo(f"wrote {output}")

@@ -1,0 +1,130 @@
+"""``run``: the visibility table of one recording, printed or written."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import polars as pl
+import pyarrow as pa
+import pyarrow.compute as pc
+import typer
+
+from .app import app
+from .common import (
+    RUN_MAP,
+    RUN_OUTPUT,
+    Ego,
+    Engine,
+    MapOccluders,
+    Mode,
+    Progress,
+    Recording,
+    Sensors,
+    Static,
+    fail,
+    load_recording,
+    load_static,
+    parse_ego,
+    parse_sensors,
+    resolve_map,
+)
+
+
+@app.command(short_help="the visibility table of one recording, printed or written")
+def run(
+    recording: Recording,
+    ego: Ego = "",
+    engine: Engine = None,
+    output: Annotated[Path | None, typer.Option("-o", "--output", metavar="PATH", help=RUN_OUTPUT)] = None,
+    map_path: Annotated[Path | None, typer.Option("--map", metavar="MAP", help=RUN_MAP)] = None,
+    static: Static = None,
+    workers: Annotated[
+        int | None, typer.Option(metavar="N", help="processes (default: all cores for long jobs)")
+    ] = None,
+    progress: Progress = True,
+    rows: Annotated[int, typer.Option(metavar="N", help="rows to print when no output is given")] = 20,
+    sensors: Sensors = None,
+    mode: Mode = "2d",
+    map_occluders: MapOccluders = False,
+) -> None:
+    """Compute the visibility table of one recording; print it with a per-target summary, or write it."""
+    from ..api import get_visibility_df
+    from ..inputs.observers import describe_idx
+    from ..table.output import atomic_write, check_output_path
+
+    # every check that needs no computing comes first, so a typo never costs a long run
+    from ..threed.mode import check_mode, resolve_engine
+
+    try:
+        mode = check_mode(mode)
+        engine = resolve_engine(engine, mode)
+    except ValueError as e:
+        raise fail(str(e)) from None
+    if output is not None:
+        try:
+            output = check_output_path(output, (".parquet", ".csv"))
+        except ValueError as e:
+            raise fail(str(e)) from None
+    ego_idx = parse_ego(ego) if ego else None
+    sensor_set = parse_sensors(sensors)
+    statics = load_static(static)
+    map_path = resolve_map(recording, map_path)
+    r = load_recording(recording, map_path)
+    if ego_idx is None and r.host_vehicle_idx is None:
+        present = np.unique(r._df["idx"].to_numpy())
+        raise fail(f"{recording} names no host vehicle: pass --ego IDX (idx present: {describe_idx(present)})")
+    if ego_idx is None:
+        ego_idx = int(r.host_vehicle_idx)
+    stream = output if output is not None and output.suffix == ".parquet" else None
+    try:
+        table = get_visibility_df(
+            r,
+            ego_idx,
+            statics,
+            engine=engine,
+            progress=progress,
+            workers=workers,
+            output=stream,
+            sensors=sensor_set,
+            mode=mode,
+            map_occluders=(map_path if map_path is not None else True) if map_occluders else None,
+        )
+        if output is not None and stream is None:
+            with atomic_write(output) as temp:
+                table.with_columns(
+                    pl.col("occluder_idxs", "static_occluder_idxs")
+                    .list.eval(pl.element().cast(pl.String))
+                    .list.join(" ")
+                ).write_csv(temp)
+    except ValueError as e:
+        raise fail(str(e)) from None
+    except OSError as e:  # the disk filled up or the folder vanished while computing
+        raise fail(f"cannot write {output}: {e}") from None
+    if stream is not None:
+        typer.echo(f"wrote {table.select(pl.len()).collect().item()} rows to {output}")
+    elif output is not None:
+        typer.echo(f"wrote {table.height} rows to {output}")
+    else:
+        with pl.Config(tbl_rows=rows, tbl_cols=-1, fmt_table_cell_list_len=8):
+            typer.echo(table)
+        by = [c for c in ("idx_ego", "idx", "sensor") if c in table.columns]
+        summary = table.group_by(by).agg(
+            pl.col("visibility").mean().alias("mean_visibility"),
+            (pl.col("visibility") == 0.0).mean().alias("hidden_share"),
+        )
+        # (row, occluder) pairs through arrow: polars' own explode warns about a default changing in polars 2
+        lists = table["occluder_idxs"].to_arrow()
+        lists = pa.concat_arrays(lists.chunks) if isinstance(lists, pa.ChunkedArray) else lists
+        pairs = pl.DataFrame({"row": pc.list_parent_indices(lists), "occluders": pc.list_flatten(lists)})
+        occluders = (
+            table.with_row_index("row")
+            .select("row", *by)
+            .join(pairs.with_columns(pl.col("row").cast(pl.UInt32)), on="row", how="left")
+            .group_by(by)
+            .agg(pl.col("occluders").drop_nulls().unique().sort())
+        )
+        summary = summary.join(occluders, on=by)
+        with pl.Config(tbl_rows=-1, fmt_table_cell_list_len=8):
+            typer.echo(summary.sort(by))
