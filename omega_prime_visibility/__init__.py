@@ -9,6 +9,7 @@ from importlib.metadata import version as _version
 from . import _compiled  # noqa: F401 (first: the kernels' cache follows the sources, see _compiled)
 from .analysis.combine import seen_by_any
 from .analysis.intervals import visible_intervals
+from .analysis.summary import target_summary
 from .api import get_visibility_df, get_visibility_df_for_frame
 from .batch import run_batch
 from .engines import ENGINES, ENGINES_3D, Observation, Reason, Viewpoint
@@ -38,6 +39,7 @@ __all__ = [
     "run_batch",
     "save_timeline",
     "seen_by_any",
+    "target_summary",
     "timeline_chart",
     "visibility",
     "visible_area",

@@ -40,6 +40,9 @@ def test_cli_prints_table() -> None:
         check=True,
     )
     assert "visibility" in out.stdout and "occluder_idxs" in out.stdout
+    # then the per-target summary (analysis/summary.py): no sensors, so no out-of-view share
+    summary = out.stdout[out.stdout.rindex("mean_visibility") - 400 :]
+    assert "hidden_share" in summary and "partly_hidden_share" in summary and "out_of_view_share" not in summary
 
 
 def test_cli_reports_corrupt_file(tmp_path) -> None:

@@ -7,8 +7,6 @@ from typing import Annotated
 
 import numpy as np
 import polars as pl
-import pyarrow as pa
-import pyarrow.compute as pc
 import typer
 
 from .app import app
@@ -50,6 +48,7 @@ def run(
     map_occluders: MapOccluders = False,
 ) -> None:
     """Compute the visibility table of one recording; print it with a per-target summary, or write it."""
+    from ..analysis.summary import target_summary
     from ..api import get_visibility_df
     from ..inputs.observers import describe_idx
     from ..table.output import atomic_write, check_output_path
@@ -109,22 +108,8 @@ def run(
     else:
         with pl.Config(tbl_rows=rows, tbl_cols=-1, fmt_table_cell_list_len=8):
             typer.echo(table)
-        by = [c for c in ("idx_ego", "idx", "sensor") if c in table.columns]
-        summary = table.group_by(by).agg(
-            pl.col("visibility").mean().alias("mean_visibility"),
-            (pl.col("visibility") == 0.0).mean().alias("hidden_share"),
-        )
-        # (row, occluder) pairs through arrow: polars' own explode warns about a default changing in polars 2
-        lists = table["occluder_idxs"].to_arrow()
-        lists = pa.concat_arrays(lists.chunks) if isinstance(lists, pa.ChunkedArray) else lists
-        pairs = pl.DataFrame({"row": pc.list_parent_indices(lists), "occluders": pc.list_flatten(lists)})
-        occluders = (
-            table.with_row_index("row")
-            .select("row", *by)
-            .join(pairs.with_columns(pl.col("row").cast(pl.UInt32)), on="row", how="left")
-            .group_by(by)
-            .agg(pl.col("occluders").drop_nulls().unique().sort())
-        )
-        summary = summary.join(occluders, on=by)
-        with pl.Config(tbl_rows=-1, fmt_table_cell_list_len=8):
-            typer.echo(summary.sort(by))
+        typer.echo("per target (columns explained in the docs: Definitions):")
+        with pl.Config(
+            tbl_rows=-1, tbl_cols=-1, fmt_table_cell_list_len=8, tbl_width_chars=200, tbl_hide_dataframe_shape=True
+        ):
+            typer.echo(target_summary(table))
