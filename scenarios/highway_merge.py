@@ -40,8 +40,8 @@ Run from the repository root::
 Load it back with ``omega_prime.Recording.from_file(path)``. (Passing extra keyword arguments
 such as ``compute_polygons=True`` makes omega-prime 0.3.7 fall back from the full ``MapOsi``
 to a centre-line-only map, because they are forwarded to ``MapOsi.create``, which rejects them.
-omega-prime 0.3.7 also writes each object's width into the MCAP height field, so heights read
-back from the file equal the widths.)
+omega-prime 0.3.7's writer also puts each object's width into the MCAP height field; this script works
+around that (see :func:`real_heights`), so the file holds the real heights and the 3D mode sees a 4 m truck.)
 """
 
 from __future__ import annotations
@@ -49,6 +49,7 @@ from __future__ import annotations
 import argparse
 import itertools
 from collections.abc import Callable
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -371,8 +372,34 @@ def write_recording(path: Path) -> omega_prime.Recording:
     check_no_overlap(df)
     recording = omega_prime.Recording(df, map=build_map(), validate=True, host_vehicle_idx=0)
     path.parent.mkdir(parents=True, exist_ok=True)
-    recording.to_mcap(path)
+    with real_heights():
+        recording.to_mcap(path)
     return recording
+
+
+@contextmanager
+def real_heights():
+    """Write each object's own height into the MCAP file.
+
+    omega-prime 0.3.7's ``Recording.get_moving_object_ground_truth`` (which ``to_mcap`` calls once per frame)
+    builds each object's ``Dimension3D`` with ``height=row["width"]``. While this context is open, each
+    object's height in the frame's ground truth is set from the table's ``height`` column after the fact. Remove
+    this once omega-prime writes heights itself (the check in ``main`` then still passes).
+    """
+    original = omega_prime.Recording.get_moving_object_ground_truth
+
+    def with_heights(nanos, df, host_vehicle_idx=None, validate=False):
+        ground_truth = original(nanos, df, host_vehicle_idx=host_vehicle_idx, validate=validate)
+        heights = dict(zip(df["idx"].to_list(), df["height"].to_list(), strict=True))
+        for moving in ground_truth.moving_object:
+            moving.base.dimension.height = heights[moving.id.value]
+        return ground_truth
+
+    omega_prime.Recording.get_moving_object_ground_truth = staticmethod(with_heights)
+    try:
+        yield
+    finally:
+        omega_prime.Recording.get_moving_object_ground_truth = staticmethod(original)
 
 
 def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
@@ -388,6 +415,10 @@ def main(argv: list[str] | None = None) -> None:
     path = parse_args(argv).output
     recording = write_recording(path)
     df = recording.df
+    written = omega_prime.Recording.from_file(path)._df.group_by("idx").agg(pl.col("height").first()).sort("idx")
+    expected = df.group_by("idx").agg(pl.col("height").first()).sort("idx")
+    if not written.equals(expected):
+        raise SystemExit(f"{path}: the heights read back are not the scenario's: {written.rows()}")
     print(f"wrote {path}: {df['total_nanos'].n_unique()} frames, {df['idx'].n_unique()} objects")
 
 

@@ -142,11 +142,11 @@ def test_sensors_option(tmp_path) -> None:
         run_batch(MCAP, out, sensors="lidar", progress=False)
 
 
-def test_mode_3d_option(tmp_path) -> None:
-    summary = run_batch(MCAP, tmp_path, ego=0, mode="3d", progress=False)
+def test_mode_3d_option(tmp_path, widths_as_heights_mcap) -> None:
+    summary = run_batch(widths_as_heights_mcap, tmp_path, ego=0, mode="3d", progress=False)
     assert summary["status"].to_list() == ["done"], summary["error"][0]
     with pytest.warns(VisibilityInputWarning, match="heights look like a copy of the widths"):
-        expected = get_visibility_df(read_recording(MCAP), 0, mode="3d", progress=False)
+        expected = get_visibility_df(read_recording(widths_as_heights_mcap), 0, mode="3d", progress=False)
     assert "heights look like a copy of the widths" in summary["warnings"][0]  # the worker's warning, kept
     assert_frame_equal(pl.read_parquet(tmp_path / "highway_merge.mcap.parquet"), expected)
     assert b'"mode": "3d"' in pq.read_metadata(tmp_path / "highway_merge.mcap.parquet").metadata[OPTIONS_KEY]

@@ -286,8 +286,8 @@ def test_cli_engine_of_the_other_mode_names_the_flag() -> None:
     assert "mode='3d'" not in out.stderr
 
 
-def test_cli_3d_warning_is_one_readable_line(tmp_path) -> None:
-    out = cli(MCAP, "--mode", "3d", "--ego", "0", "--no-progress", "-o", tmp_path / "v.csv")
+def test_cli_3d_warning_is_one_readable_line(tmp_path, widths_as_heights_mcap) -> None:
+    out = cli(widths_as_heights_mcap, "--mode", "3d", "--ego", "0", "--no-progress", "-o", tmp_path / "v.csv")
     assert out.returncode == 0, out.stderr
     warned = [line for line in out.stderr.splitlines() if line.startswith("warning: ")]
     assert len(warned) == 1 and "the heights look like a copy of the widths" in warned[0]

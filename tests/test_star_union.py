@@ -47,6 +47,8 @@ def _random_sensors(rng: np.random.Generator) -> list[Sensor]:
             other = sensors[int(rng.integers(len(sensors)))]
             x, y, reach = other.x, other.y, other.range if rng.random() < 0.5 else float(rng.uniform(5, 30))
             yaw = other.yaw + (other.fov / 2 if rng.random() < 0.5 else float(rng.uniform(-1, 1)))
+            if abs(yaw) > 2 * math.pi:  # beyond a full turn a sensor's angle reads as degrees: wrap it
+                yaw = math.remainder(yaw, 2 * math.pi)
         else:
             x, y, reach, yaw = *rng.uniform(-1.5, 1.5, 2), float(rng.uniform(5, 30)), float(rng.uniform(-3, 3))
         fov = 2 * math.pi if rng.random() < 0.25 else float(rng.uniform(0.3, 5.5))

@@ -326,3 +326,21 @@ def test_streamed_output_and_workers_give_the_same_3d_table(tmp_path) -> None:
                                   chunk_frames=50, output=tmp_path / "b.parquet").collect()  # fmt: skip
     assert parts.equals(kept)
     assert sorted(set(kept["static_occluder_idxs"].explode().drop_nulls().to_list())) == [1]
+
+
+def test_the_bundled_recording_has_real_heights_and_3d_uses_them() -> None:
+    """The scenario writes each object's own height (omega-prime 0.3.7's writer would copy the width): the truck
+    idx 1 is 4 m high and stands on the road; in frame 30 it hides the merging car idx 2 entirely in 3D as in 2D
+    (a 1.5 m car right behind a 4 m box, seen from 1.25 m), and in 3D no row warns about copied heights."""
+    from omega_prime_visibility.inputs.io import read_recording
+
+    r = read_recording(REPO / "highway_merge.mcap")
+    boxes = r._df.group_by("idx").agg(pl.col("height", "width", "z").first()).sort("idx")
+    assert boxes.filter(pl.col("idx") == 1).row(0) == (1, 4.0, 2.55, 2.0)  # height, width, z = height / 2
+    assert (boxes["height"] != boxes["width"]).all()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", VisibilityInputWarning)
+        solid = get_visibility_df(r, 0, mode="3d", engine="silhouette3d", progress=False)
+    at30 = {row["idx"]: row for row in solid.filter(pl.col("frame") == 30).iter_rows(named=True)}
+    assert (at30[2]["visibility"], at30[2]["can_see"], at30[2]["occluder_idxs"]) == (0.0, False, [1])
+    assert at30[1]["visibility"] == 1.0 and at30[4]["visibility"] == 1.0
