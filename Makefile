@@ -1,4 +1,5 @@
 # Two commands do all set-up on a fresh clone: `make run` and `make test` (uv is bootstrapped if missing).
+# `make docs` builds the documentation site into site/.
 SHELL := /bin/bash
 export UV_PYTHON_DOWNLOADS := never
 UV := $(shell command -v uv 2>/dev/null || echo .tools/bin/uv)
@@ -6,7 +7,7 @@ UV := $(shell command -v uv 2>/dev/null || echo .tools/bin/uv)
 UV_DEP := $(if $(filter .tools/bin/uv,$(UV)),.tools/bin/uv,)
 PYTEST_ARGS ?= -n 2
 
-.PHONY: run test lint bench bench-batch scenario pictures
+.PHONY: run test lint docs bench bench-batch scenario pictures
 
 .tools/bin/uv:
 	python3 -m venv .tools
@@ -20,8 +21,12 @@ lint: | $(UV_DEP)
 	$(UV) run ruff check .
 	$(UV) run ruff format --check .
 
-test: lint | $(UV_DEP)
+test: lint docs | $(UV_DEP)
 	$(UV) run pytest $(PYTEST_ARGS)
+
+# the documentation site (docs/ -> site/), warnings as errors; open site/index.html
+docs: | $(UV_DEP)
+	NO_MKDOCS_2_WARNING=1 $(UV) run mkdocs build --strict --quiet
 
 bench: | $(UV_DEP)
 	$(UV) run python benchmarks/bench.py --long 30000

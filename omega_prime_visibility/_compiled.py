@@ -111,9 +111,15 @@ def compiled_before(source: Path) -> bool:
     return any(cached.glob(pattern))
 
 
+ANNOUNCE = True
+"""Whether :func:`announce_compilation` speaks (``omega-prime-visibility compile`` says it all itself)."""
+
+
 def announce_compilation(name: str, engine_class: type) -> bool:
     """Say on stderr that an engine's kernels are about to be compiled, when they were never compiled for these
     sources (a first run stays silent for up to a minute or two otherwise); return whether it said so."""
+    if not ANNOUNCE:
+        return False
     module = Path(inspect.getfile(engine_class))
     source = module.parent if module.parent != PACKAGE / "engines" else module  # its subpackage, or its module
     if compiled_before(source):

@@ -1,4 +1,4 @@
-"""The README's example runs as written."""
+"""The README's example runs as written, and so do the examples of the documentation pages it links to."""
 
 from __future__ import annotations
 
@@ -15,8 +15,12 @@ from omega_prime_visibility import get_visibility_df
 COLUMNS = ("idx", "occluder_idxs", "static_occluder_idxs", "visibility")
 
 
+PAGES = ("README.md", "docs/getting-started.md", "docs/sensors.md", "docs/3d.md", "docs/batch.md", "docs/pictures.md")
+
+
 def python_blocks() -> list[str]:
-    return re.findall(r"```python\n(.*?)```", (REPO / "README.md").read_text(), re.S)
+    """The python code blocks of the README (first) and the documentation pages, in order."""
+    return [block for page in PAGES for block in re.findall(r"```python\n(.*?)```", (REPO / page).read_text(), re.S)]
 
 
 def run_block(code: str, namespace: dict, folder) -> None:
@@ -89,3 +93,13 @@ def test_readme_sensors_example_and_its_numbers(namespace) -> None:
     assert car3 == [(0, 34), (65, 113), (135, 188)]
     assert round(seen.area) == 17771
     assert best.height == 1206
+
+
+def test_docs_3d_example_runs_on_the_bundled_recording(namespace) -> None:
+    block = next(block for block in python_blocks() if 'mode="3d"' in block)
+    ns = dict(namespace)
+    run_block(block, ns, REPO)
+    solid = ns["solid"]
+    assert solid.height == 1206 and solid.columns[-1] == "can_see"
+    hidden = solid.filter(pl.col("frame") == 30, pl.col("idx") == 2).row(0, named=True)
+    assert (hidden["can_see"], hidden["occluder_idxs"]) == (False, [1])  # the 4 m truck hides the merging car

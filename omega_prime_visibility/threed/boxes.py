@@ -67,9 +67,10 @@ def rotations(roll: np.ndarray, pitch: np.ndarray, yaw: np.ndarray) -> np.ndarra
 
 
 def frames(boxes: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Centres (n, 3), rotations (n, 3, 3) and half-extents (n, 3) of ``boxes``."""
+    """Centres (n, 3), rotations (n, 3, 3) and half-extents (n, 3) of ``boxes``, each C-contiguous (so the
+    compiled kernels taking them are compiled once, whatever the number of boxes)."""
     boxes = np.asarray(boxes, dtype=np.float64).reshape(-1, 9)
-    return boxes[:, 0:3], rotations(boxes[:, 6], boxes[:, 7], boxes[:, 8]), boxes[:, 3:6] / 2
+    return np.ascontiguousarray(boxes[:, 0:3]), rotations(boxes[:, 6], boxes[:, 7], boxes[:, 8]), boxes[:, 3:6] / 2
 
 
 def corners(boxes: np.ndarray, frame: tuple | None = None) -> np.ndarray:

@@ -1,0 +1,117 @@
+"""``compile``: compile the engines' kernels now, once per version of the package, so later calls start at once.
+
+``make run`` calls it; on a fresh cluster node, run it once before a batch. Each engine is run on a small made-up
+scene through every path a real call takes (a polygon column with overlapping and touching outlines, a wall,
+every object as observer, the typical sensor set, the visible area), two engines at a time on two cores.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import time
+from concurrent.futures import ProcessPoolExecutor
+from typing import Annotated
+
+import numpy as np
+import polars as pl
+import typer
+
+from .. import _compiled
+from ..engines import ENGINES, ENGINES_3D
+from .app import app
+from .common import fail
+
+DEFAULT = ("visilibity", "sweep", "raycast3d", "silhouette3d")
+
+
+def warm_up_table(frames: int = 3) -> pl.DataFrame:
+    """A made-up recording's table: an ego and six cars on a two-lane road, two of them overlapping (as tracker
+    output does), one touching another, with omega-prime's ``polygon`` column and the 3D columns.
+
+    Examples
+    --------
+    >>> t = warm_up_table(2)
+    >>> t.height, t["idx"].n_unique(), t["polygon"].dtype
+    (14, 7, Object)
+    """
+    import shapely
+
+    base = np.array(
+        # x, y, length, width, height, yaw: the ego, cars ahead, an overlapping pair, a touching pair, a truck
+        [[0, 0, 4.5, 1.8, 1.5, 0], [15, 0.2, 4.6, 1.85, 1.5, 0.02], [30, 3.5, 4.6, 1.8, 1.45, 0],
+         [31.5, 3.9, 4.6, 1.8, 1.45, 0.1], [-20, 3.5, 4.7, 1.9, 1.55, 0], [-15.3, 3.5, 4.7, 1.9, 1.55, 0],
+         [45, 0, 16.5, 2.55, 4.0, 0]]
+    )  # fmt: skip
+    rows = []
+    for frame in range(frames):
+        for idx, (x, y, length, width, height, yaw) in enumerate(base):
+            x = x + 2.5 * frame
+            box = shapely.affinity.rotate(
+                shapely.box(x - length / 2, y - width / 2, x + length / 2, y + width / 2), yaw, use_radians=True
+            )
+            rows.append(
+                {"frame": frame, "total_nanos": frame * 100_000_000, "idx": idx, "x": x, "y": y, "z": height / 2,
+                 "length": length, "width": width, "height": height, "roll": 0.0, "pitch": 0.0, "yaw": yaw,
+                 "polygon": box}
+            )  # fmt: skip
+    return pl.DataFrame(rows, schema_overrides={"polygon": pl.Object})
+
+
+def compile_engine(name: str) -> float:
+    """Run engine ``name`` on :func:`warm_up_table` through every path a real call takes; return the seconds."""
+    import warnings
+
+    import shapely
+
+    from ..analysis.area import visible_area_over_time
+    from ..api import get_visibility_df
+
+    _compiled.ANNOUNCE = False  # the command says what it compiles
+    started = time.perf_counter()
+    table = warm_up_table()
+    wall = shapely.LineString([(-40.0, -3.0), (80.0, -3.0)])
+    mode = "3d" if name in ENGINES_3D else "2d"
+    statics = [] if name == "silhouette3d" else [wall]  # the exact 3D engine takes boxes only
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for ego, sensors in ((0, None), ("all", None), (0, "typical")):
+            get_visibility_df(table, ego, statics, engine=name, mode=mode, sensors=sensors, progress=False, workers=1)
+        if mode == "2d":
+            visible_area_over_time(table, 0, "typical", [wall])
+    return time.perf_counter() - started
+
+
+@app.command("compile", short_help="compile the engines' kernels now (make run does it)")
+def compile_kernels(
+    engines: Annotated[
+        list[str] | None,
+        typer.Argument(
+            metavar="ENGINES", help=f"engines to compile (default: {' '.join(DEFAULT)})", show_default=False
+        ),
+    ] = None,
+    jobs: Annotated[
+        int,
+        typer.Option(metavar="N", help="engines compiled at once (default: 2, or 1 on one core)", show_default=False),
+    ] = 0,
+) -> None:
+    """Compile the engines' kernels into the cache now, so that the first real call starts at once.
+
+    The kernels are kept per version of the package (see Getting started); compiling again is quick when they are
+    there already. Run it once on every fresh cluster node before a batch.
+    """
+    names = list(engines or DEFAULT)
+    unknown = [n for n in names if n not in ENGINES and n not in ENGINES_3D]
+    if unknown:
+        raise fail(f"unknown engine {unknown[0]!r}; available: {sorted(ENGINES) + sorted(ENGINES_3D)}")
+    jobs = jobs or min(2, len(os.sched_getaffinity(0)))
+    typer.echo(f"compiling the kernels of {', '.join(names)} (once per version of the package; a minute or so each)")
+    started = time.perf_counter()
+    if jobs == 1 or len(names) == 1:
+        for name in names:
+            typer.echo(f"  {name}: {compile_engine(name):.0f} s")
+    else:
+        with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
+            for name, seconds in zip(names, pool.map(compile_engine, names), strict=True):
+                typer.echo(f"  {name}: {seconds:.0f} s")
+    typer.echo(f"compiled in {time.perf_counter() - started:.0f} s; later calls start at once")

@@ -1,0 +1,71 @@
+"""``omega-prime-visibility compile`` (cli/compile_kernels.py): the warm-up takes every path a real call takes, so
+nothing is left to compile afterwards."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+from conftest import REPO
+
+# In a fresh process: warm one engine up, note every kernel's compiled signatures, then make the calls users make
+# on a real recording; print the kernels that needed a signature the warm-up did not compile.
+PROBE = """
+import json, sys, warnings
+import numba, shapely
+warnings.simplefilter("ignore")
+from omega_prime_visibility.cli.compile_kernels import compile_engine
+from omega_prime_visibility import get_visibility_df, visible_area_over_time
+from omega_prime_visibility.inputs.io import read_recording
+
+def signatures():
+    found = {}
+    for name, module in list(sys.modules.items()):
+        if name.startswith("omega_prime_visibility"):
+            for attr, value in vars(module).items():
+                if isinstance(value, numba.core.registry.CPUDispatcher):
+                    found[f"{name}.{attr}"] = {str(s) for s in value.signatures}
+    return found
+
+engine = sys.argv[1]
+compile_engine(engine)
+before = signatures()
+r = read_recording("highway_merge.mcap")
+wall = shapely.LineString([(60, -5.4), (140, -5.4)])
+mode = "3d" if "3d" in engine else "2d"
+for ego, sensors in ((0, None), (0, "typical"), ([0, 1], None)):
+    statics = [] if engine == "silhouette3d" else [wall]
+    get_visibility_df(r, ego, statics, engine=engine, mode=mode, sensors=sensors, progress=False, workers=1)
+if mode == "2d":
+    visible_area_over_time(r, 0, "typical", [wall])
+after = signatures()
+print(json.dumps({k: sorted(v - before.get(k, set())) for k, v in after.items() if v - before.get(k, set())}))
+"""
+
+
+@pytest.mark.parametrize("engine", ["visilibity", "sweep"])
+def test_after_the_warm_up_a_real_recording_compiles_nothing(engine) -> None:
+    out = subprocess.run(
+        [sys.executable, "-c", PROBE, engine], cwd=REPO, capture_output=True, text=True, timeout=900, check=True
+    )
+    missed = json.loads(out.stdout.strip().splitlines()[-1])
+    assert missed == {}, f"compiled only by the real call, not by the warm-up: {missed}"
+
+
+def test_compile_names_an_unknown_engine_in_one_line() -> None:
+    out = subprocess.run(
+        [sys.executable, "-m", "omega_prime_visibility.cli", "compile", "sweap"], capture_output=True, text=True
+    )
+    assert out.returncode == 2 and out.stderr.startswith("error: unknown engine 'sweap'")
+    assert len(out.stderr.strip().splitlines()) == 1
+
+
+def test_warm_up_table_is_a_valid_recording_table() -> None:
+    from omega_prime_visibility.cli.compile_kernels import warm_up_table
+
+    table = warm_up_table(3)
+    assert table.height == 21 and table["frame"].n_unique() == 3
+    overlapping = table.filter(table["frame"] == 0, table["idx"].is_in([2, 3]))["polygon"].to_list()
+    assert overlapping[0].intersection(overlapping[1]).area > 0  # tracker-style overlap, on purpose
