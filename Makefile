@@ -14,6 +14,7 @@ PYTEST_ARGS ?= -n 2
 	.tools/bin/python -m pip install --quiet uv
 
 run: | $(UV_DEP)
+	$(UV) run omega-prime-visibility compile
 	$(UV) run omega-prime-visibility run highway_merge.mcap --ego 0
 	@echo "the command line: source .venv/bin/activate, then omega-prime-visibility --help"
 
@@ -33,6 +34,7 @@ bench: | $(UV_DEP)
 	$(UV) run python benchmarks/bench_sensors.py
 	$(UV) run python benchmarks/pictures.py
 	$(UV) run python benchmarks/agreement.py
+	$(UV) run python benchmarks/first_call.py
 
 bench-batch: | $(UV_DEP)
 	$(UV) run python benchmarks/bench_batch.py

@@ -10,7 +10,7 @@ from __future__ import annotations
 import multiprocessing
 import os
 import time
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from typing import Annotated
 
 import numpy as np
@@ -105,13 +105,22 @@ def compile_kernels(
     if unknown:
         raise fail(f"unknown engine {unknown[0]!r}; available: {sorted(ENGINES) + sorted(ENGINES_3D)}")
     jobs = jobs or min(2, len(os.sched_getaffinity(0)))
-    typer.echo(f"compiling the kernels of {', '.join(names)} (once per version of the package; a minute or so each)")
+    typer.echo(
+        f"compiling the kernels of {', '.join(names)}, {jobs} at a time (once per version of the package;"
+        " a minute or two each on a busy 2-core machine)"
+    )
     started = time.perf_counter()
     if jobs == 1 or len(names) == 1:
         for name in names:
-            typer.echo(f"  {name}: {compile_engine(name):.0f} s")
+            typer.echo(f"  {name} ...")
+            typer.echo(f"  {name}: done in {compile_engine(name):.0f} s")
     else:
         with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
-            for name, seconds in zip(names, pool.map(compile_engine, names), strict=True):
-                typer.echo(f"  {name}: {seconds:.0f} s")
+            futures = {pool.submit(compile_engine, name): name for name in names}
+            for future in as_completed(futures):
+                try:
+                    seconds = future.result()
+                except ValueError as e:
+                    raise fail(f"{futures[future]}: {e}") from None
+                typer.echo(f"  {futures[future]}: done in {seconds:.0f} s")
     typer.echo(f"compiled in {time.perf_counter() - started:.0f} s; later calls start at once")

@@ -1,0 +1,54 @@
+"""How long a new user waits for each engine's first command-line call, cold (nothing compiled yet) and warm,
+printed next to the targets: ``uv run python benchmarks/first_call.py``.
+
+Each engine: ``omega-prime-visibility run highway_merge.mcap --ego 0 --engine NAME -o x.parquet`` (the bundled
+recording, 201 frames, 7 objects; ``--mode 3d`` for the 3D engines) in a fresh process, first with an empty kernel
+cache (a private ``XDG_CACHE_HOME``: what a fresh installation or a fresh cluster node pays), then again (warm:
+mostly importing omega-prime and its libraries). Then ``omega-prime-visibility compile`` into another empty cache,
+as ``make run`` does it, two engines at a time. Wall time; the machine is shared, so compare figures of one run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+COLD_TARGET_S, WARM_TARGET_S = 15.0, 5.0
+ENGINES = {"visilibity": "2d", "sweep": "2d", "raycast3d": "3d", "silhouette3d": "3d"}
+
+
+def timed_run(engine: str, mode: str, cache: Path, out: Path) -> float:
+    command = [sys.executable, "-m", "omega_prime_visibility.cli", "run", str(REPO / "highway_merge.mcap")]
+    command += ["--ego", "0", "--engine", engine, "--mode", mode, "--no-progress", "-o", str(out)]
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"} | {"XDG_CACHE_HOME": str(cache)}
+    started = time.perf_counter()
+    subprocess.run(command, env=env, check=True, capture_output=True)
+    return time.perf_counter() - started
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("engines", nargs="*", default=list(ENGINES), help="engines to time (default: all)")
+    args = parser.parse_args()
+    print(f"python {sys.version.split()[0]}, {os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}")
+    print(f"{'engine':14} {'cold first call':>16} {'target':>8} {'warm call':>10} {'target':>8}")
+    with tempfile.TemporaryDirectory() as folder:
+        for engine in args.engines:
+            cache = Path(folder) / engine
+            cold = timed_run(engine, ENGINES[engine], cache, Path(folder) / f"{engine}.parquet")
+            warm = timed_run(engine, ENGINES[engine], cache, Path(folder) / f"{engine}.parquet")
+            print(f"{engine:14} {cold:15.1f}s {COLD_TARGET_S:7.0f}s {warm:9.1f}s {WARM_TARGET_S:7.0f}s")
+        env = dict(os.environ) | {"XDG_CACHE_HOME": str(Path(folder) / "all")}
+        started = time.perf_counter()
+        subprocess.run([sys.executable, "-m", "omega_prime_visibility.cli", "compile"], env=env, check=True)
+        print(f"omega-prime-visibility compile (all engines, as make run does): {time.perf_counter() - started:.0f} s")
+
+
+if __name__ == "__main__":
+    main()
