@@ -76,3 +76,65 @@ def test_bad_arguments() -> None:
         visible_intervals(t, threshold=float("nan"))
     with pytest.raises(ValueError, match=r"lacks the column\(s\) \['visibility'\]"):
         visible_intervals(t.drop("visibility"))
+
+
+def flicker_table(hidden: set[int], absent: set[int] = frozenset(), frames: int = 21, step: int = STEP):
+    """Target 1 seen whole in frames 0..frames-1 at ``step`` nanoseconds apart, except hidden ones (visibility 0)
+    and absent ones (no row)."""
+    kept = [f for f in range(frames) if f not in absent]
+    return pl.DataFrame(
+        {
+            "frame": kept,
+            "total_nanos": [f * step for f in kept],
+            "idx": [1] * len(kept),
+            "visibility": [0.0 if f in hidden else 1.0 for f in kept],
+        }
+    )
+
+
+@pytest.mark.parametrize("gap", ["hidden", "absent"])
+def test_a_one_frame_flicker_does_not_reset_the_windowed_notice(gap: str) -> None:
+    # On paper (10 Hz): visible in frames 0-4, not in 5, visible in 6-20. notice=(1.0, 1.5) needs 10 visible frames
+    # (10 x 0.1 s) among the frames of the last 1.5 s, (t - 1.5, t]: 15 frames. At frame 10 (t = 1.0 s) the window
+    # holds frames 0-10, ten of them visible: noticed at frame 10, in the second run. The run model
+    # (reaction_time=1.0) waits 1.0 s from the second run's start: frame 16. A missing frame counts as not visible.
+    table = flicker_table({5}) if gap == "hidden" else flicker_table(set(), absent={5})
+    windowed = visible_intervals(table, notice=(1.0, 1.5))
+    assert windowed.select("start_frame", "end_frame", "noticed_frame").rows() == [(0, 4, None), (6, 20, 10)]
+    assert windowed["first_noticed_nanos"].to_list() == [10 * STEP] * 2
+    assert set(windowed["notice_model"]) == {"visible 1 s within 1.5 s"}
+    run = visible_intervals(table, reaction_time=1.0)
+    assert run.select("start_frame", "noticed_frame").rows() == [(0, None), (6, 16)]
+    assert set(run["notice_model"]) == {"visible 1 s without a break"}
+
+
+def test_windowed_notice_never_reached_and_at_another_frame_rate() -> None:
+    # every second frame hidden: at most 8 of any 15 frames visible (0.8 s < 1.0 s): never noticed
+    alternating = visible_intervals(flicker_table(set(range(1, 41, 2)), frames=41), notice=(1.0, 1.5))
+    assert alternating["noticed_frame"].null_count() == alternating.height == 21
+    # 25 Hz (40 ms), one frame in four hidden: 1.0 s is 25 visible frames; the last 1.5 s hold 37 or 38 frames.
+    # Frames 3, 7, 11, ... hidden: by frame f, f + 1 - (f + 1) // 4 frames are visible, which first reaches 25 at
+    # f = 32 (33 frames, 8 of them hidden; at t = 1.28 s the window (t - 1.5 s, t] still holds frame 0)
+    quarter = flicker_table(set(range(3, 60, 4)), frames=60, step=40_000_000)
+    noticed = visible_intervals(quarter, notice=(1.0, 1.5))
+    assert noticed["first_noticed_nanos"][0] == 32 * 40_000_000
+    assert noticed.filter(pl.col("noticed_frame").is_not_null())["noticed_frame"].min() == 32
+
+
+def test_bad_notice() -> None:
+    t = flicker_table(set(), frames=3)
+    for bad in [(2.0, 1.0), (0.0, 1.0), (1.0,), (1.0, float("inf")), "1s"]:
+        with pytest.raises(ValueError, match="notice takes"):
+            visible_intervals(t, notice=bad)
+    with pytest.raises(ValueError, match="not both"):
+        visible_intervals(t, reaction_time=0.5, notice=(1.0, 1.5))
+
+
+def test_the_window_reaches_back_exactly_its_length() -> None:
+    # 10 Hz, notice=(0.5, 1.0): 5 visible frames among the frames of (t - 1.0 s, t]. Visible in 0-3 and from 10 on.
+    # At frame 10 (t = 1.0 s) the window is (0.0, 1.0]: frames 1-10, of which 1, 2, 3 and 10 are visible: 4, not
+    # noticed (frame 0 lies exactly 1.0 s back, outside). At frame 11 frames 2, 3, 10, 11: 4; at 12: 3, 10-12: 4;
+    # at 13: 10-13: 4; at 14: 10-14: 5, noticed.
+    table = flicker_table(set(range(4, 10)), frames=16)
+    out = visible_intervals(table, notice=(0.5, 1.0))
+    assert out.select("start_frame", "noticed_frame").rows() == [(0, None), (10, 14)]

@@ -2,8 +2,14 @@
 
 An interval is a run of consecutive frames (frame numbers ``k, k + 1, ...``) in which the target's visibility
 exceeds a threshold. A missing frame (the target, or the observer, absent in frame ``k``) ends the run: gaps are
-never bridged. With a reaction time, a target counts as *noticed* once it has stayed visible that long within
-one interval, as occlusion-aware planners model a driver's or a tracker's confirmation time.
+never bridged. A target counts as *noticed* under one of two models:
+
+- ``reaction_time=r``: once it has stayed visible ``r`` seconds within one interval (an unbroken run), as
+  occlusion-aware planners model a driver's or a tracker's confirmation time;
+- ``notice=(d, w)``: once it has been visible for at least ``d`` seconds within the last ``w`` seconds (nuPlan's
+  model with ``(1.0, 1.5)``), so a flicker of a frame or two does not start the count again. Each visible frame
+  counts for one frame period of the table (the median step between its frame times); missing frames count as
+  not visible.
 """
 
 from __future__ import annotations
@@ -18,7 +24,11 @@ NANOS = 1_000_000_000
 
 
 def visible_intervals(
-    table: pl.DataFrame | pl.LazyFrame, threshold: float = 0.0, reaction_time: float | None = None
+    table: pl.DataFrame | pl.LazyFrame,
+    threshold: float = 0.0,
+    reaction_time: float | None = None,
+    *,
+    notice: tuple[float, float] | None = None,
 ) -> pl.DataFrame:
     """Intervals of visibility above ``threshold`` per (observer, target[, sensor]).
 
@@ -30,7 +40,10 @@ def visible_intervals(
     threshold : float
         Visible means ``visibility > threshold`` (default: any part visible).
     reaction_time : float, optional
-        Seconds a target must stay visible to count as noticed.
+        Seconds a target must stay visible without a break to count as noticed.
+    notice : (float, float), optional
+        ``(d, w)``: a target counts as noticed once it was visible for at least ``d`` seconds within the last ``w``
+        seconds (``0 < d <= w``), e.g. ``(1.0, 1.5)``. Give ``reaction_time`` or ``notice``, not both.
 
     Returns
     -------
@@ -40,7 +53,9 @@ def visible_intervals(
         to the last visible frame of the interval, 0 for a single frame), ``first_visible_nanos`` (the group's
         first visible time) and, with ``reaction_time``, ``noticed_frame`` and ``noticed_nanos`` (the first frame
         of the interval at least ``reaction_time`` after its start; null if the interval is shorter) and
-        ``first_noticed_nanos`` (the group's first). Sorted by group and start.
+        ``first_noticed_nanos`` (the group's first). With ``notice`` the same three columns hold the first frame of
+        the interval at which the windowed condition holds. ``notice_model`` names the model used (e.g.
+        ``"visible 0.5 s without a break"`` or ``"visible 1.0 s within 1.5 s"``). Sorted by group and start.
 
     Examples
     --------
@@ -51,6 +66,13 @@ def visible_intervals(
     ...     "visibility": [0.5, 1.0, 0.0, 0.2, 0.3, 1.0, 1.0]})
     >>> visible_intervals(t, reaction_time=0.2).select("start_frame", "end_frame", "duration", "noticed_frame").rows()
     [(0, 1, 0.1, None), (3, 5, 0.2, 5), (7, 7, 0.0, None)]
+
+    Visible 0.3 s within 0.5 s: frames 0, 1 and 3 are three visible frames within frames 0 to 4, so the target is
+    noticed at frame 3, across the hidden frame 2:
+
+    >>> windowed = visible_intervals(t, notice=(0.3, 0.5))
+    >>> windowed.select("start_frame", "noticed_frame").rows(), windowed["notice_model"][0]
+    ([(0, None), (3, 3), (7, 7)], 'visible 0.3 s within 0.5 s')
     """
     if not (isinstance(threshold, int | float) and math.isfinite(threshold)):
         raise ValueError(f"threshold must be a finite number, not {threshold!r}")
@@ -58,6 +80,18 @@ def visible_intervals(
         isinstance(reaction_time, int | float) and math.isfinite(reaction_time) and reaction_time >= 0
     ):
         raise ValueError(f"reaction_time must be a non-negative number of seconds or None, not {reaction_time!r}")
+    if notice is not None:
+        if reaction_time is not None:
+            raise ValueError("give reaction_time (an unbroken run) or notice (a window), not both")
+        if not (
+            isinstance(notice, tuple | list)
+            and len(notice) == 2
+            and all(isinstance(v, int | float) and math.isfinite(v) for v in notice)
+            and 0 < notice[0] <= notice[1]
+        ):
+            raise ValueError(
+                f"notice takes (seconds visible, window in seconds) with 0 < seconds visible <= window, not {notice!r}"
+            )
     lazy = table.lazy()
     names = lazy.collect_schema().names()
     missing = [c for c in ("frame", "total_nanos", "idx", "visibility") if c not in names]
@@ -66,12 +100,10 @@ def visible_intervals(
     group = [k for k in KEYS if k in names and k not in ("frame", "total_nanos")]
     visible = pl.col("visibility") > threshold
     starts = visible & (~visible.shift(1).over(group).fill_null(False) | (pl.col("frame").diff().over(group) != 1))
-    runs = (
-        lazy.select(*group, "frame", "total_nanos", "visibility")
-        .sort(*group, "frame")
-        .with_columns(run=starts.cum_sum().over(group))
-        .filter(visible)
-    )
+    runs = lazy.select(*group, "frame", "total_nanos", "visibility").sort(*group, "frame")
+    if notice is not None:
+        runs = runs.with_columns(noticed=_windowed_notice(lazy, group, visible, notice))
+    runs = runs.with_columns(run=starts.cum_sum().over(group)).filter(visible)
     aggregations = [
         pl.col("frame").first().alias("start_frame"),
         pl.col("frame").last().alias("end_frame"),
@@ -79,8 +111,11 @@ def visible_intervals(
         pl.col("total_nanos").last().alias("end_nanos"),
         pl.len().alias("n_frames"),
     ]
-    if reaction_time is not None:
-        waited = pl.col("total_nanos") - pl.col("total_nanos").first() >= round(reaction_time * NANOS)
+    if reaction_time is not None or notice is not None:
+        if notice is None:
+            waited = pl.col("total_nanos") - pl.col("total_nanos").first() >= round(reaction_time * NANOS)
+        else:
+            waited = pl.col("noticed")
         aggregations += [
             pl.col("frame").filter(waited).first().alias("noticed_frame"),
             pl.col("total_nanos").filter(waited).first().alias("noticed_nanos"),
@@ -91,10 +126,27 @@ def visible_intervals(
         .with_columns(duration=(pl.col("end_nanos") - pl.col("start_nanos")) / NANOS)
         .with_columns(first_visible_nanos=pl.col("start_nanos").min().over(group))
     )
-    if reaction_time is not None:
-        out = out.with_columns(first_noticed_nanos=pl.col("noticed_nanos").min().over(group))
     columns = [*group, "start_frame", "end_frame", "start_nanos", "end_nanos", "n_frames", "duration"]
     columns += ["first_visible_nanos"]
-    if reaction_time is not None:
-        columns += ["noticed_frame", "noticed_nanos", "first_noticed_nanos"]
+    if reaction_time is not None or notice is not None:
+        model = (
+            f"visible {reaction_time:g} s without a break"
+            if notice is None
+            else f"visible {notice[0]:g} s within {notice[1]:g} s"
+        )
+        out = out.with_columns(
+            first_noticed_nanos=pl.col("noticed_nanos").min().over(group), notice_model=pl.lit(model)
+        )
+        columns += ["noticed_frame", "noticed_nanos", "first_noticed_nanos", "notice_model"]
     return out.select(columns).sort(*group, "start_frame").collect()
+
+
+def _windowed_notice(lazy: pl.LazyFrame, group: list[str], visible: pl.Expr, notice: tuple[float, float]) -> pl.Expr:
+    """Per row: whether the target was visible for at least ``notice[0]`` seconds within the ``notice[1]`` seconds
+    up to this frame's time (each visible frame counting one frame period of the table)."""
+    steps = lazy.select(pl.col("total_nanos").unique().sort().diff().drop_nulls()).collect().to_series()
+    period = int(steps.median()) if len(steps) else NANOS  # a table of one frame time: any period will do
+    needed = max(1, math.ceil(round(notice[0] * NANOS) / period - 1e-9))  # visible frames that make d seconds
+    window = round(notice[1] * NANOS)
+    in_window = visible.cast(pl.Int64).rolling_sum_by("total_nanos", window_size=f"{window}i", closed="right")
+    return in_window.over(group) >= needed
