@@ -269,9 +269,9 @@ def test_a_sensor_high_enough_sees_over_a_thin_plate() -> None:
 def test_readme_3d_example_and_picture() -> None:
     import re
 
-    text = (REPO / "README.md").read_text()
-    blocks = re.findall(r"```python\n(.*?)```", text, re.S)
-    three_d = next(b for b in blocks if 'mode="3d"' in b)
+    blocks = re.findall(r"```python\n(.*?)```", (REPO / "README.md").read_text(), re.S)
+    page = (REPO / "docs" / "3d.md").read_text()
+    three_d = next(b for b in re.findall(r"```python\n(.*?)```", page, re.S) if 'mode="3d"' in b)
     namespace: dict = {}
     cwd = os.getcwd()
     os.chdir(REPO)
