@@ -15,7 +15,7 @@ MCAP = REPO / "highway_merge.mcap"
 
 
 def cli(*args: str | Path) -> subprocess.CompletedProcess:
-    cmd = [sys.executable, "-m", "omega_prime_visibility.cli", *map(str, args)]
+    cmd = [sys.executable, "-m", "omega_prime_visibility", *map(str, args)]
     return subprocess.run(cmd, capture_output=True, text=True)
 
 
@@ -48,7 +48,7 @@ def test_report_writes_one_html_file(tmp_path) -> None:
 )
 def test_bad_arguments_fail_before_computing(tmp_path, args, fragments) -> None:
     out = subprocess.run(
-        [sys.executable, "-m", "omega_prime_visibility.cli", *map(str, args)], capture_output=True, text=True,
+        [sys.executable, "-m", "omega_prime_visibility", *map(str, args)], capture_output=True, text=True,
         cwd=tmp_path,
     )  # fmt: skip
     assert_error(out, *fragments)

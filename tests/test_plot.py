@@ -15,14 +15,15 @@ import numpy as np
 import pytest
 import shapely
 from conftest import boxes_table
-from matplotlib.patches import Arc, Circle, Wedge
+from matplotlib.colors import to_rgb
+from matplotlib.patches import Circle, Wedge
 
 import omega_prime_visibility
 from omega_prime_visibility.plot import plot_frame
 from omega_prime_visibility.plot._optional import require
 from omega_prime_visibility.sensors import Sensor
 
-CMAP = plt.get_cmap("RdYlGn")
+CMAP = plt.get_cmap("cividis")
 
 
 @pytest.fixture(autouse=True)
@@ -50,14 +51,20 @@ def test_plot_frame_colours_objects_by_visibility_and_outlines_occluders() -> No
     assert tuple(hidden.get_facecolor()) == pytest.approx(CMAP(0.0))
     assert blocker.get_linewidth() == 2.5 and blocker.get_edgecolor()[:3] == (0, 0, 0)  # occluder of the target
     assert hidden.get_linestyle() == "--"  # the target itself, dashed
-    assert ego.get_facecolor()[:3] == pytest.approx(matplotlib.colors.to_rgb("#1f5fbf"))
+    assert ego.get_facecolor()[:3] == pytest.approx(matplotlib.colors.to_rgb("#D55E00"))
     assert {"1: 100%", "2: 0%", "ego 0"} <= set(texts(ax))
     colourbar = ax.figure.axes[-1]
     assert colourbar.get_ylim() == (0.0, 1.0) and colourbar.get_ylabel().startswith("visibility")
     legend = ax.figure.legends[0] if ax.figure.legends else ax.get_legend()
     labels = [t.get_text() for t in legend.get_texts()]
-    assert "occluders of idx 2" in labels and "target idx 2" in labels
-    assert ax.get_xlim() == (-80.0, 80.0)  # view_range around the ego
+    assert "hides 2" in labels and "target 2" in labels
+    x0, x1 = ax.get_xlim()
+    y0, y1 = ax.get_ylim()
+    assert (x0 + x1) / 2 == pytest.approx(0.0) and (y0 + y1) / 2 == pytest.approx(0.0)  # centred on the ego
+    # the window: objects reach x = 22, plus 3 m; y at least 0.3 of the 80 m view range; then one side widened to
+    # the axes' shape
+    assert x1 >= 25.0 - 1e-9 and y1 >= 24.0 - 1e-9
+    assert x1 == pytest.approx(25.0) or y1 == pytest.approx(24.0)
 
 
 def test_plot_frame_half_hidden_target_gets_the_middle_colour() -> None:
@@ -82,13 +89,13 @@ def test_plot_frame_draws_sensor_wedges_at_their_pose(yaw: float) -> None:
     # mounted 1 m ahead of the ego's centre, along its heading
     assert wedge.center == pytest.approx((5 + math.cos(yaw), 5 + math.sin(yaw)))
     assert (wedge.theta1, wedge.theta2) == pytest.approx((math.degrees(yaw) - 30, math.degrees(yaw) + 30))
-    assert wedge.r == 15.0
-    (arc,) = by_gid(ax, "range cam")
-    assert isinstance(arc, Arc) and arc.width == 30.0
+    assert wedge.r == 15.0  # the range is the wedge's arc
+    assert wedge.get_fill() is False and wedge.get_edgecolor()[:3] == pytest.approx(to_rgb("#E69F00"))  # outlined
     (circle,) = [p for p in by_gid(ax, "sensor roof") if isinstance(p, Circle)]
     assert circle.get_radius() == 40.0 and circle.center == pytest.approx((5, 5))
+    assert circle.get_edgecolor()[:3] == pytest.approx(to_rgb("#0072B2"))  # the second Okabe-Ito colour
     legend = ax.figure.legends[0] if ax.figure.legends else ax.get_legend()
-    assert "cam: 60°, 15 m" in [t.get_text() for t in legend.get_texts()]
+    assert "cam 60° 15 m" in [t.get_text() for t in legend.get_texts()]
 
 
 def test_plot_frame_sensor_layouts_are_sized_to_the_ego() -> None:
@@ -114,9 +121,12 @@ def test_plot_frame_draws_given_lanes_underneath() -> None:
     df = boxes_table([(0, 0, 4, 2, 0), (20, 0, 4, 2, 0)])
     lanes = [shapely.LineString([(-50, 1.75), (50, 1.75)]), shapely.LineString([(-50, -1.75), (50, -1.75)])]
     ax = plot_frame(df, 0, 0, lanes=lanes)
-    drawn = by_gid(ax, "lane")
-    assert len(drawn) == 2 and all(line.get_zorder() < 0 for line in drawn)
-    assert np.asarray(drawn[0].get_xydata()).tolist() == [[-50, 1.75], [50, 1.75]]
+    (drawn,) = [c for c in ax.collections if c.get_gid() == "lane"]  # one collection for all centre lines
+    assert drawn.get_zorder() < 0
+    assert [np.asarray(p).tolist() for p in drawn.get_segments()] == [
+        [[-50, 1.75], [50, 1.75]],
+        [[-50, -1.75], [50, -1.75]],
+    ]
 
 
 def test_plot_frame_on_a_given_axes_returns_it() -> None:
