@@ -162,3 +162,20 @@ def test_missing_plotting_library_names_the_extra(monkeypatch) -> None:
     monkeypatch.setitem(sys.modules, "vl_convert", None)  # as if not installed
     with pytest.raises(ImportError, match=r"omega-prime-visibility\[plot\]"):
         require("vl_convert")
+
+
+def test_the_window_holds_every_object_that_comes_within_the_view_range() -> None:
+    # a north-south street: the ego at the origin facing north; a pedestrian 47 m ahead; a 12 m truck whose centre
+    # is 65 m away but whose rear (at 59 m) comes within the 60 m view range; a car 70 m to the east (out of range)
+    boxes = [(0, 0, 4, 2, math.pi / 2), (0, 47, 0.6, 0.5, 0), (0, -65, 12, 2.5, math.pi / 2), (70, 0, 4, 2, 0)]
+    df = boxes_table(boxes)
+    ax = plot_frame(df, 0, 0, view_range=60)
+    x0, x1 = ax.get_xlim()
+    y0, y1 = ax.get_ylim()
+    assert y0 <= -71 - 3 + 1e-9 and y1 >= 71 + 3 - 1e-9  # the whole truck, 3 m around it, symmetric about the ego
+    assert x1 - x0 < 2 * 70  # the car out of range does not stretch the window (the axes' shape may widen it)
+    assert (x0 + x1) / 2 == pytest.approx(0) and (y0 + y1) / 2 == pytest.approx(0)
+    assert y1 - y0 > x1 - x0  # a tall window for a street running north-south
+    (bar,) = [a for a in ax.artists if a.get_gid() == "scale bar"]
+    length = float(bar.txt_label.get_text().removesuffix(" m"))
+    assert length in (1, 2, 5, 10, 20, 50, 100) and (x1 - x0) / 12 <= length <= (x1 - x0) / 5
