@@ -59,3 +59,36 @@ def test_frames_that_do_not_occur_are_one_line(tmp_path) -> None:
     out = cli("animate", MCAP, "--frames", "300:400", "-o", tmp_path / "x.gif")
     assert_error(out, "frame range 300 to 400 (stop excluded) is empty", "frames 0 to 200")
     assert files_under(tmp_path) == set()
+
+
+RAIL = '{"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {}, "geometry": {"type": "LineString", "coordinates": [[60, -5.4], [140, -5.4]]}}]}'  # noqa: E501
+
+
+def test_animate_and_report_take_static_and_mode_3d(tmp_path) -> None:
+    rail = tmp_path / "rail.geojson"
+    rail.write_text(RAIL)
+    out = cli("animate", MCAP, "--ego", "0", "--frames", "30:32", "--static", rail, "--mode", "3d", "--no-progress",
+              "-o", tmp_path / "a.gif")  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    with Image.open(tmp_path / "a.gif") as im:
+        assert im.n_frames == 2
+    out = cli("report", MCAP, "--frames", "30:32", "--static", rail, "--mode", "3d", "--no-progress",
+              "-o", tmp_path / "r.html")  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    page = (tmp_path / "r.html").read_text()
+    assert '"statics":[{"kind":"line","points":[60.0,-5.4,140.0,-5.4]}]' in page  # the rail is in the scene
+
+
+@pytest.mark.parametrize(
+    ("args", "fragments"),
+    [
+        (("--target", "99"), ("target idx 99 never occurs",)),
+        (("--mode", "4d"), ("mode must be '2d' or '3d'",)),
+        (("--mode", "3d", "--engine", "sweep"), ("'sweep' is a 2d engine", "--mode 2d")),
+        (("--static", "missing.geojson"), ("missing.geojson",)),
+    ],
+)
+def test_animate_bad_target_mode_or_static_is_one_line(tmp_path, args, fragments) -> None:
+    out = cli("animate", MCAP, "--frames", "30:32", *args, "-o", tmp_path / "x.gif")
+    assert_error(out, *fragments)
+    assert files_under(tmp_path) == set()

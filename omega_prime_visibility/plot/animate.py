@@ -101,9 +101,9 @@ def animate(
         require("PIL", "writing GIF")
     source = load_source(df, static_occluder_polys, lanes)
     positions = source.positions(frames)
+    check_target(source, target, positions)
     viewer = picture_viewer(df, source, ego_idx, static_occluder_polys, positions, view_range, sensors=sensors,
                             engine=engine, mode=mode)  # fmt: skip
-    check_target(source, target)
     pictures = render(
         source, viewer, positions, follow=follow, view_range=view_range, target=target, size=size, dpi=dpi,
         progress=len(positions) >= PROGRESS_MIN_FRAMES if progress is None else progress,
