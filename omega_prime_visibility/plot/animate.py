@@ -129,6 +129,8 @@ def render(source, viewer, positions, *, follow, view_range, target, size, dpi, 
     window = scene_window(source.objects, viewer.ego_idx, positions, view_range, source.lanes.points)
     painter = FramePainter(ax, source, viewer.ego_idx, target=target, sensors=viewer.sensors, window=window,
                            legend_columns=5)  # fmt: skip
+    # no tick labels: a scene that follows the ego has the scale bar for metres, and each frame draws far less text
+    ax.set(xticks=[], yticks=[], xlabel="", ylabel="")
     window = painter.fit()
     limits = None if follow else path_limits(source.objects, viewer.ego_idx, positions, window)
     # progress: a thin line along the bottom edge of the picture, outside the scene, drawn over each frame

@@ -123,7 +123,7 @@ class FramePainter:
             if isinstance(part, shapely.Polygon) and not part.is_empty:
                 patch = self.patches.Polygon(np.asarray(part.exterior.coords), facecolor=REGION_FACE, lw=0, zorder=-3)
                 patch.set_gid("region")
-                add(ax.add_patch(patch))
+                add(ax.add_artist(patch))  # (add_artist: no data limits to update)
         occluders = set(view.occluders.get(self.target, [])) if self.target is not None else set()
         static_occluders = set(view.static_occluders.get(self.target, [])) if self.target is not None else set()
         for k, artists in self._static_patches.items():
@@ -141,7 +141,7 @@ class FramePainter:
                 edge, lw, ls = TARGET_EDGE, 2.0, "--"
             patch = self.patches.Polygon(view.rings[i], facecolor=face, edgecolor=edge, lw=lw, ls=ls, zorder=2)
             patch.set_gid(gid)
-            add(ax.add_patch(patch))
+            add(ax.add_artist(patch))
         add(ax.plot(*view.observer, marker="*", color="white", mec="black", ms=10, zorder=4)[0])
         for k, s in enumerate(self.sensors):
             self._dynamic.extend(draw_sensor(ax, s, view, sensor_colour(k), limits))
@@ -174,14 +174,14 @@ class FramePainter:
             sizes.append((0.62 * points * len(text) + 2, 1.25 * points))
             texts.append(text)
         from_pixels = ax.transData.inverted().transform
-        halo = [require("matplotlib.patheffects").withStroke(linewidth=2, foreground="white")]
+        backing = {"boxstyle": "square,pad=0.1", "facecolor": "white", "alpha": 0.75, "lw": 0}
         out = []
         for text, box in zip(texts, place_labels(boxes, sizes, area), strict=True):
             if box is None:
                 continue
             x, y = from_pixels(((box[0] + box[2]) / 2, (box[1] + box[3]) / 2))
             out.append(ax.text(x, y, text, ha="center", va="center", fontsize=LABEL_SIZE, zorder=5, clip_on=True,
-                               path_effects=halo, gid="label"))  # fmt: skip
+                               bbox=backing, gid="label"))  # fmt: skip
         return out
 
 

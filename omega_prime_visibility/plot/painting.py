@@ -128,7 +128,7 @@ def draw_sensor(ax: Any, s: Sensor, view: FrameView, colour: str, limits: tuple[
     else:
         half = math.degrees(s.fov) / 2
         shape = patches.Wedge(pos, radius, math.degrees(heading) - half, math.degrees(heading) + half, **style)
-    out = [] if s.fov >= 2 * math.pi - 1e-9 and math.isinf(s.range) else [ax.add_patch(shape)]
+    out = [] if s.fov >= 2 * math.pi - 1e-9 and math.isinf(s.range) else [ax.add_artist(shape)]
     out.extend(ax.plot(*pos, marker="o", ms=3, color=colour, mec="white", mew=0.5, zorder=4))
     return out
 
