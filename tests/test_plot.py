@@ -176,6 +176,10 @@ def test_the_window_holds_every_object_that_comes_within_the_view_range() -> Non
     assert x1 - x0 < 2 * 70  # the car out of range does not stretch the window (the axes' shape may widen it)
     assert (x0 + x1) / 2 == pytest.approx(0) and (y0 + y1) / 2 == pytest.approx(0)
     assert y1 - y0 > x1 - x0  # a tall window for a street running north-south
-    (bar,) = [a for a in ax.artists if a.get_gid() == "scale bar"]
-    length = float(bar.txt_label.get_text().removesuffix(" m"))
+    (bar,) = by_gid(ax, "scale bar")
+    (label,) = [t for t in ax.texts if t.get_gid() == "scale bar label"]
+    (bx0, bx1), (by0, by1) = bar.get_data()
+    length = float(label.get_text().removesuffix(" m"))
+    assert bx1 - bx0 == pytest.approx(length) and by0 == by1  # a horizontal bar as long as its label says
     assert length in (1, 2, 5, 10, 20, 50, 100) and (x1 - x0) / 12 <= length <= (x1 - x0) / 5
+    assert x0 < bx0 < bx1 < x1 and y0 < by0 < y1  # on the picture

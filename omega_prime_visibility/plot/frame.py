@@ -18,7 +18,7 @@ import shapely
 from ._optional import require
 from .data import FrameView, FrameViewer, Source, frames_table, load_source, sensor_list
 from .labels import place_labels
-from .painting import draw_lanes, draw_sensor, draw_statics, legend_handles, scale_bar, sensor_field
+from .painting import ScaleBar, draw_lanes, draw_sensor, draw_statics, legend_handles, sensor_field
 from .style import (
     EGO_EDGE,
     EGO_FACE,
@@ -65,6 +65,8 @@ class FramePainter:
         self.window = window
         self.cmap, self.norm = plt.get_cmap(cmap), colors.Normalize(0.0, 1.0)
         self._dynamic: list[Any] = []
+        self._label_pool: list[Any] = []
+        self._scale: Any = None
         draw_lanes(ax, source.lanes)
         self._static_patches = draw_statics(ax, source.statics)
         if colorbar:
@@ -98,7 +100,7 @@ class FramePainter:
         box = self.ax.get_position(original=True)
         width, height = fig.get_size_inches()
         self.window = self.window.fitted((box.width * width) / (box.height * height))
-        scale_bar(self.ax, 2 * self.window.half_width)
+        self._scale = ScaleBar(self.ax, 2 * self.window.half_width)
         return self.window
 
     # -- every frame ------------------------------------------------------------------------------------------
@@ -116,6 +118,8 @@ class FramePainter:
             limits = (x0, x1, y0, y1)
         ax.set_xlim(limits[0], limits[1])
         ax.set_ylim(limits[2], limits[3])
+        if self._scale is not None:
+            self._scale.place(limits)
         region = view.region
         if self.sensors:  # what the sensors can cover: their fields of view within range
             region = shapely.intersection(region, sensor_field(self.sensors, view, limits))
@@ -174,15 +178,18 @@ class FramePainter:
             sizes.append((0.62 * points * len(text) + 2, 1.25 * points))
             texts.append(text)
         from_pixels = ax.transData.inverted().transform
+        shown = [(t, b) for t, b in zip(texts, place_labels(boxes, sizes, area), strict=True) if b is not None]
         backing = {"boxstyle": "square,pad=0.1", "facecolor": "white", "alpha": 0.75, "lw": 0}
-        out = []
-        for text, box in zip(texts, place_labels(boxes, sizes, area), strict=True):
-            if box is None:
-                continue
-            x, y = from_pixels(((box[0] + box[2]) / 2, (box[1] + box[3]) / 2))
-            out.append(ax.text(x, y, text, ha="center", va="center", fontsize=LABEL_SIZE, zorder=5, clip_on=True,
-                               bbox=backing, gid="label"))  # fmt: skip
-        return out
+        while len(self._label_pool) < len(shown):  # text artists are reused from frame to frame: far faster
+            self._label_pool.append(ax.text(0, 0, "", ha="center", va="center", fontsize=LABEL_SIZE, zorder=5,
+                                            clip_on=True, bbox=backing, gid="label"))  # fmt: skip
+        for k, label in enumerate(self._label_pool):
+            if k < len(shown):
+                text, box = shown[k]
+                label.set_text(text)
+                label.set_position(from_pixels(((box[0] + box[2]) / 2, (box[1] + box[3]) / 2)))
+            label.set_visible(k < len(shown))
+        return []
 
 
 def picture_viewer(

@@ -77,17 +77,23 @@ def nice_length(width: float) -> float:
     return float(max(m * power for m in (1, 2, 5) if m * power <= target))
 
 
-def scale_bar(ax: Any, width: float) -> Any:
-    """A scale bar of :func:`nice_length` metres in the lower right corner of the scene."""
-    sizebar = require("mpl_toolkits.axes_grid1.anchored_artists").AnchoredSizeBar
-    length = nice_length(width)
-    bar = sizebar(ax.transData, length, f"{length:g} m", "lower right", pad=0.4, borderpad=0.6, sep=3, frameon=True,
-                  size_vertical=0, fontproperties={"size": 7})  # fmt: skip
-    bar.patch.set(alpha=0.8, lw=0)
-    bar.set_gid("scale bar")
-    bar.set_zorder(6)
-    ax.add_artist(bar)
-    return bar
+class ScaleBar:
+    """A scale bar of :func:`nice_length` metres (for a scene ``width`` metres wide) in the lower right corner of
+    the scene: a line in data coordinates (so it keeps its length in metres) and its label, moved with the view
+    by :meth:`place` (two artists, cheap to draw in every frame of an animation)."""
+
+    def __init__(self, ax: Any, width: float) -> None:
+        self.ax, self.length = ax, nice_length(width)
+        (self.line,) = ax.plot([], [], color="#222222", lw=2, solid_capstyle="butt", zorder=6, gid="scale bar")
+        self.label = ax.text(0, 0, f"{self.length:g} m", ha="center", va="bottom", fontsize=7, zorder=6,
+                             gid="scale bar label")  # fmt: skip
+
+    def place(self, limits: tuple[float, float, float, float]) -> None:
+        """Put the bar 4 % of the width in from the right and 6 % of the height up from the bottom of ``limits``."""
+        x0, x1, y0, y1 = limits
+        right, y = x1 - 0.04 * (x1 - x0), y0 + 0.06 * (y1 - y0)
+        self.line.set_data([right - self.length, right], [y, y])
+        self.label.set_position((right - self.length / 2, y + 0.01 * (y1 - y0)))
 
 
 def sensor_pose(s: Sensor, view: FrameView) -> tuple[np.ndarray, float]:
