@@ -183,3 +183,27 @@ def test_the_window_holds_every_object_that_comes_within_the_view_range() -> Non
     assert bx1 - bx0 == pytest.approx(length) and by0 == by1  # a horizontal bar as long as its label says
     assert length in (1, 2, 5, 10, 20, 50, 100) and (x1 - x0) / 12 <= length <= (x1 - x0) / 5
     assert x0 < bx0 < bx1 < x1 and y0 < by0 < y1  # on the picture
+
+
+def test_lanes_are_simplified_merged_and_prepared_once_per_map() -> None:
+    from types import SimpleNamespace
+
+    from omega_prime_visibility.plot.lanes import prepared_lanes
+
+    # two overlapping lanes, each outline with 2,001 vertices along a straight 100 m edge (as OpenDRIVE maps have)
+    edge = np.linspace(0, 100, 2001)
+
+    def lane(y0, y1):
+        return shapely.Polygon(np.r_[np.c_[edge, np.full_like(edge, y0)], np.c_[edge[::-1], np.full_like(edge, y1)]])
+
+    road_map = SimpleNamespace(lanes={1: SimpleNamespace(polygon=lane(0, 3.5), centerline=None),
+                                      2: SimpleNamespace(polygon=lane(3.0, 6.5), centerline=None)})  # fmt: skip
+    lanes = prepared_lanes(road_map)
+    (ring,) = lanes.surfaces  # one road surface, shaded once where the lanes overlap
+    assert shapely.Polygon(ring).area == pytest.approx(100 * 6.5) and len(ring) <= 10
+    assert prepared_lanes(road_map) is lanes  # cached for this map
+    # a ring road keeps its hole, running the other way round
+    ring_road = shapely.box(0, 0, 50, 50).difference(shapely.box(10, 10, 40, 40))
+    outer, hole = prepared_lanes([ring_road]).surfaces
+    assert shapely.LinearRing(outer).is_ccw and not shapely.LinearRing(hole).is_ccw
+    assert np.ptp(lanes.points[:, 0]) == pytest.approx(100) and np.diff(np.sort(lanes.points[:, 0])).max() <= 5.0

@@ -31,7 +31,8 @@ class Lanes:
     Attributes
     ----------
     surfaces : list of ndarray, shape (k, 2)
-        Exterior rings of the lane surfaces, metres.
+        Rings of the road surface (the union of the lane surfaces, so overlapping lanes are not shaded twice):
+        each polygon's exterior counter-clockwise, then its holes clockwise, metres.
     centres : list of ndarray, shape (k, 2)
         Centre lines (or other lines given as lanes), metres.
     points : ndarray, shape (m, 2)
@@ -96,12 +97,19 @@ def _prepare(shapes: list[shapely.Geometry]) -> Lanes:
     if not shapes:
         return Lanes()
     simple = shapely.simplify(np.asarray(shapes, dtype=object), TOLERANCE)
-    surfaces, centres = [], []
+    polygons, centres = [], []
     for g in simple:
         for part in getattr(g, "geoms", [g]):
             if isinstance(part, shapely.Polygon) and not part.is_empty:
-                surfaces.append(np.asarray(part.exterior.coords)[:, :2])
+                polygons.append(part)
             elif isinstance(part, shapely.LineString | shapely.LinearRing) and not part.is_empty:
                 centres.append(np.asarray(part.coords)[:, :2])
+    surfaces = []
+    if polygons:
+        road = shapely.union_all(shapely.make_valid(np.asarray(polygons, dtype=object)))
+        for part in getattr(road, "geoms", [road]):
+            if isinstance(part, shapely.Polygon) and not part.is_empty:
+                part = shapely.geometry.polygon.orient(part, 1.0)
+                surfaces.extend(np.asarray(ring.coords)[:, :2] for ring in (part.exterior, *part.interiors))
     points = shapely.get_coordinates(shapely.segmentize(simple, POINT_SPACING))
     return Lanes(surfaces, centres, points)

@@ -35,8 +35,10 @@ def draw_lanes(ax: Any, lanes: Lanes) -> None:
     """Lane surfaces in translucent grey (the visible region shows through) and centre lines dashed, under the
     objects, as two collections (fast to draw whatever the map's size; they do not change the axes' limits)."""
     collections = require("matplotlib.collections")
-    if lanes.surfaces:
-        surfaces = collections.PolyCollection(lanes.surfaces, facecolors=LANE_FACE, linewidths=0, alpha=0.6, zorder=-2)
+    if lanes.surfaces:  # one compound path: holes stay holes (they run the other way round)
+        path = require("matplotlib.path").Path
+        road = path.make_compound_path(*[path(ring, closed=True) for ring in lanes.surfaces])
+        surfaces = collections.PathCollection([road], facecolors=LANE_FACE, linewidths=0, alpha=0.6, zorder=-2)
         surfaces.set_gid("lane")
         ax.add_collection(surfaces, autolim=False)
     if lanes.centres:

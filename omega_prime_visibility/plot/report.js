@@ -31,8 +31,9 @@
   const world = el("g", { id: "world" }, svg);
   const regionLayer = el("g", { id: "region" }, world);
   const staticLayer = el("g", { id: "statics" }, world);
-  for (const surface of data.surfaces) {
-    el("polygon", { points: pts(surface), fill: "#b4b4b4", "fill-opacity": 0.6, stroke: "none" }, staticLayer);
+  if (data.surfaces.length) {  // the road surface: one path, its holes by the even-odd rule
+    const d = data.surfaces.map((ring) => "M " + pts(ring).split(" ").join(" L ") + " Z").join(" ");
+    el("path", { d: d, fill: "#b4b4b4", "fill-opacity": 0.6, "fill-rule": "evenodd", stroke: "none" }, staticLayer);
   }
   for (const lane of data.lanes) {
     el("polyline", { points: pts(lane), fill: "none", stroke: "#9a9a9a", "stroke-width": 0.15,
