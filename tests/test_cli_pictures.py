@@ -77,6 +77,27 @@ def test_animate_and_report_take_static_and_mode_3d(tmp_path) -> None:
     assert out.returncode == 0, out.stderr
     page = (tmp_path / "r.html").read_text()
     assert '"statics":[{"kind":"line","points":[60.0,-5.4,140.0,-5.4]}]' in page  # the rail is in the scene
+    # the scene shows the 3D numbers (the rail 100 m high by default: a wall), which differ from the 2D ones
+    import json
+    import re
+    import warnings
+
+    import polars as pl
+    import shapely
+
+    from omega_prime_visibility import get_visibility_df
+    from omega_prime_visibility.inputs.io import read_recording
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = read_recording(MCAP)
+        rail_line = [shapely.LineString([(60, -5.4), (140, -5.4)])]
+        want = get_visibility_df(r, 0, rail_line, mode="3d", progress=False).filter(pl.col("frame") == 30)
+        flat = get_visibility_df(r, 0, rail_line, progress=False).filter(pl.col("frame") == 30)
+    scene = json.loads(re.search(r'<script id="scene-data" type="application/json">(.*?)</script>', page, re.S)[1])
+    got = {o["idx"]: o["vis"] for o in scene["frames"][0]["objects"] if not o["ego"]}
+    assert got == pytest.approx(dict(want.select("idx", "visibility").rows()), abs=1e-4)
+    assert got != pytest.approx(dict(flat.select("idx", "visibility").rows()), abs=1e-4)
 
 
 @pytest.mark.parametrize(

@@ -207,3 +207,20 @@ def test_lanes_are_simplified_merged_and_prepared_once_per_map() -> None:
     outer, hole = prepared_lanes([ring_road]).surfaces
     assert shapely.LinearRing(outer).is_ccw and not shapely.LinearRing(hole).is_ccw
     assert np.ptp(lanes.points[:, 0]) == pytest.approx(100) and np.diff(np.sort(lanes.points[:, 0])).max() <= 5.0
+
+
+def test_labels_never_overlap_even_on_a_crowded_frame() -> None:
+    # a queue of small cars nose to tail (0.2 m apart) ahead of the ego, and two beside it: their labels are wider
+    # than a car, so they cannot all go above their cars
+    # (a car 30 m away widens the window, so the labels are wide against the cars' spacing)
+    queue = [(4 + 1.2 * k, 0, 1.0, 1, 0) for k in range(6)]
+    boxes = [(0, 0, 4, 2, 0), *queue, (0, 2.5, 3, 1.5, 0), (0, -2.5, 3, 1, 0), (0, 30, 4, 2, 0)]
+    ax = plot_frame(boxes_table(boxes), 0, 0, view_range=40)
+    ax.figure.canvas.draw()
+    renderer = ax.figure.canvas.get_renderer()
+    labels = [t for t in ax.texts if t.get_gid() == "label" and t.get_visible()]
+    assert "ego 0" in [t.get_text() for t in labels]  # the ego's label comes first
+    extents = [t.get_window_extent(renderer) for t in labels]
+    for i, a in enumerate(extents):
+        for b in extents[i + 1 :]:
+            assert not a.overlaps(b), "two labels overlap"
