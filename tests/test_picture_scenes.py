@@ -140,3 +140,28 @@ def test_with_sensors_the_colours_are_seen_by_any(tmp_path) -> None:
     assert [s["name"] for s in scene["sensors"]][:2] == ["front_camera", "front_radar"]
     assert len(scene["frames"][0]["sensors"]) == 6  # a pose per sensor, drawn as its outline
     assert "<td>any sensor</td>" in page
+
+
+def drawn(patch) -> shapely.Polygon:
+    """The polygon a region patch shades: its first ring, less the others (holes)."""
+    outer, *holes = patch.get_path().to_polygons(closed_only=False)
+    return shapely.Polygon(outer, holes)
+
+
+def test_with_sensors_the_region_shaded_is_what_the_sensors_see() -> None:
+    from omega_prime_visibility import visible_area
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = read_recording(REPO / "highway_merge.mcap")
+    ax = plot_frame(r, 0, 30, RAIL, sensors="typical")
+    x0, x1 = ax.get_xlim()
+    y0, y1 = ax.get_ylim()
+    window = shapely.box(x0, y0, x1, y1)
+    shaded = shapely.union_all([drawn(p) for p in ax.patches if p.get_gid() == "region"])
+    want = visible_area(r, 0, 30, "typical", RAIL).intersection(window)
+    # the same region on the picture, up to the arcs' chords (1°) and the outlines' holes
+    assert shaded.intersection(window).symmetric_difference(want).area < 0.01 * want.area
+    centre_only = plot_frame(r, 0, 30, RAIL)
+    all_round = shapely.union_all([drawn(p) for p in centre_only.patches if p.get_gid() == "region"])
+    assert all_round.intersection(window).symmetric_difference(want).area > 0.05 * want.area  # the test can tell

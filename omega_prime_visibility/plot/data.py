@@ -22,9 +22,10 @@ from ..inputs.objects import ObjectTable
 from ..inputs.scene import as_polars, load_objects, observer_sizes
 from ..inputs.sensors import Sensor, fitted_layout, is_layout, resolve_sensors
 from ..inputs.statics import StaticOccluders, load_static_occluders
-from ..table.pipeline import ContainmentLog, observe_frame, observer_rows, viewpoints
+from ..table.pipeline import ContainmentLog, observe_frame, observer_rows
 from ..table.schema import TableBuilder, to_polars
 from .lanes import Lanes, prepared_lanes
+from .regions import seen_region
 
 FrameSpec = range | slice | Sequence[int] | None
 
@@ -147,8 +148,9 @@ class FrameView:
         Visibility of each object from the ego (NaN for the ego itself).
     occluders, static_occluders : dict[int, list[int]]
         Per target idx, the idx of the objects (positions of the static occluders) hit before it.
-    region : shapely.Polygon
-        The region visible from the ego's centre, bounded ``margin`` metres around the scene.
+    region : shapely.Polygon or MultiPolygon
+        The region the ego sees (:func:`.regions.seen_region`: from its centre, or through its sensors), bounded
+        ``margin`` metres around the scene.
     """
 
     frame: int
@@ -232,11 +234,10 @@ class FrameViewer:
         ids = table["idx"].to_list()
         vis = dict(zip(ids, table["visibility"].to_list(), strict=True))
         lists = {c: table[c].to_list() if c in table.columns else [[]] * len(ids) for c in OCCLUDER_COLUMNS}
-        (view,) = viewpoints(fo, rows, src.statics)
         if self.region_engine is None:
             self.region_engine = VisiLibityEngine(src.statics)
         self.region_engine.box_margin = self.margin
-        region = self.region_engine.visible_region(fo, view)
+        region = seen_region(self.region_engine, fo, int(rows[0]), src.statics, self.sensors)
         return FrameView(
             frame=fo.frame,
             total_nanos=fo.total_nanos,

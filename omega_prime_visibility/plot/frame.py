@@ -18,7 +18,7 @@ import shapely
 from ._optional import require
 from .data import FrameView, FrameViewer, Source, frames_table, load_source, sensor_list
 from .labels import place_labels
-from .painting import ScaleBar, draw_lanes, draw_sensor, draw_statics, legend_handles, sensor_field
+from .painting import ScaleBar, draw_lanes, draw_sensor, draw_statics, legend_handles
 from .style import (
     EGO_EDGE,
     EGO_FACE,
@@ -120,12 +120,12 @@ class FramePainter:
         ax.set_ylim(limits[2], limits[3])
         if self._scale is not None:
             self._scale.place(limits)
-        region = view.region
-        if self.sensors:  # what the sensors can cover: their fields of view within range
-            region = shapely.intersection(region, sensor_field(self.sensors, view, limits))
-        for part in getattr(region, "geoms", [region]):
-            if isinstance(part, shapely.Polygon) and not part.is_empty:
-                patch = self.patches.Polygon(np.asarray(part.exterior.coords), facecolor=REGION_FACE, lw=0, zorder=-3)
+        path = require("matplotlib.path").Path
+        for part in getattr(view.region, "geoms", [view.region]):
+            if isinstance(part, shapely.Polygon) and not part.is_empty:  # holes stay holes (they run the other way)
+                part = shapely.geometry.polygon.orient(part, 1.0)
+                rings = [path(np.asarray(r.coords), closed=True) for r in (part.exterior, *part.interiors)]
+                patch = self.patches.PathPatch(path.make_compound_path(*rings), facecolor=REGION_FACE, lw=0, zorder=-3)
                 patch.set_gid("region")
                 add(ax.add_artist(patch))  # (add_artist: no data limits to update)
         occluders = set(view.occluders.get(self.target, [])) if self.target is not None else set()
@@ -271,8 +271,8 @@ def plot_frame(
     sensors : layout name, JSON path, Sensor or sequence of Sensors, optional
         Look through these sensors: objects are filled by the best visibility over the sensors (what
         ``seen_by_any`` gives), each sensor's field of view is outlined at its pose on the ego in its own colour,
-        and the region shaded is the part of the ego's view inside the fields of view (``"typical"`` and
-        ``"roof"`` are fitted to the ego's outline).
+        and the region shaded is what the sensors see, each from its own pose within its field and range
+        (``"typical"`` and ``"roof"`` are fitted to the ego's outline).
     lanes : bool, map or sequence of shapely geometries
         True draws the lanes of the recording's map underneath, where it has one.
     ax : matplotlib Axes, optional

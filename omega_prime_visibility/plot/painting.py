@@ -108,22 +108,6 @@ def _far(limits: tuple[float, float, float, float]) -> float:
     return 2.0 * math.hypot(limits[1] - limits[0], limits[3] - limits[2])
 
 
-def sensor_field(sensors: Sequence[Sensor], view: FrameView, limits: tuple[float, float, float, float]) -> Any:
-    """The union of the sensors' fields of view within their ranges (shapely; unlimited ones up to beyond the
-    picture), at their poses in ``view``."""
-    shapes = []
-    for s in sensors:
-        pos, heading = sensor_pose(s, view)
-        radius = min(s.range, _far(limits))
-        if s.fov >= 2 * math.pi - 1e-9:
-            shapes.append(shapely.Point(pos).buffer(radius, quad_segs=32))
-            continue
-        angles = heading + np.linspace(-s.fov / 2, s.fov / 2, max(3, int(math.degrees(s.fov))))
-        arc = pos + radius * np.c_[np.cos(angles), np.sin(angles)]
-        shapes.append(shapely.Polygon(np.vstack([pos, arc])))
-    return shapely.union_all(shapes)
-
-
 def draw_sensor(ax: Any, s: Sensor, view: FrameView, colour: str, limits: tuple[float, float, float, float]) -> list:
     """A sensor's field of view outlined in ``colour`` (its range as the arc; a circle for a 360° sensor; the two
     edges only when unlimited) and a dot at its position."""

@@ -75,8 +75,9 @@
     const [ex, ey] = f.ego;
     const view = [ex - HW, -ey - HH, 2 * HW, 2 * HH];
     svg.setAttribute("viewBox", view.join(" "));
-    for (const ring of f.region) {
-      el("polygon", { points: pts(ring), fill: "#cfe8f7", stroke: "none" }, regionLayer);
+    for (const rings of f.region) {  // a polygon: its outline, then its holes (even-odd)
+      const d = rings.map((ring) => "M " + pts(ring).split(" ").join(" L ") + " Z").join(" ");
+      el("path", { d: d, fill: "#cfe8f7", "fill-rule": "evenodd", stroke: "none" }, regionLayer);
     }
     const size = 2.2 * Math.max(HW, HH) / 60;  // label size in metres: the same on screen whatever the window
     const placed = [];

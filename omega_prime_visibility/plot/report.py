@@ -275,7 +275,7 @@ def scene_data(views: list[FrameView], source, ego_idx: int, window: Window, sen
                 "t": round(v.total_nanos / 1e9, 3),
                 "speed": round(source.ego_speed(ego_idx, v.frame), 2),
                 "ego": _coords(v.observer),
-                "region": [_coords(p.exterior.coords) for p in parts],
+                "region": [[_coords(r.coords) for r in (p.exterior, *p.interiors)] for p in parts],
                 "objects": objects,
                 "sensors": poses,
             }
