@@ -42,7 +42,18 @@ def main() -> None:
     plt.close(fig)
 
     # every second frame at 5 frames per second: real time, and small enough for a README
-    gif = animate(r, 0, DOCS / "merge.gif", rail, frames=slice(None, None, 2), fps=5, target=3, view_range=75)
+    gif = animate(
+        r,
+        0,
+        DOCS / "merge.gif",
+        rail,
+        frames=slice(None, None, 2),
+        fps=5,
+        target=3,
+        view_range=75,
+        size=(8.0, 4.5),
+        colours=48,
+    )
     size = gif.stat().st_size
     if size > GIF_LIMIT:
         raise SystemExit(f"{gif} is {size / 1e6:.2f} MB, more than the README's {GIF_LIMIT / 1e6:.0f} MB")

@@ -105,3 +105,13 @@ def test_an_interrupted_gif_keeps_the_previous_one(tmp_path, monkeypatch) -> Non
     with pytest.raises(OSError, match="disk full"):
         animate(moving_table(3), 0, target, dpi=20, progress=False)
     assert [p.name for p in tmp_path.iterdir()] == ["a.gif"] and target.read_bytes() == old
+
+
+def test_a_target_absent_from_the_frames_drawn_is_an_error(tmp_path) -> None:
+    table = moving_table(4, drop_ego_at=None).filter(~((pl.col("idx") == 1) & (pl.col("frame") < 12)))
+    with pytest.raises(ValueError, match=r"target idx 1 never occurs in the frames drawn"):
+        animate(table, 0, tmp_path / "t.gif", frames=[10, 11], target=1, progress=False)
+    with pytest.raises(ValueError, match=r"target idx 7 never occurs"):
+        animate(table, 0, tmp_path / "t.gif", target=7, progress=False)
+    assert list(tmp_path.iterdir()) == []
+    assert animate(table, 0, tmp_path / "t.gif", frames=[11, 12], target=1, dpi=30, progress=False).exists()

@@ -15,7 +15,7 @@ MCAP = REPO / "highway_merge.mcap"
 
 
 def cli(*args: str | Path) -> subprocess.CompletedProcess:
-    cmd = [sys.executable, "-m", "omega_prime_visibility.cli", *map(str, args)]
+    cmd = [sys.executable, "-m", "omega_prime_visibility", *map(str, args)]
     return subprocess.run(cmd, capture_output=True, text=True)
 
 
@@ -48,7 +48,7 @@ def test_report_writes_one_html_file(tmp_path) -> None:
 )
 def test_bad_arguments_fail_before_computing(tmp_path, args, fragments) -> None:
     out = subprocess.run(
-        [sys.executable, "-m", "omega_prime_visibility.cli", *map(str, args)], capture_output=True, text=True,
+        [sys.executable, "-m", "omega_prime_visibility", *map(str, args)], capture_output=True, text=True,
         cwd=tmp_path,
     )  # fmt: skip
     assert_error(out, *fragments)
@@ -58,4 +58,58 @@ def test_bad_arguments_fail_before_computing(tmp_path, args, fragments) -> None:
 def test_frames_that_do_not_occur_are_one_line(tmp_path) -> None:
     out = cli("animate", MCAP, "--frames", "300:400", "-o", tmp_path / "x.gif")
     assert_error(out, "frame range 300 to 400 (stop excluded) is empty", "frames 0 to 200")
+    assert files_under(tmp_path) == set()
+
+
+RAIL = '{"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {}, "geometry": {"type": "LineString", "coordinates": [[60, -5.4], [140, -5.4]]}}]}'  # noqa: E501
+
+
+def test_animate_and_report_take_static_and_mode_3d(tmp_path) -> None:
+    rail = tmp_path / "rail.geojson"
+    rail.write_text(RAIL)
+    out = cli("animate", MCAP, "--ego", "0", "--frames", "30:32", "--static", rail, "--mode", "3d", "--no-progress",
+              "-o", tmp_path / "a.gif")  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    with Image.open(tmp_path / "a.gif") as im:
+        assert im.n_frames == 2
+    out = cli("report", MCAP, "--frames", "30:32", "--static", rail, "--mode", "3d", "--no-progress",
+              "-o", tmp_path / "r.html")  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    page = (tmp_path / "r.html").read_text()
+    assert '"statics":[{"kind":"line","points":[60.0,-5.4,140.0,-5.4]}]' in page  # the rail is in the scene
+    # the scene shows the 3D numbers (the rail 100 m high by default: a wall), which differ from the 2D ones
+    import json
+    import re
+    import warnings
+
+    import polars as pl
+    import shapely
+
+    from omega_prime_visibility import get_visibility_df
+    from omega_prime_visibility.inputs.io import read_recording
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = read_recording(MCAP)
+        rail_line = [shapely.LineString([(60, -5.4), (140, -5.4)])]
+        want = get_visibility_df(r, 0, rail_line, mode="3d", progress=False).filter(pl.col("frame") == 30)
+        flat = get_visibility_df(r, 0, rail_line, progress=False).filter(pl.col("frame") == 30)
+    scene = json.loads(re.search(r'<script id="scene-data" type="application/json">(.*?)</script>', page, re.S)[1])
+    got = {o["idx"]: o["vis"] for o in scene["frames"][0]["objects"] if not o["ego"]}
+    assert got == pytest.approx(dict(want.select("idx", "visibility").rows()), abs=1e-4)
+    assert got != pytest.approx(dict(flat.select("idx", "visibility").rows()), abs=1e-4)
+
+
+@pytest.mark.parametrize(
+    ("args", "fragments"),
+    [
+        (("--target", "99"), ("target idx 99 never occurs",)),
+        (("--mode", "4d"), ("mode must be '2d' or '3d'",)),
+        (("--mode", "3d", "--engine", "sweep"), ("'sweep' is a 2d engine", "--mode 2d")),
+        (("--static", "missing.geojson"), ("missing.geojson",)),
+    ],
+)
+def test_animate_bad_target_mode_or_static_is_one_line(tmp_path, args, fragments) -> None:
+    out = cli("animate", MCAP, "--frames", "30:32", *args, "-o", tmp_path / "x.gif")
+    assert_error(out, *fragments)
     assert files_under(tmp_path) == set()

@@ -15,14 +15,15 @@ import numpy as np
 import pytest
 import shapely
 from conftest import boxes_table
-from matplotlib.patches import Arc, Circle, Wedge
+from matplotlib.colors import to_rgb
+from matplotlib.patches import Circle, Wedge
 
 import omega_prime_visibility
 from omega_prime_visibility.plot import plot_frame
 from omega_prime_visibility.plot._optional import require
 from omega_prime_visibility.sensors import Sensor
 
-CMAP = plt.get_cmap("RdYlGn")
+CMAP = plt.get_cmap("cividis")
 
 
 @pytest.fixture(autouse=True)
@@ -50,14 +51,20 @@ def test_plot_frame_colours_objects_by_visibility_and_outlines_occluders() -> No
     assert tuple(hidden.get_facecolor()) == pytest.approx(CMAP(0.0))
     assert blocker.get_linewidth() == 2.5 and blocker.get_edgecolor()[:3] == (0, 0, 0)  # occluder of the target
     assert hidden.get_linestyle() == "--"  # the target itself, dashed
-    assert ego.get_facecolor()[:3] == pytest.approx(matplotlib.colors.to_rgb("#1f5fbf"))
+    assert ego.get_facecolor()[:3] == pytest.approx(matplotlib.colors.to_rgb("#D55E00"))
     assert {"1: 100%", "2: 0%", "ego 0"} <= set(texts(ax))
     colourbar = ax.figure.axes[-1]
     assert colourbar.get_ylim() == (0.0, 1.0) and colourbar.get_ylabel().startswith("visibility")
     legend = ax.figure.legends[0] if ax.figure.legends else ax.get_legend()
     labels = [t.get_text() for t in legend.get_texts()]
-    assert "occluders of idx 2" in labels and "target idx 2" in labels
-    assert ax.get_xlim() == (-80.0, 80.0)  # view_range around the ego
+    assert "hides 2" in labels and "target 2" in labels
+    x0, x1 = ax.get_xlim()
+    y0, y1 = ax.get_ylim()
+    assert (x0 + x1) / 2 == pytest.approx(0.0) and (y0 + y1) / 2 == pytest.approx(0.0)  # centred on the ego
+    # the window: objects reach x = 22, plus 3 m; y at least 0.3 of the 80 m view range; then one side widened to
+    # the axes' shape
+    assert x1 >= 25.0 - 1e-9 and y1 >= 24.0 - 1e-9
+    assert x1 == pytest.approx(25.0) or y1 == pytest.approx(24.0)
 
 
 def test_plot_frame_half_hidden_target_gets_the_middle_colour() -> None:
@@ -82,13 +89,13 @@ def test_plot_frame_draws_sensor_wedges_at_their_pose(yaw: float) -> None:
     # mounted 1 m ahead of the ego's centre, along its heading
     assert wedge.center == pytest.approx((5 + math.cos(yaw), 5 + math.sin(yaw)))
     assert (wedge.theta1, wedge.theta2) == pytest.approx((math.degrees(yaw) - 30, math.degrees(yaw) + 30))
-    assert wedge.r == 15.0
-    (arc,) = by_gid(ax, "range cam")
-    assert isinstance(arc, Arc) and arc.width == 30.0
+    assert wedge.r == 15.0  # the range is the wedge's arc
+    assert wedge.get_fill() is False and wedge.get_edgecolor()[:3] == pytest.approx(to_rgb("#E69F00"))  # outlined
     (circle,) = [p for p in by_gid(ax, "sensor roof") if isinstance(p, Circle)]
     assert circle.get_radius() == 40.0 and circle.center == pytest.approx((5, 5))
+    assert circle.get_edgecolor()[:3] == pytest.approx(to_rgb("#0072B2"))  # the second Okabe-Ito colour
     legend = ax.figure.legends[0] if ax.figure.legends else ax.get_legend()
-    assert "cam: 60°, 15 m" in [t.get_text() for t in legend.get_texts()]
+    assert "cam 60° 15 m" in [t.get_text() for t in legend.get_texts()]
 
 
 def test_plot_frame_sensor_layouts_are_sized_to_the_ego() -> None:
@@ -114,9 +121,12 @@ def test_plot_frame_draws_given_lanes_underneath() -> None:
     df = boxes_table([(0, 0, 4, 2, 0), (20, 0, 4, 2, 0)])
     lanes = [shapely.LineString([(-50, 1.75), (50, 1.75)]), shapely.LineString([(-50, -1.75), (50, -1.75)])]
     ax = plot_frame(df, 0, 0, lanes=lanes)
-    drawn = by_gid(ax, "lane")
-    assert len(drawn) == 2 and all(line.get_zorder() < 0 for line in drawn)
-    assert np.asarray(drawn[0].get_xydata()).tolist() == [[-50, 1.75], [50, 1.75]]
+    (drawn,) = [c for c in ax.collections if c.get_gid() == "lane"]  # one collection for all centre lines
+    assert drawn.get_zorder() < 0
+    assert [np.asarray(p).tolist() for p in drawn.get_segments()] == [
+        [[-50, 1.75], [50, 1.75]],
+        [[-50, -1.75], [50, -1.75]],
+    ]
 
 
 def test_plot_frame_on_a_given_axes_returns_it() -> None:
@@ -152,3 +162,65 @@ def test_missing_plotting_library_names_the_extra(monkeypatch) -> None:
     monkeypatch.setitem(sys.modules, "vl_convert", None)  # as if not installed
     with pytest.raises(ImportError, match=r"omega-prime-visibility\[plot\]"):
         require("vl_convert")
+
+
+def test_the_window_holds_every_object_that_comes_within_the_view_range() -> None:
+    # a north-south street: the ego at the origin facing north; a pedestrian 47 m ahead; a 12 m truck whose centre
+    # is 65 m away but whose rear (at 59 m) comes within the 60 m view range; a car 70 m to the east (out of range)
+    boxes = [(0, 0, 4, 2, math.pi / 2), (0, 47, 0.6, 0.5, 0), (0, -65, 12, 2.5, math.pi / 2), (70, 0, 4, 2, 0)]
+    df = boxes_table(boxes)
+    ax = plot_frame(df, 0, 0, view_range=60)
+    x0, x1 = ax.get_xlim()
+    y0, y1 = ax.get_ylim()
+    assert y0 <= -71 - 3 + 1e-9 and y1 >= 71 + 3 - 1e-9  # the whole truck, 3 m around it, symmetric about the ego
+    assert x1 - x0 < 2 * 70  # the car out of range does not stretch the window (the axes' shape may widen it)
+    assert (x0 + x1) / 2 == pytest.approx(0) and (y0 + y1) / 2 == pytest.approx(0)
+    assert y1 - y0 > x1 - x0  # a tall window for a street running north-south
+    (bar,) = by_gid(ax, "scale bar")
+    (label,) = [t for t in ax.texts if t.get_gid() == "scale bar label"]
+    (bx0, bx1), (by0, by1) = bar.get_data()
+    length = float(label.get_text().removesuffix(" m"))
+    assert bx1 - bx0 == pytest.approx(length) and by0 == by1  # a horizontal bar as long as its label says
+    assert length in (1, 2, 5, 10, 20, 50, 100) and (x1 - x0) / 12 <= length <= (x1 - x0) / 5
+    assert x0 < bx0 < bx1 < x1 and y0 < by0 < y1  # on the picture
+
+
+def test_lanes_are_simplified_merged_and_prepared_once_per_map() -> None:
+    from types import SimpleNamespace
+
+    from omega_prime_visibility.plot.lanes import prepared_lanes
+
+    # two overlapping lanes, each outline with 2,001 vertices along a straight 100 m edge (as OpenDRIVE maps have)
+    edge = np.linspace(0, 100, 2001)
+
+    def lane(y0, y1):
+        return shapely.Polygon(np.r_[np.c_[edge, np.full_like(edge, y0)], np.c_[edge[::-1], np.full_like(edge, y1)]])
+
+    road_map = SimpleNamespace(lanes={1: SimpleNamespace(polygon=lane(0, 3.5), centerline=None),
+                                      2: SimpleNamespace(polygon=lane(3.0, 6.5), centerline=None)})  # fmt: skip
+    lanes = prepared_lanes(road_map)
+    (ring,) = lanes.surfaces  # one road surface, shaded once where the lanes overlap
+    assert shapely.Polygon(ring).area == pytest.approx(100 * 6.5) and len(ring) <= 10
+    assert prepared_lanes(road_map) is lanes  # cached for this map
+    # a ring road keeps its hole, running the other way round
+    ring_road = shapely.box(0, 0, 50, 50).difference(shapely.box(10, 10, 40, 40))
+    outer, hole = prepared_lanes([ring_road]).surfaces
+    assert shapely.LinearRing(outer).is_ccw and not shapely.LinearRing(hole).is_ccw
+    assert np.ptp(lanes.points[:, 0]) == pytest.approx(100) and np.diff(np.sort(lanes.points[:, 0])).max() <= 5.0
+
+
+def test_labels_never_overlap_even_on_a_crowded_frame() -> None:
+    # a queue of small cars nose to tail (0.2 m apart) ahead of the ego, and two beside it: their labels are wider
+    # than a car, so they cannot all go above their cars
+    # (a car 30 m away widens the window, so the labels are wide against the cars' spacing)
+    queue = [(4 + 1.2 * k, 0, 1.0, 1, 0) for k in range(6)]
+    boxes = [(0, 0, 4, 2, 0), *queue, (0, 2.5, 3, 1.5, 0), (0, -2.5, 3, 1, 0), (0, 30, 4, 2, 0)]
+    ax = plot_frame(boxes_table(boxes), 0, 0, view_range=40)
+    ax.figure.canvas.draw()
+    renderer = ax.figure.canvas.get_renderer()
+    labels = [t for t in ax.texts if t.get_gid() == "label" and t.get_visible()]
+    assert "ego 0" in [t.get_text() for t in labels]  # the ego's label comes first
+    extents = [t.get_window_extent(renderer) for t in labels]
+    for i, a in enumerate(extents):
+        for b in extents[i + 1 :]:
+            assert not a.overlaps(b), "two labels overlap"

@@ -52,7 +52,7 @@ def test_chart_colours_by_visibility_with_occluders_in_the_tooltip() -> None:
     spec = timeline_chart(table([1.0, 0.0], [[], [3]])).to_dict()
     colour = spec["encoding"]["color"]
     assert colour["field"] == "visibility" and colour["scale"]["domain"] == [0, 1]
-    assert colour["scale"]["scheme"] == "redyellowgreen"
+    assert colour["scale"]["scheme"] == "cividis"
     assert "occluders" in [t["field"] for t in spec["encoding"]["tooltip"]]
     rows = next(iter(spec["datasets"].values()))
     assert [r["occluders"] for r in rows] == ["none", "3"]
@@ -121,3 +121,13 @@ def test_an_interrupted_export_keeps_the_previous_file(tmp_path, monkeypatch) ->
     with pytest.raises(OSError, match="disk full"):
         save_timeline(table([0.5, 1.0], [[1], []]), target)
     assert [p.name for p in tmp_path.iterdir()] == ["t.svg"] and target.read_bytes() == old
+
+
+def test_status_colours_are_okabe_ito_and_tell_every_status_apart() -> None:
+    from omega_prime_visibility.plot.style import OKABE_ITO
+
+    colours = list(STATUS_COLOURS.values())
+    assert len(set(colours)) == len(colours) == 5
+    # visible, partly visible and occluded from the colour-blind-safe palette; the two "not in view" statuses grey
+    assert {STATUS_COLOURS[s] for s in ("visible", "partly_visible", "occluded")} <= set(OKABE_ITO.values())
+    assert all(c[1:3] == c[3:5] == c[5:7] for c in (STATUS_COLOURS["out_of_fov"], STATUS_COLOURS["out_of_range"]))

@@ -8,9 +8,9 @@ from typing import Annotated
 import numpy as np
 import typer
 
-from ..engines import ENGINES
+from ..engines import ENGINES, ENGINES_3D
 from .app import app
-from .common import Progress, Recording, fail, load_recording, parse_ego, parse_sensors
+from .common import Mode, Progress, Recording, Static, fail, load_recording, load_static, parse_ego, parse_sensors
 
 
 def parse_frames(frames: str) -> slice | None:
@@ -42,15 +42,22 @@ def single_ego(ego: str) -> int | None:
 
 
 def picture_inputs(
-    recording: Path, output: Path, suffixes: tuple[str, ...], engine: str, frames: str, ego: str, map_path: Path | None
+    recording: Path,
+    output: Path,
+    suffixes: tuple[str, ...],
+    engine: str | None,
+    frames: str,
+    ego: str,
+    map_path: Path | None,
+    mode: str = "2d",
 ):
-    """A picture command's checks that need no computing (engine, output path, frames, ego), then the recording
-    and its ego (``--ego``, else the host vehicle): ``(recording, ego_idx, frames)``."""
+    """A picture command's checks that need no computing (mode and engine, output path, frames, ego), then the
+    recording and its ego (``--ego``, else the host vehicle): ``(recording, ego_idx, frames, engine)``."""
     from ..table.output import check_output_path
+    from ..threed.mode import check_mode, resolve_engine
 
-    if engine not in ENGINES:
-        raise fail(f"unknown engine {engine!r}; available: {sorted(ENGINES)}")
     try:
+        engine = resolve_engine(engine, check_mode(mode))
         check_output_path(output, suffixes)
     except ValueError as e:
         raise fail(str(e)) from None
@@ -60,7 +67,7 @@ def picture_inputs(
         if r.host_vehicle_idx is None:
             raise fail("the recording names no host vehicle: pass --ego IDX")
         ego_idx = int(r.host_vehicle_idx)
-    return r, ego_idx, span
+    return r, ego_idx, span, engine
 
 
 FramesOption = Annotated[
@@ -72,7 +79,13 @@ MapOption = Annotated[
     Path | None,
     typer.Option("--map", metavar="MAP", help="OpenDRIVE map for an OSI trace, or a JSON list of [trace, map] pairs"),
 ]
-PictureEngine = Annotated[str, typer.Option(metavar="NAME", help=f"2D engine: {', '.join(sorted(ENGINES))}")]
+PictureEngine = Annotated[
+    str | None,
+    typer.Option(
+        metavar="NAME",
+        help=f"2D: {', '.join(sorted(ENGINES))} (default visilibity); 3D: {', '.join(sorted(ENGINES_3D))}",
+    ),
+]
 ViewRange = Annotated[float, typer.Option(metavar="METRES", help="metres shown each side of the ego")]
 
 
@@ -87,16 +100,23 @@ def animate(
     view_range: ViewRange = 60.0,
     target: Annotated[int | None, typer.Option(metavar="IDX", help="outline this idx and its occluders")] = None,
     sensors: Annotated[
-        str | None, typer.Option(metavar="LAYOUT", help="sensor layout to draw: 'roof', 'typical' or a .json file")
+        str | None,
+        typer.Option(
+            metavar="LAYOUT", help="look through sensors ('roof', 'typical' or a .json file): their fields drawn"
+        ),
     ] = None,
-    engine: PictureEngine = "visilibity",
+    engine: PictureEngine = None,
     map_path: MapOption = None,
+    static: Static = None,
+    mode: Mode = "2d",
     progress: Progress = True,
 ) -> None:
     """Render the scene seen from the ego, frame by frame, to an animated GIF or an MP4 video."""
     from ..plot import animate as render
 
-    r, ego_idx, span = picture_inputs(recording, output, (".gif", ".mp4"), engine, frames, ego, map_path)
+    parse_sensors(sensors)  # a bad layout or file fails here; a layout name is fitted to the ego later
+    statics = load_static(static)
+    r, ego_idx, span, engine = picture_inputs(recording, output, (".gif", ".mp4"), engine, frames, ego, map_path, mode)
     if target is not None:
         from ..inputs.observers import describe_idx
 
@@ -104,8 +124,8 @@ def animate(
         if target not in present:
             raise fail(f"target idx {target} never occurs in the recording (idx present: {describe_idx(present)})")
     try:
-        render(r, ego_idx, output, frames=span, fps=fps, follow=follow, view_range=view_range, target=target,
-               sensors=sensors, engine=engine, progress=progress)  # fmt: skip
+        render(r, ego_idx, output, statics, frames=span, fps=fps, follow=follow, view_range=view_range,
+               target=target, sensors=sensors, engine=engine, mode=mode, progress=progress)  # fmt: skip
     except (ValueError, ImportError) as e:
         raise fail(str(e)) from None
     typer.echo(f"wrote {output}")
@@ -120,20 +140,25 @@ def report(
     view_range: ViewRange = 60.0,
     sensors: Annotated[
         str | None,
-        typer.Option(metavar="LAYOUT", help="timeline and summary through sensors: 'roof', 'typical' or a .json file"),
+        typer.Option(
+            metavar="LAYOUT", help="scene, timeline and summary through sensors: 'roof', 'typical' or a .json file"
+        ),
     ] = None,
-    engine: PictureEngine = "visilibity",
+    engine: PictureEngine = None,
     map_path: MapOption = None,
+    static: Static = None,
+    mode: Mode = "2d",
     progress: Progress = True,
 ) -> None:
     """Write an interactive HTML report (frame slider, timeline, per-target summary) that works offline."""
     from ..plot import write_report
 
-    sensor_set = parse_sensors(sensors)
-    r, ego_idx, span = picture_inputs(recording, output, (".html",), engine, frames, ego, map_path)
+    parse_sensors(sensors)  # a bad layout or file fails here; a layout name is fitted to the ego later
+    statics = load_static(static)
+    r, ego_idx, span, engine = picture_inputs(recording, output, (".html",), engine, frames, ego, map_path, mode)
     try:
-        write_report(r, ego_idx, output, frames=span, view_range=view_range, engine=engine, progress=progress,
-                     title=recording.name, sensors=sensor_set)  # fmt: skip
+        write_report(r, ego_idx, output, statics, frames=span, view_range=view_range, engine=engine, mode=mode,
+                     progress=progress, title=recording.name, sensors=sensors)  # fmt: skip
     except (ValueError, ImportError) as e:
         raise fail(str(e)) from None
     typer.echo(f"wrote {output}")

@@ -13,8 +13,10 @@ from tqdm.auto import tqdm
 
 from ..table.output import atomic_write, check_output_path
 from ._optional import require
-from .data import FrameSpec, FrameViewer, load_source
-from .frame import FramePainter
+from .data import FrameSpec, load_source
+from .frame import FramePainter, check_target, picture_viewer
+from .style import OKABE_ITO
+from .window import path_limits, scene_window
 
 SUFFIXES = (".gif", ".mp4")
 PROGRESS_MIN_FRAMES = 200
@@ -33,16 +35,17 @@ def animate(
     target: int | None = None,
     sensors: Any = None,
     lanes: Any = True,
-    size: tuple[float, float] = (8.0, 3.6),
-    dpi: int = 80,
+    size: tuple[float, float] = (9.6, 5.4),
+    dpi: int = 100,
     colours: int = 64,
-    engine: str = "visilibity",
+    engine: str | None = None,
+    mode: str = "2d",
     progress: bool | None = None,
 ) -> Path:
     """Render frames seen from ``ego_idx`` to an animated GIF or an MP4 video; return the path written.
 
-    Each picture is :func:`~.frame.plot_frame`'s, with the time stamp and the ego's speed written in the top left
-    corner and a progress bar along the bottom edge.
+    Each picture is :func:`~.frame.plot_frame`'s, with the frame, the time and the ego's speed in its title and a
+    thin progress line along the bottom edge of the picture.
 
     Parameters
     ----------
@@ -62,14 +65,18 @@ def animate(
     fps : float
         Frames per second of the animation.
     follow : bool
-        Keep the ego in the middle (``view_range`` metres each side along x); False shows one fixed view covering
-        the ego's whole path.
-    target, sensors, lanes, engine
+        Keep the ego in the middle of a window that shows every object within ``view_range`` metres of it in any
+        of the frames (:mod:`.window`, the same rule as :func:`~.frame.plot_frame`'s); False shows one fixed view
+        covering the ego's whole path with that window around it.
+    target, sensors, lanes : optional
         As for :func:`~.frame.plot_frame`.
     size, dpi : (float, float), int
-        Picture size in inches and dots per inch (8 x 3.6 at 80 dpi: 640 x 288 pixels).
+        Picture size in inches and dots per inch (9.6 x 5.4 at 100 dpi: 960 x 540 pixels).
     colours : int
         GIF palette size per frame (2 to 256; fewer makes smaller files).
+    engine, mode : str
+        As for ``get_visibility_df``: ``mode="3d"`` colours the objects by their 3D visibility (the region shaded
+        is still the bird's-eye one).
     progress : bool, optional
         Show a progress bar while rendering; by default for ``PROGRESS_MIN_FRAMES`` frames or more.
 
@@ -79,7 +86,7 @@ def animate(
     >>> cars = pl.DataFrame({"frame": [0, 0, 1, 1], "total_nanos": [0, 0, 10**8, 10**8], "idx": [0, 1, 0, 1],
     ...                      "x": [0.0, 20.0, 2.0, 21.0], "y": [0.0, 0.0, 0.0, 0.0], "length": [4.0] * 4,
     ...                      "width": [2.0] * 4, "yaw": [0.0] * 4})
-    >>> out = animate(cars, 0, pathlib.Path(tempfile.mkdtemp()) / "two.gif", view_range=30)
+    >>> out = animate(cars, 0, pathlib.Path(tempfile.mkdtemp()) / "two.gif", view_range=30, dpi=40)
     >>> out.stat().st_size > 0
     True
     """
@@ -94,10 +101,12 @@ def animate(
         require("PIL", "writing GIF")
     source = load_source(df, static_occluder_polys, lanes)
     positions = source.positions(frames)
-    viewer = FrameViewer(source, ego_idx, engine, margin=3 * view_range)
+    check_target(source, target, positions)
+    viewer = picture_viewer(df, source, ego_idx, static_occluder_polys, positions, view_range, sensors=sensors,
+                            engine=engine, mode=mode)  # fmt: skip
     pictures = render(
-        source, viewer, positions, follow=follow, view_range=view_range, target=target, sensors=sensors,
-        size=size, dpi=dpi, progress=len(positions) >= PROGRESS_MIN_FRAMES if progress is None else progress,
+        source, viewer, positions, follow=follow, view_range=view_range, target=target, size=size, dpi=dpi,
+        progress=len(positions) >= PROGRESS_MIN_FRAMES if progress is None else progress,
     )  # fmt: skip
     with atomic_write(output) as temp:
         if output.suffix == ".gif":
@@ -107,32 +116,33 @@ def animate(
     return output
 
 
-def render(source, viewer, positions, *, follow, view_range, target, sensors, size, dpi, progress):
+def render(source, viewer, positions, *, follow, view_range, target, size, dpi, progress):
     """Yield one RGB picture (uint8 array, shape (h, w, 3)) per frame position."""
-    matplotlib = require("matplotlib")
+    require("matplotlib")
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
     from matplotlib.patches import Rectangle
 
-    del matplotlib
     fig = Figure(figsize=size, dpi=dpi, layout="constrained")
     canvas = FigureCanvasAgg(fig)
     ax = fig.add_subplot()
-    painter = FramePainter(ax, source, viewer.ego_idx, target=target, sensors=sensors, view_range=view_range)
-    limits = None if follow else fixed_limits(source, viewer, positions, view_range)
-    stamp = ax.text(
-        0.01, 0.97, "", transform=ax.transAxes, va="top", fontsize=8, zorder=10,
-        bbox={"facecolor": "white", "alpha": 0.85, "lw": 0, "pad": 2},
-    )  # fmt: skip
-    # the progress bar: a thin grey track along the bottom edge, filled in dark grey up to the current frame
-    ax.add_patch(Rectangle((0, 0), 1, 0.018, transform=ax.transAxes, facecolor="#dddddd", lw=0, zorder=9))
-    bar = ax.add_patch(Rectangle((0, 0), 0, 0.018, transform=ax.transAxes, facecolor="#555555", lw=0, zorder=10))
+    window = scene_window(source.objects, viewer.ego_idx, positions, view_range, source.lanes.points)
+    painter = FramePainter(ax, source, viewer.ego_idx, target=target, sensors=viewer.sensors, window=window,
+                           legend_columns=5)  # fmt: skip
+    # no tick labels: a scene that follows the ego has the scale bar for metres, and each frame draws far less text
+    ax.set(xticks=[], yticks=[], xlabel="", ylabel="")
+    window = painter.fit()
+    limits = None if follow else path_limits(source.objects, viewer.ego_idx, positions, window)
+    # progress: a thin line along the bottom edge of the picture, outside the scene, drawn over each frame
+    bar = Rectangle((0, 0), 0, 0.006, transform=fig.transFigure, facecolor=OKABE_ITO["blue"], lw=0, zorder=10)
+    fig.add_artist(bar)
     n = len(positions)
     for j, k in enumerate(tqdm(positions.tolist(), desc="frames", unit="frame", disable=not progress)):
         view = viewer.view(k)
-        painter.draw(view, limits)
         speed = source.ego_speed(viewer.ego_idx, view.frame)
-        stamp.set_text(f"t = {view.total_nanos / 1e9:.2f} s, ego speed {speed:.1f} m/s ({speed * 3.6:.0f} km/h)")
+        clock = f"frame {view.frame}, t = {view.total_nanos / 1e9:.2f} s, ego {viewer.ego_idx} at "
+        clock += f"{speed:.1f} m/s ({speed * 3.6:.0f} km/h)" if np.isfinite(speed) else "unknown speed"
+        painter.draw(view, limits, title=clock)
         bar.set_width((j + 1) / n)
         if j == 0:
             # lay out once and keep every frame's axes where the first frame's are; what lies outside the scene's
@@ -140,27 +150,15 @@ def render(source, viewer, positions, *, follow, view_range, target, sensors, si
             canvas.draw()
             fig.set_layout_engine("none")
             ax.set_visible(False)
+            bar.set_visible(False)
             canvas.draw()
             background = canvas.copy_from_bbox(fig.bbox)
             ax.set_visible(True)
+            bar.set_visible(True)
         canvas.restore_region(background)
         ax.draw(canvas.get_renderer())
+        bar.draw(canvas.get_renderer())
         yield np.asarray(canvas.buffer_rgba())[:, :, :3].copy()
-
-
-def fixed_limits(source, viewer, positions, view_range: float) -> tuple[float, float, float, float]:
-    """One view for all frames: the ego's path over ``positions``, ``view_range`` metres around it along x."""
-    objects = source.objects
-    points = []
-    for k in positions.tolist():
-        s, e = objects.frame_starts[k], objects.frame_starts[k + 1]
-        rows = np.flatnonzero(objects.idx[s:e] == viewer.ego_idx)
-        if len(rows):
-            points.append(objects.position[s + rows[0]])
-    path = np.asarray(points)
-    x0, y0 = path.min(axis=0)
-    x1, y1 = path.max(axis=0)
-    return x0 - view_range, x1 + view_range, y0 - 0.35 * view_range, y1 + 0.35 * view_range
 
 
 def write_gif(pictures, path: Path, fps: float, colours: int) -> None:

@@ -22,8 +22,10 @@ from ..inputs.objects import ObjectTable
 from ..inputs.scene import as_polars, load_objects, observer_sizes
 from ..inputs.sensors import Sensor, fitted_layout, is_layout, resolve_sensors
 from ..inputs.statics import StaticOccluders, load_static_occluders
-from ..table.pipeline import ContainmentLog, observe_frame, observer_rows, viewpoints
+from ..table.pipeline import ContainmentLog, observe_frame, observer_rows
 from ..table.schema import TableBuilder, to_polars
+from .lanes import Lanes, prepared_lanes
+from .regions import seen_region
 
 FrameSpec = range | slice | Sequence[int] | None
 
@@ -40,14 +42,14 @@ class Source:
         The static occluders.
     table : polars.DataFrame
         The input's ``frame, total_nanos, idx, x, y`` (and ``vel_x, vel_y`` where present), for speeds.
-    lanes : list of (shapely Polygon or None, shapely LineString or None)
-        Lane surfaces and centre lines from the recording's map (empty without a map).
+    lanes : Lanes
+        Lane surfaces and centre lines from the recording's map, simplified for drawing (empty without a map).
     """
 
     objects: ObjectTable
     statics: StaticOccluders
     table: pl.DataFrame
-    lanes: list[tuple[Any, Any]] = field(default_factory=list)
+    lanes: Lanes = field(default_factory=Lanes)
 
     @property
     def frames(self) -> np.ndarray:
@@ -122,26 +124,7 @@ def load_source(df: Any, static_occluder_polys: Sequence[shapely.Geometry] | Non
     keep = [c for c in ("frame", "total_nanos", "idx", "x", "y", "vel_x", "vel_y") if c in table.columns]
     if lanes is True:
         lanes = getattr(df, "map", None)
-    return Source(objects, statics, table.select(keep), lane_shapes(lanes))
-
-
-def lane_shapes(lanes: Any) -> list[tuple[Any, Any]]:
-    """``(surface polygon or None, centre line or None)`` per lane of a map, or per geometry of a sequence."""
-    if lanes is None or lanes is False:
-        return []
-    if hasattr(lanes, "lanes"):
-        out = []
-        for lane in lanes.lanes.values():
-            surface = getattr(lane, "polygon", None)
-            centre = getattr(lane, "centerline", None)
-            out.append((surface if isinstance(surface, shapely.Geometry) else None, centre))
-        return out
-    out = []
-    for g in lanes:
-        if not isinstance(g, shapely.Geometry):
-            raise ValueError(f"lanes must be shapely geometries or a map with lanes, not {type(g).__name__}")
-        out.append((g, None) if isinstance(g, shapely.Polygon | shapely.MultiPolygon) else (None, g))
-    return out
+    return Source(objects, statics, table.select(keep), prepared_lanes(lanes))
 
 
 @dataclass
@@ -165,8 +148,9 @@ class FrameView:
         Visibility of each object from the ego (NaN for the ego itself).
     occluders, static_occluders : dict[int, list[int]]
         Per target idx, the idx of the objects (positions of the static occluders) hit before it.
-    region : shapely.Polygon
-        The region visible from the ego's centre, bounded ``margin`` metres around the scene.
+    region : shapely.Polygon or MultiPolygon
+        The region the ego sees (:func:`.regions.seen_region`: from its centre, or through its sensors), bounded
+        ``margin`` metres around the scene.
     """
 
     frame: int
@@ -188,37 +172,72 @@ class FrameView:
 
 
 class FrameViewer:
-    """Computes :class:`FrameView` of one ego frame after frame, with one engine for all of them."""
+    """Computes :class:`FrameView` of one ego frame after frame, with one engine for all of them.
 
-    def __init__(self, source: Source, ego_idx: int, engine: str = "visilibity", margin: float = 200.0) -> None:
+    Parameters
+    ----------
+    source : Source
+    ego_idx : int
+    engine : str
+        2D engine of the visibility values (the visible region is always VisiLibity's).
+    margin : float
+        Metres around the scene up to which the visible region is drawn.
+    sensors : sequence of Sensor, optional
+        Look through these sensors (as ``get_visibility_df(sensors=...)``); an object's ``visibility`` is then the
+        best over the sensors and its occluders those of any sensor, as :func:`~omega_prime_visibility.seen_by_any`
+        combines them.
+    table : polars.DataFrame, optional
+        A visibility table of this ego computed elsewhere (e.g. in 3D, or through sensors): the views take their
+        numbers from it (combined over ``sensor`` as above) instead of computing them.
+    """
+
+    def __init__(
+        self,
+        source: Source,
+        ego_idx: int,
+        engine: str = "visilibity",
+        margin: float = 200.0,
+        sensors: Sequence[Sensor] = (),
+        table: pl.DataFrame | None = None,
+    ) -> None:
         if ego_idx not in set(np.unique(source.objects.idx).tolist()):
             raise ValueError(f"ego idx {ego_idx} never occurs in the table")
         self.source, self.ego_idx = source, int(ego_idx)
-        self.engine = get_engine(engine)(source.statics)
-        self.region_engine = self.engine if isinstance(self.engine, VisiLibityEngine) else None
+        self.sensors = tuple(sensors)
         self.margin = margin
+        self.tables = None if table is None else {k[0]: t for k, t in table.partition_by("frame", as_dict=True).items()}
+        self.engine = None if table is not None else get_engine(engine)(source.statics)
+        self.region_engine = self.engine if isinstance(self.engine, VisiLibityEngine) else None
+
+    def frame_table(self, k: int) -> pl.DataFrame:
+        """The visibility table of the ``k``-th frame (0-based position), per sensor where there are sensors."""
+        fo = self.source.objects.frame_objects(k)
+        if self.tables is not None:
+            return self.tables.get(fo.frame, pl.DataFrame(schema={"idx": pl.Int64, "visibility": pl.Float64}))
+        builder = TableBuilder()
+        with warnings.catch_warnings():  # containment is told by get_visibility_df; a picture need not repeat it
+            warnings.simplefilter("ignore")
+            sensors = self.sensors or None
+            observe_frame(self.engine, self.source.statics, fo, np.array([self.ego_idx]), builder, ContainmentLog(),
+                          sensors)  # fmt: skip
+        names = [s.name for s in self.sensors] if self.sensors else None
+        return to_polars(builder.arrays(), with_ego=False, sensor_names=names)
 
     def view(self, k: int) -> FrameView:
         """The view of the ``k``-th frame (0-based position)."""
         src = self.source
         fo = src.objects.frame_objects(k)
-        egos = np.array([self.ego_idx])
-        rows = observer_rows(fo, egos)
+        rows = observer_rows(fo, np.array([self.ego_idx]))
         if len(rows) == 0:
             raise ValueError(f"ego idx {self.ego_idx} is not present in frame {fo.frame}")
-        builder = TableBuilder()
-        with warnings.catch_warnings():  # containment is told by get_visibility_df; a picture need not repeat it
-            warnings.simplefilter("ignore")
-            observe_frame(self.engine, src.statics, fo, egos, builder, ContainmentLog())
-        table = to_polars(builder.arrays(), with_ego=False)
-        vis = dict(zip(table["idx"].to_list(), table["visibility"].to_list(), strict=True))
-        occ = dict(zip(table["idx"].to_list(), table["occluder_idxs"].to_list(), strict=True))
-        static = dict(zip(table["idx"].to_list(), table["static_occluder_idxs"].to_list(), strict=True))
-        (view,) = viewpoints(fo, rows, src.statics)
+        table = combined(self.frame_table(k))
+        ids = table["idx"].to_list()
+        vis = dict(zip(ids, table["visibility"].to_list(), strict=True))
+        lists = {c: table[c].to_list() if c in table.columns else [[]] * len(ids) for c in OCCLUDER_COLUMNS}
         if self.region_engine is None:
             self.region_engine = VisiLibityEngine(src.statics)
         self.region_engine.box_margin = self.margin
-        region = self.region_engine.visible_region(fo, view)
+        region = seen_region(self.region_engine, fo, int(rows[0]), src.statics, self.sensors)
         return FrameView(
             frame=fo.frame,
             total_nanos=fo.total_nanos,
@@ -227,11 +246,52 @@ class FrameViewer:
             position=fo.position.copy(),
             yaw=fo.yaw.copy(),
             ego_row=int(rows[0]),
-            visibility=np.array([vis.get(i, np.nan) for i in fo.idx.tolist()]),
-            occluders={i: list(v) for i, v in occ.items()},
-            static_occluders={i: list(v) for i, v in static.items()},
+            visibility=np.array([vis.get(i, np.nan) for i in fo.idx.tolist()], dtype=float),
+            occluders={i: list(v or []) for i, v in zip(ids, lists["occluder_idxs"], strict=True)},
+            static_occluders={i: list(v or []) for i, v in zip(ids, lists["static_occluder_idxs"], strict=True)},
             region=region,
         )
+
+
+OCCLUDER_COLUMNS = ("occluder_idxs", "static_occluder_idxs")
+
+
+def combined(table: pl.DataFrame) -> pl.DataFrame:
+    """One row per target: ``visibility`` the best over the table's sensors (as ``seen_by_any`` gives it), the
+    occluders those of any sensor; a table without ``sensor`` as it is.
+
+    >>> t = pl.DataFrame({"idx": [2, 2], "sensor": ["a", "b"], "visibility": [0.25, 0.5],
+    ...                   "occluder_idxs": [[1], [3]], "static_occluder_idxs": [[], []]})
+    >>> combined(t).rows()
+    [(2, 0.5, [1, 3], [])]
+    """
+    if "sensor" not in table.columns:
+        return table
+    present = [c for c in OCCLUDER_COLUMNS if c in table.columns]
+    return (
+        table.group_by("idx")
+        .agg(pl.col("visibility").max(), *[pl.col(c).flatten().drop_nulls().unique().sort() for c in present])
+        .sort("idx")
+    )
+
+
+def frames_table(
+    df: Any,
+    ego_idx: int,
+    static_occluder_polys: Sequence[shapely.Geometry] | None,
+    frame_numbers: Sequence[int],
+    *,
+    sensors: Sequence[Sensor] = (),
+    mode: str = "2d",
+    engine: str | None = None,
+) -> pl.DataFrame:
+    """The visibility table of ``ego_idx`` in the frames ``frame_numbers`` only, by ``get_visibility_df`` (for
+    what the per-frame views do not compute themselves, such as ``mode="3d"``)."""
+    from ..api import get_visibility_df
+
+    rows = as_polars(df).filter(pl.col("frame").is_in(list(frame_numbers)))
+    return get_visibility_df(rows, ego_idx, static_occluder_polys, engine=engine, sensors=list(sensors) or None,
+                             mode=mode, progress=False)  # fmt: skip
 
 
 def sensor_list(sensors: Any, source: Source, ego_idx: int) -> tuple[Sensor, ...]:

@@ -2,7 +2,8 @@
 occluders of a chosen target, static occluders and map lanes (matplotlib).
 
 Every drawn object carries a ``gid`` naming what it is (``"object 3"``, ``"ego"``, ``"region"``,
-``"static 0"``, ``"sensor front_camera"``, ``"lane"``), so figures can be checked and styled after the fact.
+``"static 0"``, ``"sensor front_camera"``, ``"lane"``, ``"scale bar"``), so figures can be checked and styled after
+the fact. What part of the scene is shown follows :mod:`.window`'s rule.
 """
 
 from __future__ import annotations
@@ -14,24 +15,32 @@ from typing import Any
 import numpy as np
 import shapely
 
-from ..inputs.sensors import sensor_poses
 from ._optional import require
-from .data import FrameView, FrameViewer, Source, load_source, sensor_list
+from .data import FrameView, FrameViewer, Source, frames_table, load_source, sensor_list
+from .labels import place_labels
+from .painting import ScaleBar, draw_lanes, draw_sensor, draw_statics, legend_handles
+from .style import (
+    EGO_EDGE,
+    EGO_FACE,
+    OCCLUDER_EDGE,
+    REGION_FACE,
+    STATIC_EDGE,
+    TARGET_EDGE,
+    VISIBILITY_CMAP,
+    sensor_colour,
+)
+from .window import Window, scene_window
 
-EGO_FACE, EGO_EDGE = "#1f5fbf", "#0b2f66"
-REGION_FACE = "#ffe680"
-OCCLUDER_EDGE = "black"
-TARGET_EDGE = "#7b2cbf"
-STATIC_FACE, STATIC_EDGE = "#bbbbbb", "#555555"
-LANE_COLOUR = "#9a9a9a"
-SENSOR_COLOURS = ("#1f77b4", "#ff7f0e", "#17becf", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#2ca02c")
+LABEL_SIZE = 7  # points
 
 
 class FramePainter:
     """Draws frames of one recording, seen from one ego, onto one matplotlib ``Axes``, frame after frame.
 
-    What does not change between frames (static occluders, lanes, colour bar, legend) is drawn once; :meth:`draw`
-    replaces the rest. Used by :func:`plot_frame` (one frame) and :func:`~.animate.animate` (many).
+    What does not change between frames (static occluders, lanes, colour bar, legend, scale bar) is drawn once;
+    :meth:`draw` replaces the rest. Used by :func:`plot_frame` (one frame), :func:`~.animate.animate` (many).
+
+    ``window`` (see :mod:`.window`) is widened to the axes' shape by :meth:`fit` before the first frame.
     """
 
     def __init__(
@@ -41,113 +50,84 @@ class FramePainter:
         ego_idx: int,
         *,
         target: int | None = None,
-        sensors: Any = None,
-        view_range: float | None = 80.0,
-        cmap: str = "RdYlGn",
+        sensors: Sequence[Any] = (),
+        window: Window | None = None,
+        cmap: str = VISIBILITY_CMAP,
         legend: bool = True,
         colorbar: bool = True,
+        legend_columns: int = 4,
     ) -> None:
         plt = require("matplotlib.pyplot")
         colors = require("matplotlib.colors")
         self.patches = require("matplotlib.patches")
         self.ax, self.source, self.ego_idx, self.target = ax, source, int(ego_idx), target
-        self.sensors = sensor_list(sensors, source, ego_idx)  # resolved once, not per frame
-        self.view_range = view_range
+        self.sensors = tuple(sensors)
+        self.window = window
         self.cmap, self.norm = plt.get_cmap(cmap), colors.Normalize(0.0, 1.0)
         self._dynamic: list[Any] = []
-        self._static_patches: dict[int, list[Any]] = {}
-        self._draw_lanes()
-        self._draw_statics()
+        self._label_pool: list[Any] = []
+        self._scale: Any = None
+        draw_lanes(ax, source.lanes)
+        self._static_patches = draw_statics(ax, source.statics)
         if colorbar:
             mappable = plt.cm.ScalarMappable(norm=self.norm, cmap=self.cmap)
             bar = ax.figure.colorbar(mappable, ax=ax, fraction=0.03, pad=0.01)
-            bar.set_label("visibility from the ego (0 hidden, 1 fully visible)", fontsize=8)
+            seen = "best sensor" if self.sensors else "ego"
+            bar.set_label(f"visibility ({seen})", fontsize=8)
+            bar.set_ticks([0, 0.25, 0.5, 0.75, 1.0], labels=["0 %", "25 %", "50 %", "75 %", "100 %"])
             bar.ax.tick_params(labelsize=7)
         ax.set_aspect("equal")
-        ax.set_xlabel("x [m]")
-        ax.set_ylabel("y [m]")
-        self._legend = legend
+        ax.set_xlabel("x [m]", fontsize=8)
+        ax.set_ylabel("y [m]", fontsize=8)
+        ax.tick_params(labelsize=7)
+        if legend:
+            handles = legend_handles(source, ego_idx, target, self.sensors)
+            engine = ax.figure.get_layout_engine()
+            if engine is not None and type(engine).__name__ == "ConstrainedLayoutEngine":
+                ax.figure.legend(handles=handles, loc="outside lower center", ncol=legend_columns, fontsize=7,
+                                 frameon=False)  # fmt: skip
+            else:  # a figure laid out by the caller: keep the legend inside the axes
+                ax.legend(handles=handles, loc="lower left", fontsize=6, framealpha=0.85, ncol=2)
 
-    # -- once per figure --------------------------------------------------------------------------------------
-    def _draw_lanes(self) -> None:
-        for surface, centre in self.source.lanes:
-            for part in getattr(surface, "geoms", [surface] if surface is not None else []):
-                p = self.ax.add_patch(
-                    self.patches.Polygon(np.asarray(part.exterior.coords), facecolor="#eeeeee", lw=0, zorder=-2)
-                )
-                p.set_gid("lane")
-            for part in getattr(centre, "geoms", [centre] if centre is not None else []):
-                (line,) = self.ax.plot(*np.asarray(part.coords).T, color=LANE_COLOUR, lw=0.8, ls=(0, (6, 6)), zorder=-1)
-                line.set_gid("lane")
-
-    def _draw_statics(self) -> None:
-        for k, g in enumerate(self.source.statics.geometries):
-            artists = []
-            for part in getattr(g, "geoms", [g]):
-                if isinstance(part, shapely.Polygon):
-                    patch = self.patches.Polygon(
-                        np.asarray(part.exterior.coords), facecolor=STATIC_FACE, hatch="///", edgecolor=STATIC_EDGE
-                    )
-                    artists.append(self.ax.add_patch(patch))
-                elif isinstance(part, shapely.LineString | shapely.LinearRing):
-                    artists.extend(self.ax.plot(*np.asarray(part.coords).T, color=STATIC_EDGE, lw=2.5, zorder=1))
-            for a in artists:
-                a.set_gid(f"static {k}")
-            self._static_patches[k] = artists
-
-    def _legend_handles(self, sensors: Sequence[Any]) -> list[Any]:
-        P, Line2D = self.patches.Patch, require("matplotlib.lines").Line2D
-        handles = [
-            P(facecolor=EGO_FACE, edgecolor=EGO_EDGE, label=f"ego (idx {self.ego_idx}), ★ its viewpoint"),
-            P(facecolor=REGION_FACE, alpha=0.6, label="seen from the ego"),
-        ]
-        if self.target is not None:
-            handles.append(P(facecolor="none", edgecolor=TARGET_EDGE, lw=2, ls="--", label=f"target idx {self.target}"))
-            handles.append(
-                P(facecolor="none", edgecolor=OCCLUDER_EDGE, lw=2.5, label=f"occluders of idx {self.target}")
-            )
-        kinds = {type(part) for g in self.source.statics.geometries for part in getattr(g, "geoms", [g])}
-        if shapely.Polygon in kinds:
-            handles.append(P(facecolor=STATIC_FACE, edgecolor=STATIC_EDGE, hatch="///", label="static occluder"))
-        if kinds & {shapely.LineString, shapely.LinearRing}:
-            handles.append(Line2D([], [], color=STATIC_EDGE, lw=2.5, label="wall (static occluder)"))
-        if self.source.lanes:
-            handles.append(Line2D([], [], color=LANE_COLOUR, lw=0.8, ls=(0, (6, 6)), label="lane (map)"))
-        for k, s in enumerate(sensors):
-            reach = "unlimited" if math.isinf(s.range) else f"{s.range:g} m"
-            colour = SENSOR_COLOURS[k % len(SENSOR_COLOURS)]
-            handles.append(
-                P(facecolor=colour, alpha=0.25, edgecolor=colour, label=f"{s.name}: {s.fov_degrees:.0f}°, {reach}")
-            )
-        return handles
+    def fit(self) -> Window | None:
+        """Widen the window to the shape the layout gives the axes, and put the scale bar in; returns the window."""
+        if self.window is None:
+            return None
+        fig = self.ax.figure
+        engine = fig.get_layout_engine()
+        if engine is not None:
+            engine.execute(fig)
+        box = self.ax.get_position(original=True)
+        width, height = fig.get_size_inches()
+        self.window = self.window.fitted((box.width * width) / (box.height * height))
+        self._scale = ScaleBar(self.ax, 2 * self.window.half_width)
+        return self.window
 
     # -- every frame ------------------------------------------------------------------------------------------
-    def draw(self, view: FrameView, limits: tuple[float, float, float, float] | None = None) -> None:
-        """Draw ``view``, replacing the previous frame; ``limits`` ``(x0, x1, y0, y1)`` metres, else follow the ego."""
+    def draw(self, view: FrameView, limits: tuple[float, float, float, float] | None = None, title: str = "") -> None:
+        """Draw ``view``, replacing the previous frame; ``limits`` ``(x0, x1, y0, y1)`` metres, else the window
+        around the ego (else, without a window, the whole frame)."""
         for a in self._dynamic:
             a.remove()
         self._dynamic = []
         ax, add = self.ax, self._dynamic.append
-        if limits is None and self.view_range is not None:
-            r = self.view_range
-            limits = (
-                view.observer[0] - r,
-                view.observer[0] + r,
-                view.observer[1] - 0.35 * r,
-                view.observer[1] + 0.35 * r,
-            )
-        if limits is not None:
-            ax.set_xlim(limits[0], limits[1])
-            ax.set_ylim(limits[2], limits[3])
-        else:
+        if limits is None and self.window is not None:
+            limits = self.window.around(view.observer)
+        if limits is None:
             x0, y0, x1, y1 = shapely.MultiPoint(np.concatenate(view.rings)).buffer(5).bounds
-            ax.set_xlim(x0, x1)
-            ax.set_ylim(y0, y1)
+            limits = (x0, x1, y0, y1)
+        ax.set_xlim(limits[0], limits[1])
+        ax.set_ylim(limits[2], limits[3])
+        if self._scale is not None:
+            self._scale.place(limits)
+        path = require("matplotlib.path").Path
         for part in getattr(view.region, "geoms", [view.region]):
-            region = self.patches.Polygon(np.asarray(part.exterior.coords), facecolor=REGION_FACE, alpha=0.35, lw=0)
-            region.set_zorder(0)
-            region.set_gid("region")
-            add(ax.add_patch(region))
+            if isinstance(part, shapely.Polygon) and not part.is_empty:  # holes stay holes (they run the other way)
+                part = shapely.geometry.polygon.orient(part, 1.0)
+                rings = [path(np.asarray(r.coords), closed=True) for r in (part.exterior, *part.interiors)]
+                patch = self.patches.PathPatch(path.make_compound_path(*rings), facecolor=REGION_FACE, lw=0, zorder=-3)
+                patch.set_gid("region")
+                add(ax.add_artist(patch))  # (add_artist: no data limits to update)
         occluders = set(view.occluders.get(self.target, [])) if self.target is not None else set()
         static_occluders = set(view.static_occluders.get(self.target, [])) if self.target is not None else set()
         for k, artists in self._static_patches.items():
@@ -165,67 +145,96 @@ class FramePainter:
                 edge, lw, ls = TARGET_EDGE, 2.0, "--"
             patch = self.patches.Polygon(view.rings[i], facecolor=face, edgecolor=edge, lw=lw, ls=ls, zorder=2)
             patch.set_gid(gid)
-            add(ax.add_patch(patch))
-            text = f"ego {idx}" if i == view.ego_row else f"{idx}: {view.visibility[i]:.0%}"
-            add(self._label(text, view.rings[i], view.position[i]))
-        observer = view.observer
-        add(ax.plot(*observer, marker="*", color="white", mec="black", ms=10, zorder=4)[0])
-        sensors = self.sensors
-        for k, s in enumerate(sensors):
-            add_all = self._draw_sensor(s, view, SENSOR_COLOURS[k % len(SENSOR_COLOURS)])
-            self._dynamic.extend(add_all)
-        if self._legend:
-            self._legend = False  # drawn once, with the first frame
-            handles = self._legend_handles(sensors)
-            engine = ax.figure.get_layout_engine()
-            if engine is not None and type(engine).__name__ == "ConstrainedLayoutEngine":
-                ax.figure.legend(handles=handles, loc="outside lower center", ncol=4, fontsize=7, frameon=False)
-            else:  # a figure laid out by the caller: keep the legend inside the axes
-                ax.legend(handles=handles, loc="lower left", fontsize=6, framealpha=0.85, ncol=2)
-        ax.set_title(
-            f"frame {view.frame}, t = {view.total_nanos / 1e9:.2f} s: seen from idx {self.ego_idx}", fontsize=10
+            add(ax.add_artist(patch))
+        add(ax.plot(*view.observer, marker="*", color="white", mec="black", ms=10, zorder=4)[0])
+        for k, s in enumerate(self.sensors):
+            self._dynamic.extend(draw_sensor(ax, s, view, sensor_colour(k), limits))
+        self._dynamic.extend(self._labels(view, limits))
+        ax.set_title(title or f"frame {view.frame}, t = {view.total_nanos / 1e9:.2f} s, seen from idx {self.ego_idx}",
+                     fontsize=9)  # fmt: skip
+
+    def _labels(self, view: FrameView, limits: tuple[float, float, float, float]) -> list[Any]:
+        """``idx: visibility`` beside each object on the picture (``ego idx`` for the ego), none overlapping
+        another: the ego's first, then the target's, then the others from the nearest to the ego; a label that
+        finds no free place beside its object is left out."""
+        ax = self.ax
+        ax.apply_aspect()
+        to_pixels = ax.transData.transform
+        x0, x1, y0, y1 = limits
+        (ax0, ay0), (ax1, ay1) = to_pixels([(x0, y0), (x1, y1)])
+        area = (min(ax0, ax1), min(ay0, ay1), max(ax0, ax1), max(ay0, ay1))
+        points = LABEL_SIZE * ax.figure.dpi / 72
+        distance = np.hypot(*(view.position - view.observer).T)
+        order = sorted(
+            range(len(view.idx)),
+            key=lambda i: (i != view.ego_row, int(view.idx[i]) != self.target, float(distance[i])),
         )
+        boxes, sizes, texts = [], [], []
+        for i in order:
+            idx = int(view.idx[i])
+            text = f"ego {idx}" if i == view.ego_row else f"{idx}: {view.visibility[i]:.0%}"
+            px = to_pixels(view.rings[i])
+            boxes.append((px[:, 0].min(), px[:, 1].min(), px[:, 0].max(), px[:, 1].max()))
+            sizes.append((0.62 * points * len(text) + 2, 1.25 * points))
+            texts.append(text)
+        from_pixels = ax.transData.inverted().transform
+        shown = [(t, b) for t, b in zip(texts, place_labels(boxes, sizes, area), strict=True) if b is not None]
+        backing = {"boxstyle": "square,pad=0.1", "facecolor": "white", "alpha": 0.75, "lw": 0}
+        while len(self._label_pool) < len(shown):  # text artists are reused from frame to frame: far faster
+            self._label_pool.append(ax.text(0, 0, "", ha="center", va="center", fontsize=LABEL_SIZE, zorder=5,
+                                            clip_on=True, bbox=backing, gid="label"))  # fmt: skip
+        for k, label in enumerate(self._label_pool):
+            if k < len(shown):
+                text, box = shown[k]
+                label.set_text(text)
+                label.set_position(from_pixels(((box[0] + box[2]) / 2, (box[1] + box[3]) / 2)))
+            label.set_visible(k < len(shown))
+        return []
 
-    def _label(self, text: str, ring: np.ndarray, centre: np.ndarray) -> Any:
-        """The label inside a long object (trucks, buses), else just above it."""
-        x0, x1 = self.ax.get_xlim()
-        if np.ptp(ring[:, 0]) > 0.06 * abs(x1 - x0):
-            xy, offset, va = (centre[0], centre[1]), (0, 0), "center"
-        else:
-            xy, offset, va = (centre[0], float(ring[:, 1].max())), (0, 2), "bottom"
-        halo = [require("matplotlib.patheffects").withStroke(linewidth=2, foreground="white")]
-        return self.ax.annotate(
-            text, xy, xytext=offset, textcoords="offset points", ha="center", va=va, fontsize=7, zorder=5, clip_on=True,
-            path_effects=halo,
-        )  # fmt: skip
 
-    def _draw_sensor(self, s: Any, view: FrameView, colour: str) -> list[Any]:
-        """The field of view as a translucent wedge and its range as a dashed arc (a circle for 360° sensors)."""
-        (pos,), heading = sensor_poses(s, view.observer[None, :], np.array([view.yaw[view.ego_row]]))
-        far = math.isinf(s.range)
-        radius = 10.0 * (self.view_range or 100.0) if far else s.range
-        full = s.fov >= 2 * math.pi - 1e-9
-        if full:
-            shape = self.patches.Circle(pos, radius)
-        else:
-            half = math.degrees(s.fov) / 2
-            shape = self.patches.Wedge(pos, radius, math.degrees(heading[0]) - half, math.degrees(heading[0]) + half)
-        shape.set(facecolor=colour, alpha=0.05 if not full else 0.03, lw=0, zorder=0.5, gid=f"sensor {s.name}")
-        out = [self.ax.add_patch(shape)]
-        if not full:  # the two edges of the field of view
-            for side in (-1, 1):
-                a = heading[0] + side * s.fov / 2
-                end = pos + radius * np.array([math.cos(a), math.sin(a)])
-                out.extend(self.ax.plot([pos[0], end[0]], [pos[1], end[1]], color=colour, lw=0.8, zorder=0.6))
-        if not far:
-            t1, t2 = (
-                (0.0, 360.0) if full else (math.degrees(heading[0] - s.fov / 2), math.degrees(heading[0] + s.fov / 2))
-            )
-            arc = self.patches.Arc(pos, 2 * radius, 2 * radius, theta1=t1, theta2=t2, color=colour, lw=1.0, ls="--")
-            arc.set_gid(f"range {s.name}")
-            out.append(self.ax.add_patch(arc))
-        out.extend(self.ax.plot(*pos, marker="o", ms=2.5, color=colour, zorder=4))
-        return out
+def picture_viewer(
+    df: Any,
+    source: Source,
+    ego_idx: int,
+    static_occluder_polys: Sequence[shapely.Geometry] | None,
+    positions: np.ndarray,
+    view_range: float | None,
+    *,
+    sensors: Any = None,
+    engine: str | None = None,
+    mode: str = "2d",
+    table: Any = None,
+) -> FrameViewer:
+    """The :class:`~.data.FrameViewer` of a picture: sensors fitted to the ego, the engine of ``mode``; in 3D
+    (where views cannot compute their numbers themselves) the table of the frames at ``positions`` computed first."""
+    from ..threed.mode import check_mode, resolve_engine
+
+    mode = check_mode(mode)
+    engine = resolve_engine(engine, mode)
+    own = sensor_list(sensors, source, ego_idx)
+    margin = 2 * (view_range or 100.0)
+    if table is None and mode == "3d":
+        FrameViewer(source, ego_idx, "visilibity", margin)  # an absent ego fails before the long computation
+        frames = source.frames[positions].tolist()
+        table = frames_table(df, ego_idx, static_occluder_polys, frames, sensors=own, mode=mode, engine=engine)
+    return FrameViewer(source, ego_idx, engine if mode == "2d" else "visilibity", margin, sensors=own, table=table)
+
+
+def check_target(source: Source, target: int | None, positions: np.ndarray | None = None) -> None:
+    """``ValueError`` unless ``target`` is None or occurs in the frames at ``positions`` (all by default)."""
+    if target is None:
+        return
+    from ..inputs.observers import describe_idx
+
+    objects = source.objects
+    if positions is None:
+        present = np.unique(objects.idx)
+    else:
+        present = np.unique(np.concatenate([objects.idx[objects.frame_starts[k] : objects.frame_starts[k + 1]]
+                                            for k in np.asarray(positions).tolist()]))  # fmt: skip
+    if int(target) not in set(present.tolist()):
+        where = "the recording" if positions is None else "the frames drawn"
+        raise ValueError(f"target idx {target} never occurs in {where} (idx present: {describe_idx(present)})")
 
 
 def plot_frame(
@@ -239,9 +248,11 @@ def plot_frame(
     lanes: Any = True,
     ax: Any = None,
     view_range: float | None = 80.0,
-    cmap: str = "RdYlGn",
+    cmap: str = VISIBILITY_CMAP,
     legend: bool = True,
-    engine: str = "visilibity",
+    engine: str | None = None,
+    mode: str = "2d",
+    table: Any = None,
 ) -> Any:
     """Draw one frame seen from ``ego_idx``; return the matplotlib ``Axes``.
 
@@ -250,7 +261,7 @@ def plot_frame(
     df : omega_prime.Recording, polars DataFrame/LazyFrame or MCAP path
         The moving objects, as for :func:`~omega_prime_visibility.get_visibility_df`.
     ego_idx : int
-        The observer; drawn in blue, its viewpoint (the centre of its bounding box) as a star.
+        The observer; drawn in vermillion, its viewpoint (the centre of its bounding box) as a star.
     frame : int
         The frame number (not its position); ``ValueError`` if it does not occur or the ego is not in it.
     static_occluder_polys : sequence of shapely geometries, optional
@@ -258,23 +269,30 @@ def plot_frame(
     target : int, optional
         Outline this object dashed and its occluders (objects and static occluders) in black.
     sensors : layout name, JSON path, Sensor or sequence of Sensors, optional
-        Each sensor's field of view is drawn as a translucent wedge at its pose on the ego, and its range as a
-        dashed arc (``"typical"`` and ``"roof"`` are scaled to the ego's outline).
+        Look through these sensors: objects are filled by the best visibility over the sensors (what
+        ``seen_by_any`` gives), each sensor's field of view is outlined at its pose on the ego in its own colour,
+        and the region shaded is what the sensors see, each from its own pose within its field and range
+        (``"typical"`` and ``"roof"`` are fitted to the ego's outline).
     lanes : bool, map or sequence of shapely geometries
         True draws the lanes of the recording's map underneath, where it has one.
     ax : matplotlib Axes, optional
-        Where to draw; a new 10 x 5 inch figure by default.
+        Where to draw; by default a new figure shaped like the window.
     view_range : float or None
-        Metres shown on each side of the ego along x (0.35 of it along y); None shows the whole frame.
+        The picture is centred on the ego and shows every object within this many metres of it, with the lanes
+        within that distance (see :mod:`omega_prime_visibility.plot.window`); None shows the whole frame.
     cmap : str
-        Matplotlib colour map of visibility, 0 (hidden) to 1 (fully visible).
+        Matplotlib colour map of visibility, 0 (hidden) to 1 (fully visible); cividis (colour-blind safe) by
+        default.
     legend : bool
         Add a legend below the axes saying what each colour and outline means.
-    engine : str
-        Engine of the visibility values (the visible region is always VisiLibity's).
+    engine, mode : str, optional
+        As for ``get_visibility_df`` (the visible region is always VisiLibity's, in bird's-eye view):
+        ``mode="3d"`` fills the objects by their 3D visibility.
+    table : polars.DataFrame, optional
+        A visibility table of this ego computed elsewhere to take the numbers from (per sensor or not).
 
-    Objects are filled by their visibility from the ego (colour bar 0..1) and labelled ``idx: visibility``; the
-    region visible from the ego is shaded yellow.
+    Objects are filled by their visibility (colour bar 0..1) and labelled ``idx: visibility`` where the label has
+    room; the region visible from the ego is shaded pale blue, and a scale bar gives metres.
 
     Examples
     --------
@@ -291,11 +309,19 @@ def plot_frame(
     plt = require("matplotlib.pyplot")
     source = load_source(df, static_occluder_polys, lanes)
     k = source.position_of(frame)
-    viewer = FrameViewer(source, ego_idx, engine, margin=2 * (view_range or 100.0))
+    check_target(source, target, np.array([k]))
+    viewer = picture_viewer(df, source, ego_idx, static_occluder_polys, np.array([k]), view_range, sensors=sensors,
+                            engine=engine, mode=mode, table=table)  # fmt: skip
     view = viewer.view(k)
+    window = None
+    if view_range is not None:
+        window = scene_window(source.objects, ego_idx, np.array([k]), view_range, source.lanes.points)
     if ax is None:
-        _, ax = plt.subplots(figsize=(10, 5), layout="constrained")
-    painter = FramePainter(ax, source, ego_idx, target=target, sensors=sensors, view_range=view_range, cmap=cmap,
+        aspect = min(max(window.aspect if window else 2.0, 0.75), 2.2)
+        scene = math.sqrt(40.0 * aspect), math.sqrt(40.0 / aspect)  # about 40 square inches of scene
+        _, ax = plt.subplots(figsize=(scene[0] + 1.2, scene[1] + 1.3), layout="constrained")
+    painter = FramePainter(ax, source, ego_idx, target=target, sensors=viewer.sensors, window=window, cmap=cmap,
                            legend=legend)  # fmt: skip
+    painter.fit()
     painter.draw(view)
     return ax

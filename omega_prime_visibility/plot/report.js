@@ -8,8 +8,7 @@
   const slider = document.getElementById("slider");
   const label = document.getElementById("frame-label");
   const play = document.getElementById("play");
-  const R = data.range;
-  const H = R * 0.35;
+  const [HW, HH] = data.window;  // half width and half height of the view around the ego, metres
 
   function el(name, attrs, parent) {
     const e = document.createElementNS(NS, name);
@@ -30,7 +29,12 @@
   el("rect", { width: 1.2, height: 1.2, fill: "#e4e4e4" }, hatch);
   el("line", { x1: 0, y1: 0, x2: 0, y2: 1.2, stroke: "#777", "stroke-width": 0.5 }, hatch);
   const world = el("g", { id: "world" }, svg);
+  const regionLayer = el("g", { id: "region" }, world);
   const staticLayer = el("g", { id: "statics" }, world);
+  if (data.surfaces.length) {  // the road surface: one path, its holes by the even-odd rule
+    const d = data.surfaces.map((ring) => "M " + pts(ring).split(" ").join(" L ") + " Z").join(" ");
+    el("path", { d: d, fill: "#b4b4b4", "fill-opacity": 0.6, "fill-rule": "evenodd", stroke: "none" }, staticLayer);
+  }
   for (const lane of data.lanes) {
     el("polyline", { points: pts(lane), fill: "none", stroke: "#9a9a9a", "stroke-width": 0.15,
       "stroke-dasharray": "1.5 1.5" }, staticLayer);
@@ -44,32 +48,89 @@
   }
   if (!data.statics.length) document.getElementById("static-key").hidden = true;
   const frameLayer = el("g", { id: "frame" }, world);
+  const overlay = el("g", { id: "overlay" }, svg);  // in screen units of the view box: the scale bar
   slider.max = data.frames.length - 1;
+
+  // a round length (1, 2 or 5 times a power of ten) of about a fifth of the width, as in the other pictures
+  function niceLength(width) {
+    const target = width / 5, power = Math.pow(10, Math.floor(Math.log10(target)));
+    return [5, 2, 1].map((m) => m * power).find((v) => v <= target);
+  }
+  // a sensor's field of view as an SVG path (y up in metres, drawn with y flipped), or a circle all around
+  function fieldPath(x, y, heading, fov, range) {
+    const r = range === null ? 4 * Math.hypot(HW, HH) : range;
+    if (fov >= 2 * Math.PI - 1e-9) return null;
+    const a0 = heading - fov / 2, a1 = heading + fov / 2;
+    const p0 = [x + r * Math.cos(a0), -(y + r * Math.sin(a0))], p1 = [x + r * Math.cos(a1), -(y + r * Math.sin(a1))];
+    const large = fov > Math.PI ? 1 : 0;
+    return `M ${x} ${-y} L ${p0[0]} ${p0[1]} A ${r} ${r} 0 ${large} 0 ${p1[0]} ${p1[1]} Z`;
+  }
+  function overlaps(a, b) { return a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3]; }
 
   function draw(k) {
     const f = data.frames[k];
     frameLayer.replaceChildren();
+    regionLayer.replaceChildren();
+    overlay.replaceChildren();
     const [ex, ey] = f.ego;
-    svg.setAttribute("viewBox", `${ex - R} ${-ey - H} ${2 * R} ${2 * H}`);
-    for (const ring of f.region) {
-      el("polygon", { points: pts(ring), fill: "#ffe680", "fill-opacity": 0.4, stroke: "none" }, frameLayer);
+    const view = [ex - HW, -ey - HH, 2 * HW, 2 * HH];
+    svg.setAttribute("viewBox", view.join(" "));
+    for (const rings of f.region) {  // a polygon: its outline, then its holes (even-odd)
+      const d = rings.map((ring) => "M " + pts(ring).split(" ").join(" L ") + " Z").join(" ");
+      el("path", { d: d, fill: "#cfe8f7", "fill-rule": "evenodd", stroke: "none" }, regionLayer);
     }
-    for (const o of f.objects) {
-      const p = el("polygon", { points: pts(o.ring), fill: o.fill, stroke: o.ego ? "#0b2f66" : "#333",
+    const size = 2.2 * Math.max(HW, HH) / 60;  // label size in metres: the same on screen whatever the window
+    const placed = [];
+    const order = f.objects.map((o, i) => i).sort((a, b) => {
+      const oa = f.objects[a], ob = f.objects[b];
+      if (oa.ego !== ob.ego) return oa.ego ? -1 : 1;
+      const da = Math.hypot(oa.ring[0] - ex, oa.ring[1] - ey), db = Math.hypot(ob.ring[0] - ex, ob.ring[1] - ey);
+      return da - db;
+    });
+    for (const i of order) {
+      const o = f.objects[i];
+      const p = el("polygon", { points: pts(o.ring), fill: o.fill, stroke: o.ego ? "#5a2800" : "#333",
         "stroke-width": 0.12, "data-idx": o.idx }, frameLayer);
       p.classList.add(o.ego ? "ego" : "object");
       const t = el("title", {}, p);
       t.textContent = o.ego ? `ego idx ${o.idx}` :
         `idx ${o.idx}: visibility ${o.vis.toFixed(3)}; hidden by ${o.occluders.length ? o.occluders.join(", ") : "nothing"}`;
-      let top = -Infinity, sx = 0;
-      for (let i = 0; i < o.ring.length; i += 2) { top = Math.max(top, o.ring[i + 1]); sx += o.ring[i]; }
-      const text = el("text", { x: sx / (o.ring.length / 2), y: -top - 0.6, "font-size": 2.2, "text-anchor": "middle",
-        fill: "#222" }, frameLayer);
-      text.textContent = o.ego ? `ego ${o.idx}` : `${o.idx}: ${Math.round(o.vis * 100)}%`;
+      let top = -Infinity, bottom = Infinity, left = Infinity, right = -Infinity;
+      for (let j = 0; j < o.ring.length; j += 2) {
+        top = Math.max(top, o.ring[j + 1]); bottom = Math.min(bottom, o.ring[j + 1]);
+        left = Math.min(left, o.ring[j]); right = Math.max(right, o.ring[j]);
+      }
+      const text = o.ego ? `ego ${o.idx}` : `${o.idx}: ${Math.round(o.vis * 100)}%`;
+      const w = 0.6 * size * text.length, cx = (left + right) / 2;
+      // above the object, else below it; a label that would overlap one already placed is left out
+      const choices = [[cx - w / 2, top + 0.3 * size, cx + w / 2, top + 1.3 * size],
+                       [cx - w / 2, bottom - 1.3 * size, cx + w / 2, bottom - 0.3 * size]];
+      const box = choices.find((c) => !placed.some((q) => overlaps(c, q)));
+      if (!box) continue;
+      placed.push(box);
+      const tag = el("text", { x: cx, y: -(box[1] + 0.25 * size), "font-size": size, "text-anchor": "middle",
+        fill: "#222", stroke: "white", "stroke-width": size / 6, "paint-order": "stroke" }, frameLayer);
+      tag.textContent = text;
     }
+    f.sensors.forEach(([x, y, heading], j) => {
+      const s = data.sensors[j];
+      const d = fieldPath(x, y, heading, s.fov, s.range);
+      const style = { fill: "none", stroke: s.colour, "stroke-width": 0.25, "data-sensor": s.name };
+      if (d) el("path", { d: d, ...style }, frameLayer);
+      else if (s.range !== null) el("circle", { cx: x, cy: -y, r: s.range, ...style }, frameLayer);
+      el("circle", { cx: x, cy: -y, r: 0.35, fill: s.colour }, frameLayer);
+    });
     const star = el("text", { x: ex, y: -ey + 0.8, "font-size": 2.4, "text-anchor": "middle", fill: "white",
       stroke: "black", "stroke-width": 0.1 }, frameLayer);
     star.textContent = "★";
+    // scale bar, lower right
+    const length = niceLength(2 * HW);
+    const x1 = view[0] + view[2] - 0.04 * view[2], y1 = view[1] + view[3] - 0.05 * view[3];
+    el("line", { x1: x1 - length, y1: y1, x2: x1, y2: y1, stroke: "#222", "stroke-width": size / 5 }, overlay)
+      .setAttribute("id", "scale-bar");
+    const st = el("text", { x: x1 - length / 2, y: y1 - 0.5 * size, "font-size": size, "text-anchor": "middle",
+      fill: "#222" }, overlay);
+    st.textContent = `${length} m`;
     const speed = Number.isFinite(f.speed) ? `${f.speed.toFixed(1)} m/s` : "unknown";
     label.textContent = `frame ${f.frame}, t = ${f.t.toFixed(2)} s, ego speed ${speed}`;
     svg.dataset.frame = f.frame;

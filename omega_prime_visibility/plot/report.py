@@ -23,30 +23,14 @@ from tqdm.auto import tqdm
 
 from ..table.output import atomic_write, check_output_path
 from ._optional import require
-from .data import FrameSpec, FrameView, FrameViewer, load_source
+from .data import FrameSpec, FrameView, load_source
+from .frame import picture_viewer
+from .style import EGO_FACE, REGION_FACE, sensor_colour, visibility_colour
 from .timeline import chart_spec, timeline_chart
+from .window import Window, scene_window
 
-# ColorBrewer RdYlGn (11 classes), the frame plot's default colour map: visibility 0 (red) to 1 (green)
-RDYLGN = (
-    "#a50026 #d73027 #f46d43 #fdae61 #fee08b #ffffbf #d9ef8b #a6d96a #66bd63 #1a9850 #006837".split()
-)  # fmt: skip
 PROGRESS_MIN_FRAMES = 200
-
-
-def visibility_colour(v: float) -> str:
-    """Hex colour of visibility ``v`` in 0..1 on the RdYlGn scale (linear between its 11 colours).
-
-    >>> visibility_colour(0.0), visibility_colour(1.0), visibility_colour(0.5)
-    ('#a50026', '#006837', '#ffffbf')
-    """
-    if not np.isfinite(v):
-        return "#cccccc"
-    x = min(max(float(v), 0.0), 1.0) * (len(RDYLGN) - 1)
-    k = min(int(x), len(RDYLGN) - 2)
-    a = np.array([int(RDYLGN[k][i : i + 2], 16) for i in (1, 3, 5)])
-    b = np.array([int(RDYLGN[k + 1][i : i + 2], 16) for i in (1, 3, 5)])
-    r, g, bl = np.rint(a + (b - a) * (x - k)).astype(int)
-    return f"#{r:02x}{g:02x}{bl:02x}"
+SCENE_ASPECT = (1.0, 2.6)  # the scene's width / height, at least and at most
 
 
 def write_report(
@@ -61,7 +45,8 @@ def write_report(
     lanes: Any = True,
     view_range: float = 60.0,
     title: str | None = None,
-    engine: str = "visilibity",
+    engine: str | None = None,
+    mode: str = "2d",
     progress: bool | None = None,
 ) -> Path:
     """Write an interactive, self-contained HTML report of what ``ego_idx`` sees; return its path.
@@ -82,16 +67,19 @@ def write_report(
         A visibility table to show in the timeline and the summary instead of the one computed here (for
         example one computed elsewhere with sensors); rows of other observers are left out.
     sensors : layout name, JSON path, Sensor or sequence of Sensors, optional
-        Compute the timeline and the summary through these sensors (``get_visibility_df(..., sensors=...)``): one
-        band per (target, sensor), coloured by ``status``. The scene stays the view from the ego's centre.
+        Look through these sensors (``get_visibility_df(..., sensors=...)``): the scene outlines each sensor's
+        field of view and fills the objects by the best visibility over the sensors (as ``seen_by_any`` gives
+        it); the timeline and the summary have, per target, that combined row ("any sensor") and one per sensor,
+        coloured by ``status``.
     lanes : bool, map or sequence of shapely geometries
         As for :func:`~.frame.plot_frame`.
     view_range : float
-        Metres shown on each side of the ego in the scene.
+        The scene shows every object within this many metres of the ego (the window of
+        :mod:`omega_prime_visibility.plot.window`, the same rule as :func:`~.frame.plot_frame`'s).
     title : str, optional
         Heading of the page; by default the recording's file name where known.
-    engine : str
-        Engine of the visibility values.
+    engine, mode : str, optional
+        As for ``get_visibility_df``; ``mode="3d"`` shows 3D visibility (the scene stays a bird's-eye view).
     progress : bool, optional
         Show a progress bar while computing; by default for ``PROGRESS_MIN_FRAMES`` frames or more.
     """
@@ -107,21 +95,24 @@ def write_report(
     title = "recording" if title is None else title
     source = load_source(df, static_occluder_polys, lanes)
     positions = source.positions(frames)
-    viewer = FrameViewer(source, ego_idx, engine, margin=2 * view_range)
+    if sensors is not None:  # the table the scene, the timeline and the summary all show
+        from .data import frames_table, sensor_list
+
+        own = sensor_list(sensors, source, ego_idx)
+        frame_numbers = source.frames[positions].tolist()
+        table = frames_table(df, ego_idx, static_occluder_polys, frame_numbers, sensors=own, mode=mode, engine=engine)
+    if table is not None:
+        table = _own_rows(table, ego_idx, pl.Series(source.frames[positions]))
+    viewer = picture_viewer(df, source, ego_idx, static_occluder_polys, positions, view_range, sensors=sensors,
+                            engine=engine, mode=mode, table=table)  # fmt: skip
     show = len(positions) >= PROGRESS_MIN_FRAMES if progress is None else progress
     views = [viewer.view(k) for k in tqdm(positions.tolist(), desc="frames", unit="frame", disable=not show)]
     computed = views_table(views)
-    if sensors is not None:
-        from ..api import get_visibility_df
-
-        table = get_visibility_df(
-            df, ego_idx, static_occluder_polys, engine=engine, sensors=sensors, progress=False
-        )  # fmt: skip
-    if table is not None:
-        table = _own_rows(table, ego_idx, computed["frame"].unique())
-    shown = computed if table is None else table
+    shown = computed if table is None else with_any_sensor(table)
     spec, mode = chart_spec(with_time_rule(timeline_chart(shown, title=f"seen from idx {ego_idx}", width=760), views))
-    scene = scene_data(views, source, ego_idx, view_range)
+    window = scene_window(source.objects, ego_idx, positions, view_range, source.lanes.points)
+    window = window.fitted(min(max(window.aspect, SCENE_ASPECT[0]), SCENE_ASPECT[1]))
+    scene = scene_data(views, source, ego_idx, window, viewer.sensors)
     page = PAGE.format(
         title=html.escape(f"Visibility report: {title}"),
         subtitle=html.escape(
@@ -135,6 +126,15 @@ def write_report(
         summary=summary_html(shown),
         code=_asset("report.js"),
         colourbar="".join(f'<span style="background:{visibility_colour(v)}"></span>' for v in np.linspace(0, 1, 21)),
+        aspect=f"{window.aspect:.3f}",
+        seen="seen by the sensors" if viewer.sensors else "seen from the ego",
+        ego_face=EGO_FACE,
+        region_face=REGION_FACE,
+        sensor_key="".join(
+            f'<span class="sensor"><span class="line" style="border-color:{sensor_colour(k)}"></span> '
+            f"{html.escape(s.name)}</span>"
+            for k, s in enumerate(viewer.sensors)
+        ),
     )
     with atomic_write(output) as temp:
         temp.write_text(page, encoding="utf-8")
@@ -203,13 +203,55 @@ def _coords(geometry: Any, digits: int = 2) -> list[list[float]]:
     return np.round(np.asarray(geometry), digits).ravel().tolist()
 
 
-def scene_data(views: list[FrameView], source, ego_idx: int, view_range: float) -> dict:
-    """What the page's script draws: per frame the objects (outline, colour, label) and the visible region, cut to
-    a box around the ego; once the static occluders and lanes."""
+def with_any_sensor(table: pl.DataFrame) -> pl.DataFrame:
+    """A per-sensor table with, per (frame, target), one more row: sensor ``"any sensor"``, the best visibility
+    over the sensors (as ``seen_by_any`` gives it, the number the scene shows), the occluders of any sensor, and
+    a status: visible or partly visible by that visibility, else occluded if some sensor is occluded, else out
+    of range if some sensor is, else out of view. A table without ``sensor`` is returned as it is."""
+    if "sensor" not in table.columns:
+        return table
+    reason = pl.col("status").cast(pl.String)
+    combined = (
+        table.group_by("frame", "total_nanos", "idx")
+        .agg(
+            pl.col("visibility").max(),
+            pl.col("in_view").max(),
+            pl.col("occluder_idxs", "static_occluder_idxs").flatten().drop_nulls().unique().sort(),
+            (reason == "occluded").any().alias("occluded"),
+            (reason == "out_of_range").any().alias("far"),
+        )
+        .with_columns(
+            sensor=pl.lit(ANY_SENSOR),
+            status=pl.when(pl.col("visibility") >= 1.0)
+            .then(pl.lit("visible"))
+            .when(pl.col("visibility") > 0.0)
+            .then(pl.lit("partly_visible"))
+            .when(pl.col("occluded"))
+            .then(pl.lit("occluded"))
+            .when(pl.col("far"))
+            .then(pl.lit("out_of_range"))
+            .otherwise(pl.lit("out_of_fov")),
+        )
+    )
+    columns = [c for c in table.columns if c in combined.columns]
+    per_sensor = table.select(columns).with_columns(pl.col("sensor").cast(pl.String), pl.col("status").cast(pl.String))
+    both = pl.concat([combined.select(columns), per_sensor], how="vertical_relaxed")
+    return both.sort("frame", "idx", pl.col("sensor") != ANY_SENSOR, maintain_order=True)
+
+
+ANY_SENSOR = "any sensor"
+
+
+def scene_data(views: list[FrameView], source, ego_idx: int, window: Window, sensors: Sequence[Any] = ()) -> dict:
+    """What the page's script draws: per frame the objects (outline, colour, label), the visible region (cut to
+    a box around the ego) and the sensors' poses; once the window, the sensors, the static occluders and lanes."""
+    from .painting import sensor_pose
+
     frames = []
     for v in views:
         ex, ey = v.observer
-        box = shapely.box(ex - 3 * view_range, ey - 3 * view_range, ex + 3 * view_range, ey + 3 * view_range)
+        reach = 3 * max(window.half_width, window.half_height)
+        box = shapely.box(ex - reach, ey - reach, ex + reach, ey + reach)
         region = shapely.intersection(v.region, box).simplify(0.02)
         parts = [p for p in getattr(region, "geoms", [region]) if isinstance(p, shapely.Polygon) and not p.is_empty]
         objects = [
@@ -217,20 +259,25 @@ def scene_data(views: list[FrameView], source, ego_idx: int, view_range: float) 
                 "idx": idx,
                 "ego": i == v.ego_row,
                 "vis": None if i == v.ego_row else round(float(v.visibility[i]), 4),
-                "fill": "#1f5fbf" if i == v.ego_row else visibility_colour(v.visibility[i]),
+                "fill": EGO_FACE if i == v.ego_row else visibility_colour(v.visibility[i]),
                 "ring": _coords(v.rings[i]),
                 "occluders": v.occluders.get(idx, []),
             }
             for i, idx in enumerate(v.idx.tolist())
         ]
+        poses = []
+        for s in sensors:
+            pos, heading = sensor_pose(s, v)
+            poses.append([round(float(pos[0]), 2), round(float(pos[1]), 2), round(heading, 4)])
         frames.append(
             {
                 "frame": v.frame,
                 "t": round(v.total_nanos / 1e9, 3),
                 "speed": round(source.ego_speed(ego_idx, v.frame), 2),
                 "ego": _coords(v.observer),
-                "region": [_coords(p.exterior.coords) for p in parts],
+                "region": [[_coords(r.coords) for r in (p.exterior, *p.interiors)] for p in parts],
                 "objects": objects,
+                "sensors": poses,
             }
         )
     statics = []
@@ -240,13 +287,19 @@ def scene_data(views: list[FrameView], source, ego_idx: int, view_range: float) 
                 statics.append({"kind": "polygon", "points": _coords(part.exterior.coords)})
             elif isinstance(part, shapely.LineString | shapely.LinearRing):
                 statics.append({"kind": "line", "points": _coords(part.coords)})
-    lanes = [
-        _coords(part.coords)
-        for _, centre in source.lanes
-        if centre is not None
-        for part in getattr(centre, "geoms", [centre])
+    sensor_info = [
+        {"name": s.name, "fov": s.fov, "range": None if np.isinf(s.range) else s.range, "colour": sensor_colour(k)}
+        for k, s in enumerate(sensors)
     ]
-    return {"ego": ego_idx, "range": view_range, "frames": frames, "statics": statics, "lanes": lanes}
+    return {
+        "ego": ego_idx,
+        "window": [round(window.half_width, 2), round(window.half_height, 2)],
+        "frames": frames,
+        "statics": statics,
+        "lanes": [_coords(c) for c in source.lanes.centres],
+        "surfaces": [_coords(c) for c in source.lanes.surfaces],
+        "sensors": sensor_info,
+    }
 
 
 def summary_html(table: pl.DataFrame) -> str:
@@ -305,12 +358,14 @@ PAGE = """<!DOCTYPE html>
 <input id="slider" type="range" min="0" max="0" value="0" step="1" aria-label="frame">
 <span id="frame-label"></span>
 </div>
-<svg id="scene" xmlns="http://www.w3.org/2000/svg" preserveAspectRatio="xMidYMid meet"></svg>
+<svg id="scene" xmlns="http://www.w3.org/2000/svg" preserveAspectRatio="xMidYMid meet"
+ style="aspect-ratio: {aspect}"></svg>
 <div class="legend">
-<span class="swatch ego"></span> ego (★ its viewpoint)
-<span class="swatch region"></span> seen from the ego
+<span><span class="swatch" style="background:{ego_face}"></span> ego (★ its centre)</span>
+<span><span class="swatch" style="background:{region_face}"></span> {seen}</span>
 <span id="static-key"><span class="swatch static"></span> static occluder</span>
-<span class="bar">visibility 0 {colourbar} 1</span>
+{sensor_key}
+<span class="bar">visibility 0 % {colourbar} 100 %</span>
 <span class="hint">hover an object for its occluders</span>
 </div>
 </section>

@@ -16,15 +16,8 @@ import polars as pl
 
 from ..table.output import atomic_write, check_output_path
 from ._optional import require
+from .style import STATUS_COLOURS
 
-STATUS_COLOURS = {
-    "visible": "#1a9850",
-    "partly_visible": "#fdae61",
-    "occluded": "#d73027",
-    "out_of_fov": "#9e9e9e",
-    "out_of_range": "#d9d9d9",
-}
-"""Colour of each ``status`` value (the sensors' verdict per target), in the legend's order."""
 SUFFIXES = (".png", ".svg", ".html", ".json")
 VEGAFUSION_MIN_ROWS = 5000  # altair's own limit for inline data
 
@@ -136,7 +129,7 @@ def timeline_chart(
         sensors: each (observer, sensor, target) gets its own band).
     by : {"auto", "status", "visibility"}
         ``"auto"`` colours by ``status`` (visible, partly_visible, occluded, out_of_fov, out_of_range) when the
-        table has it, else by ``visibility`` (red 0 to green 1).
+        table has it, else by ``visibility`` (cividis: dark blue 0 to yellow 1, readable to colour-blind readers).
     title : str, optional
         Chart title; by default it says what is coloured.
     width, band : int
@@ -171,7 +164,7 @@ def timeline_chart(
         color = alt.Color("status:N", scale=scale, legend=alt.Legend(title="status", orient="bottom"))
         default_title = "status of each target over time"
     else:
-        scale = alt.Scale(scheme="redyellowgreen", domain=[0, 1])
+        scale = alt.Scale(scheme="cividis", domain=[0, 1])
         legend = alt.Legend(title="visibility (0 hidden, 1 fully visible)", orient="bottom", gradientLength=240)
         color = alt.Color("visibility:Q", scale=scale, legend=legend)
         default_title = "visibility of each target over time"

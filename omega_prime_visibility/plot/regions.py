@@ -1,0 +1,62 @@
+"""The region a picture shades as seen: from the ego's centre all around, or, through sensors, what each sensor
+sees from its own pose (its visible region inside its field of view and range), joined over the sensors.
+
+No plotting library is imported here. Metres, radians counter-clockwise from +x.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+import shapely
+
+from ..engines.visilibity import VisiLibityEngine
+from ..inputs.objects import FrameObjects
+from ..inputs.sensors import Sensor
+from ..inputs.statics import StaticOccluders
+from ..table.pipeline import viewpoints
+
+FULL_TURN = 2 * math.pi - 1e-9
+
+
+def field_polygon(position, heading: float, fov: float, reach: float) -> shapely.Polygon:
+    """A field of view of ``fov`` radians centred on ``heading`` at ``position``, up to ``reach`` metres: a wedge
+    (its arc drawn with chords of at most 1°; a disk for 360°).
+
+    >>> round(field_polygon((0, 0), 0.0, math.pi / 2, 10.0).area / (math.pi * 25), 3)
+    1.0
+    """
+    steps = max(2, math.ceil(math.degrees(min(fov, 2 * math.pi))))
+    if fov >= FULL_TURN:
+        angles = heading + np.linspace(-math.pi, math.pi, steps, endpoint=False)
+        return shapely.Polygon(np.asarray(position) + reach * np.c_[np.cos(angles), np.sin(angles)])
+    angles = heading + np.linspace(-fov / 2, fov / 2, steps + 1)
+    arc = np.asarray(position) + reach * np.c_[np.cos(angles), np.sin(angles)]
+    return shapely.Polygon(np.vstack([position, arc]))
+
+
+def seen_region(
+    engine: VisiLibityEngine,
+    objects: FrameObjects,
+    row: int,
+    statics: StaticOccluders,
+    sensors: Sequence[Sensor] = (),
+) -> shapely.Geometry:
+    """What the object at ``row`` sees in this frame: from its centre all around without sensors, else the union
+    over the sensors of each one's visible region (from the sensor's pose, the same transparency as the table's)
+    inside its field of view and range. Bounded by the engine's box around the scene."""
+    if not sensors:
+        (view,) = viewpoints(objects, np.array([row]), statics)
+        return engine.visible_region(objects, view)
+    parts = []
+    for s, view in zip(sensors, viewpoints(objects, np.array([row]), statics, tuple(sensors)), strict=True):
+        region = engine.visible_region(objects, view)
+        if s.fov >= FULL_TURN and math.isinf(s.range):
+            parts.append(region)
+            continue
+        x0, y0, x1, y1 = region.bounds
+        reach = min(s.range, 2 * math.hypot(x1 - x0, y1 - y0))
+        parts.append(shapely.intersection(region, field_polygon(view.position, view.heading, s.fov, reach)))
+    return shapely.union_all(parts)

@@ -1,0 +1,76 @@
+"""Colours every picture shares, all readable with the common colour-vision deficiencies: visibility on cividis
+(a sequential map that reads the same to red-green colour-blind readers), statuses and sensors in the
+Okabe–Ito qualitative palette (Okabe & Ito 2008, "Color Universal Design").
+
+No plotting library is imported here.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+OKABE_ITO = {
+    "orange": "#E69F00",
+    "sky blue": "#56B4E9",
+    "bluish green": "#009E73",
+    "yellow": "#F0E442",
+    "blue": "#0072B2",
+    "vermillion": "#D55E00",
+    "reddish purple": "#CC79A7",
+    "black": "#000000",
+}
+"""The eight colours of the Okabe–Ito palette."""
+
+VISIBILITY_CMAP = "cividis"
+"""Default matplotlib colour map of visibility (0 dark blue, 1 yellow)."""
+
+CIVIDIS = (
+    "#00224e #083370 #35456c #4f576c #666970 #7d7c78 #948e77 #aea371 #c8b866 #e5cf52 #fee838".split()
+)  # fmt: skip
+"""matplotlib's cividis at 0, 0.1, ..., 1: the same scale in the HTML report (linear between these)."""
+
+SENSOR_COLOURS = tuple(
+    OKABE_ITO[c] for c in ("orange", "blue", "bluish green", "reddish purple", "sky blue", "black", "yellow")
+)
+"""Outline colour of the k-th sensor's field of view (cycled beyond seven); vermillion is the ego's."""
+
+STATUS_COLOURS = {
+    "visible": OKABE_ITO["blue"],
+    "partly_visible": OKABE_ITO["sky blue"],
+    "occluded": OKABE_ITO["vermillion"],
+    "out_of_fov": "#8c8c8c",
+    "out_of_range": "#d0d0d0",
+}
+"""Colour of each ``status`` value (the sensors' verdict per target), in the legend's order."""
+
+EGO_FACE, EGO_EDGE = OKABE_ITO["vermillion"], "#5a2800"
+REGION_FACE = "#cfe8f7"  # the region the ego sees: a pale sky blue under everything
+TARGET_EDGE = "black"  # dashed; the target's occluders are outlined solid
+OCCLUDER_EDGE = "black"
+STATIC_FACE, STATIC_EDGE = "#bbbbbb", "#555555"
+LANE_FACE, LANE_COLOUR = "#b4b4b4", "#7a7a7a"
+
+
+def visibility_colour(v: float) -> str:
+    """Hex colour of visibility ``v`` in 0..1 on the cividis scale (linear between its 11 colours); grey for NaN.
+
+    >>> visibility_colour(0.0), visibility_colour(1.0), visibility_colour(float("nan"))
+    ('#00224e', '#fee838', '#cccccc')
+    """
+    if not np.isfinite(v):
+        return "#cccccc"
+    x = min(max(float(v), 0.0), 1.0) * (len(CIVIDIS) - 1)
+    k = min(int(x), len(CIVIDIS) - 2)
+    a = np.array([int(CIVIDIS[k][i : i + 2], 16) for i in (1, 3, 5)])
+    b = np.array([int(CIVIDIS[k + 1][i : i + 2], 16) for i in (1, 3, 5)])
+    r, g, bl = np.rint(a + (b - a) * (x - k)).astype(int)
+    return f"#{r:02x}{g:02x}{bl:02x}"
+
+
+def sensor_colour(k: int) -> str:
+    """Outline colour of the ``k``-th sensor (0-based).
+
+    >>> sensor_colour(0), sensor_colour(7)
+    ('#E69F00', '#E69F00')
+    """
+    return SENSOR_COLOURS[k % len(SENSOR_COLOURS)]
