@@ -8,6 +8,7 @@ from importlib.metadata import version as _version
 
 from . import _compiled  # noqa: F401 (first: the kernels' cache follows the sources, see _compiled)
 from .analysis.combine import seen_by_any
+from .analysis.conflicts import occluded_conflicts
 from .analysis.intervals import visible_intervals
 from .analysis.summary import target_summary
 from .api import get_visibility_df, get_visibility_df_for_frame
@@ -35,6 +36,8 @@ __all__ = [
     "get_visibility_df",
     "get_visibility_df_for_frame",
     "metrics",
+    "occluded_conflicts",
+    "occluded_conflicts_metric",
     "plot_frame",
     "run_batch",
     "save_timeline",
@@ -53,7 +56,7 @@ PLOTTING = ("animate", "plot_frame", "save_timeline", "timeline_chart", "write_r
 
 def __getattr__(name: str):
     # the Metric imports omega-prime, which takes seconds: load it only when asked for
-    if name in ("visibility", "metrics"):
+    if name in ("visibility", "occluded_conflicts_metric", "metrics"):
         from . import metric
 
         return getattr(metric, name)

@@ -1,4 +1,4 @@
-"""The ``visibility`` Metric for omega-prime's metric pipeline.
+"""The ``visibility`` and ``occluded_conflicts_metric`` Metrics for omega-prime's metric pipeline.
 
 >>> import omega_prime
 >>> from omega_prime_visibility import visibility
@@ -16,6 +16,7 @@ import polars as pl
 import shapely
 from omega_prime.metrics import metric
 
+from .analysis.conflicts import occluded_conflicts
 from .api import get_visibility_df
 from .inputs.objects import OnInvalid
 from .inputs.observers import EgoSpec, SensorSpec
@@ -74,5 +75,44 @@ def visibility(
     return df, {"visibility": table.lazy()}
 
 
-metrics = [visibility]
+@metric(requires_properties=["timegaps", "visibility"], computes_properties=["occluded_conflicts"])
+def occluded_conflicts_metric(
+    df: pl.LazyFrame,
+    /,
+    timegaps: pl.LazyFrame,
+    visibility: pl.LazyFrame,
+    ego_id: int | None = None,
+    pet: float = 3.0,
+    look_back: float = 5.0,
+    visibility_threshold: float = 0.0,
+    reaction_time: float | None = None,
+    notice: tuple[float, float] | None = (1.0, 1.5),
+) -> tuple[pl.LazyFrame, dict[str, pl.LazyFrame]]:
+    """Road users whose path conflicts with the ego's, and whether the ego could see them in time.
+
+    The property ``"occluded_conflicts"`` is :func:`omega_prime_visibility.occluded_conflicts` of omega-prime's
+    ``timegaps`` property and this package's ``visibility`` property, so the manager orders it after both:
+
+    >>> from omega_prime.metrics import DEFAULT_METRICS  # doctest: +SKIP
+    >>> manager = MetricManager(metrics=[*DEFAULT_METRICS, visibility, occluded_conflicts_metric])  # doctest: +SKIP
+    >>> df, properties = manager.compute(recording, ego_id=0, time_buffer=3e9)  # doctest: +SKIP
+
+    Give omega-prime's ``time_buffer`` (nanoseconds; its default is 2 s) at least ``pet`` seconds, or conflicts
+    with a larger gap are never seen.
+    """
+    conflicts = occluded_conflicts(
+        visibility,
+        timegaps,
+        df,
+        ego_idx=ego_id if isinstance(ego_id, int) else None,
+        pet=pet,
+        look_back=look_back,
+        threshold=visibility_threshold,
+        reaction_time=reaction_time,
+        notice=notice,
+    )
+    return df, {"occluded_conflicts": conflicts.lazy()}
+
+
+metrics = [visibility, occluded_conflicts_metric]
 """All metrics of this package, for omega-prime's plugin discovery."""
