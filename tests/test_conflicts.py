@@ -194,3 +194,29 @@ def test_pedestrian_trace_has_no_conflict_and_the_camera_sees_it_from_the_start(
     assert camera["visibility"][0] > 0 and camera["status"][0] in ("visible", "partly_visible")
     best = seen_by_any(vis).filter(pl.col("idx") == 1)
     assert (best["visibility"] > 0).all()  # never hidden from every sensor
+
+
+def test_only_what_happens_before_the_conflict_counts() -> None:
+    # a hand-made table: target 2 hidden by 5 in frames 0-5, by 6 in frames 6-9, seen from frame 10; its path
+    # conflicts with the ego's at frame 5 (it gets there first, the ego 1 s later). Before the conflict it was never
+    # seen: no sight, no notice; hidden 0.6 s (frames 0-5), by 5 alone.
+    frames = range(15)
+    vis = pl.DataFrame(
+        {
+            "frame": list(frames),
+            "total_nanos": [f * STEP for f in frames],
+            "idx": [2] * 15,
+            "occluder_idxs": [[5]] * 6 + [[6]] * 4 + [[]] * 5,
+            "static_occluder_idxs": [[]] * 15,
+            "visibility": [0.0] * 10 + [1.0] * 5,
+        },
+        schema_overrides={"occluder_idxs": pl.List(pl.Int64), "static_occluder_idxs": pl.List(pl.Int64)},
+    )
+    gaps = pl.DataFrame(
+        {"idx_ego": [0], "idx": [2], "total_nanos_ego": [15 * STEP], "timegap": [-1.0], "total_nanos": [5 * STEP]}
+    )
+    row = occluded_conflicts(vis, gaps, ego_idx=0).row(0, named=True)
+    assert row["conflict_nanos"] == 5 * STEP
+    assert row["first_visible_nanos"] is None and row["sight_to_conflict"] is None
+    assert row["first_noticed_nanos"] is None
+    assert (row["hidden"], row["hidden_seconds"], row["hidden_by"]) == (True, pytest.approx(0.6), [5])
