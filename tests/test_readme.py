@@ -15,7 +15,15 @@ from omega_prime_visibility import get_visibility_df
 COLUMNS = ("idx", "occluder_idxs", "static_occluder_idxs", "visibility")
 
 
-PAGES = ("README.md", "docs/getting-started.md", "docs/sensors.md", "docs/3d.md", "docs/batch.md", "docs/pictures.md")
+PAGES = (
+    "README.md",
+    "docs/getting-started.md",
+    "docs/sensors.md",
+    "docs/3d.md",
+    "docs/batch.md",
+    "docs/pictures.md",
+    "docs/conflicts.md",
+)
 
 
 def python_blocks() -> list[str]:
@@ -103,3 +111,14 @@ def test_docs_3d_example_runs_on_the_bundled_recording(namespace) -> None:
     assert solid.height == 1206 and solid.columns[-1] == "can_see"
     hidden = solid.filter(pl.col("frame") == 30, pl.col("idx") == 2).row(0, named=True)
     assert (hidden["can_see"], hidden["occluder_idxs"]) == (False, [1])  # the 4 m truck hides the merging car
+
+
+def test_docs_conflicts_examples_run(namespace) -> None:
+    blocks = [block for block in python_blocks() if "occluded_conflicts" in block]
+    ns = dict(namespace)
+    for block in blocks:
+        run_block(block, ns, REPO)
+    conflicts = ns["conflicts"]
+    # the bundled merge: the ego follows car 4 (1.4 s behind it), seen throughout
+    assert conflicts["idx"].to_list() == [4] and conflicts["timegap"][0] == pytest.approx(-1.4)
+    assert ns["properties"]["occluded_conflicts"].equals(conflicts)
