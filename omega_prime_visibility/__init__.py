@@ -10,6 +10,7 @@ from . import _compiled  # noqa: F401 (first: the kernels' cache follows the sou
 from .analysis.combine import seen_by_any
 from .analysis.conflicts import occluded_conflicts
 from .analysis.intervals import visible_intervals
+from .analysis.statistics import occlusion_statistics
 from .analysis.summary import target_summary
 from .api import get_visibility_df, get_visibility_df_for_frame
 from .batch import run_batch
@@ -38,6 +39,7 @@ __all__ = [
     "metrics",
     "occluded_conflicts",
     "occluded_conflicts_metric",
+    "occlusion_statistics",
     "plot_frame",
     "run_batch",
     "save_timeline",

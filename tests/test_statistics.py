@@ -1,0 +1,90 @@
+"""Occlusion statistics (analysis/statistics.py): shares per distance band and type, the histogram and the
+occluders' types, on a hand-made table with shares derived on paper."""
+
+from __future__ import annotations
+
+import polars as pl
+import pytest
+
+from omega_prime_visibility import occlusion_statistics
+
+VEHICLE, PEDESTRIAN = 2, 3
+
+
+def scene() -> tuple[pl.DataFrame, pl.DataFrame]:
+    """Two frames, the ego 0 at (6000, -3000), positions below relative to it. Frame 0: car 1 at 10 m (visibility
+    1.0), pedestrian 2 at 19.99 m (0.5, behind 1), car 3 at 20 m exactly (0.05, behind 1 and 4), truck 4 at 35 m
+    (0.9); frame 1: car 1 at 50 m (0.0, behind 4), pedestrian 2 at 70 m (0.1, behind 4), truck 4 at 40 m (0.95)."""
+    objects = pl.DataFrame(
+        {
+            "total_nanos": [0] * 5 + [100] * 4,
+            "idx": [0, 1, 2, 3, 4, 0, 1, 2, 4],
+            "x": [0.0, 10.0, 0.0, 20.0, 35.0, 0.0, 50.0, 0.0, 40.0],
+            "y": [0.0, 0.0, 19.99, 0.0, 0.0, 0.0, 0.0, 70.0, 0.0],
+            "type": [VEHICLE, VEHICLE, PEDESTRIAN, VEHICLE, VEHICLE, VEHICLE, VEHICLE, PEDESTRIAN, VEHICLE],
+        }
+    ).with_columns(x=pl.col("x") + 6000.0, y=pl.col("y") - 3000.0)  # at map coordinates: distances are relative
+    table = pl.DataFrame(
+        {
+            "frame": [0, 0, 0, 0, 1, 1, 1],
+            "total_nanos": [0, 0, 0, 0, 100, 100, 100],
+            "idx": [1, 2, 3, 4, 1, 2, 4],
+            "visibility": [1.0, 0.5, 0.05, 0.9, 0.0, 0.1, 0.95],
+            "occluder_idxs": [[], [1], [1, 4], [], [4], [4], []],
+        },
+        schema_overrides={"occluder_idxs": pl.List(pl.Int64)},
+    )
+    return table, objects
+
+
+def test_shares_by_band_and_type_on_paper() -> None:
+    table, objects = scene()
+    stats = occlusion_statistics(table, objects, ego_idx=0)
+    rows = {(r["band"], r["target_type"]): r for r in stats["by_band"].iter_rows(named=True)}
+    # < 20 m: car 1 (visible, 1.0 > 0.9), pedestrian 2 (partly, 0.5)
+    near = rows[("< 20 m", "all")]
+    assert (near["rows"], near["visible"], near["partly"], near["hidden"]) == (2, 0.5, 0.5, 0.0)
+    # 20 to 50 m: car 3 at exactly 20 m (hidden, 0.05 < 0.1), truck 4 at 35 m (0.9: partly, the bound is in it),
+    # truck 4 at 40 m (visible)
+    mid = rows[("20 to 50 m", "all")]
+    assert mid["rows"] == 3 and mid["visible"] == pytest.approx(1 / 3)
+    assert mid["partly"] == pytest.approx(1 / 3) and mid["hidden"] == pytest.approx(1 / 3)
+    # >= 50 m: car 1 at exactly 50 m (hidden), pedestrian 2 at 70 m (0.1: partly)
+    far = rows[(">= 50 m", "all")]
+    assert (far["rows"], far["visible"], far["partly"], far["hidden"]) == (2, 0.0, 0.5, 0.5)
+    assert rows[("< 20 m", "pedestrian")]["partly"] == 1.0 and rows[(">= 50 m", "vehicle")]["hidden"] == 1.0
+    bands = stats["by_band"]["band"].to_list()
+    assert bands == sorted(bands, key=["< 20 m", "20 to 50 m", ">= 50 m"].index)  # near to far
+    # histogram: 0.0, 0.05 in [0, 0.1); 0.1 in [0.1, 0.2); 0.5 in [0.5, 0.6); 0.9, 0.95, 1.0 in [0.9, 1.0]
+    hist = stats["histogram"]
+    assert hist["rows"].to_list() == [2, 1, 0, 0, 0, 1, 0, 0, 0, 3]
+    assert hist["share"].sum() == pytest.approx(1.0) and hist["bin_start"][9] == pytest.approx(0.9)
+    # occluders: car 1 twice (rows of 2 and 3), truck 4 three times (rows of 3, of 1 and of 2 in frame 1)
+    assert stats["occluder_types"].rows() == [("vehicle", 5)]
+
+
+def test_other_bands_and_bounds() -> None:
+    table, objects = scene()
+    stats = occlusion_statistics(table, objects, ego_idx=0, bands=(30.0,), partly=(0.01, 0.99), bins=2)
+    all_rows = stats["by_band"].filter(pl.col("target_type") == "all")
+    assert all_rows.select("band", "rows").rows() == [("< 30 m", 3), (">= 30 m", 4)]
+    # < 30 m: 1.0 visible, 0.5 and 0.05 partly; >= 30 m: 0.9, 0.1 partly, 0.95 partly, 0.0 hidden
+    assert all_rows.select("visible", "partly", "hidden").rows() == [
+        (pytest.approx(1 / 3), pytest.approx(2 / 3), 0.0),
+        (0.0, 0.75, 0.25),
+    ]
+    assert stats["histogram"]["rows"].to_list() == [3, 4]
+
+
+def test_bad_input() -> None:
+    table, objects = scene()
+    with pytest.raises(ValueError, match="pass ego_idx"):
+        occlusion_statistics(table, objects)
+    with pytest.raises(ValueError, match="object table lacks"):
+        occlusion_statistics(table, objects.drop("type"), ego_idx=0)
+    with pytest.raises(ValueError, match="ascending"):
+        occlusion_statistics(table, objects, ego_idx=0, bands=(50.0, 20.0))
+    with pytest.raises(ValueError, match="partly"):
+        occlusion_statistics(table, objects, ego_idx=0, partly=(0.9, 0.1))
+    with pytest.raises(ValueError, match="seen_by_any"):
+        occlusion_statistics(table.with_columns(sensor=pl.lit("camera")), objects, ego_idx=0)
