@@ -14,6 +14,7 @@ from .analysis.statistics import occlusion_statistics
 from .analysis.summary import target_summary
 from .api import get_visibility_df, get_visibility_df_for_frame
 from .batch import run_batch
+from .batch.campaign import campaign_statistics
 from .engines import ENGINES, ENGINES_3D, Observation, Reason, Viewpoint
 from .inputs.objects import VisibilityInputWarning
 from .inputs.sensors import Sensor
@@ -34,6 +35,7 @@ __all__ = [
     "Viewpoint",
     "VisibilityInputWarning",
     "animate",
+    "campaign_statistics",
     "get_visibility_df",
     "get_visibility_df_for_frame",
     "metrics",

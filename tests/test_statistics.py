@@ -88,3 +88,53 @@ def test_bad_input() -> None:
         occlusion_statistics(table, objects, ego_idx=0, partly=(0.9, 0.1))
     with pytest.raises(ValueError, match="seen_by_any"):
         occlusion_statistics(table.with_columns(sensor=pl.lit("camera")), objects, ego_idx=0)
+
+
+@pytest.fixture(scope="module")
+def campaign(tmp_path_factory):
+    """A batch output folder: the bundled recording twice (two names), ego 0, default options."""
+    import shutil
+
+    from conftest import REPO
+
+    from omega_prime_visibility import run_batch
+
+    folder = tmp_path_factory.mktemp("campaign")
+    for name in ("a.mcap", "b.mcap"):
+        shutil.copyfile(REPO / "highway_merge.mcap", folder / name)
+    run_batch([folder / "a.mcap", folder / "b.mcap"], folder / "results", ego=0, progress=False)
+    return folder
+
+
+def test_campaign_over_a_batch_folder_equals_the_tables_own(campaign) -> None:
+    from omega_prime_visibility import campaign_statistics, get_visibility_df
+    from omega_prime_visibility.inputs.io import read_recording
+
+    stats = campaign_statistics(campaign / "results")
+    r = read_recording(campaign / "a.mcap")
+    one = occlusion_statistics(get_visibility_df(r, 0, progress=False), r._df, ego_idx=0)
+    # two copies of one recording: the same shares, twice the rows
+    both = stats["by_band"].select("band", "target_type", "visible", "partly", "hidden")
+    assert both.equals(one["by_band"].select("band", "target_type", "visible", "partly", "hidden"))
+    assert stats["by_band"]["rows"].to_list() == [2 * n for n in one["by_band"]["rows"]]
+    assert stats["histogram"]["rows"].to_list() == [2 * n for n in one["histogram"]["rows"]]
+    assert stats["by_recording"]["rows"].to_list() == [1206, 1206]
+    # in the bundled merge only vehicles occlude (the truck 1 and car 4)
+    assert stats["occluder_types"]["occluder_type"].to_list() == ["vehicle"]
+
+
+def test_campaign_bad_folders(campaign, tmp_path) -> None:
+    import shutil
+
+    from omega_prime_visibility import campaign_statistics, run_batch
+
+    with pytest.raises(ValueError, match="holds no batch results"):
+        campaign_statistics(tmp_path)
+    with pytest.raises(ValueError, match="is not a folder"):
+        campaign_statistics(tmp_path / "missing")
+    mixed = tmp_path / "mixed"
+    shutil.copytree(campaign / "results", mixed)
+    run_batch([campaign / "a.mcap"], tmp_path / "other", ego=0, engine="sweep", progress=False)
+    shutil.copyfile(tmp_path / "other" / "a.mcap.parquet", mixed / "c.mcap.parquet")
+    with pytest.raises(ValueError, match=r"different options \(engine"):
+        campaign_statistics(mixed)

@@ -64,8 +64,17 @@ def occlusion_statistics(
     >>> stats["occluder_types"].rows()
     [('vehicle', 1)]
     """
+    _checked(bands, partly, bins)
+    rows = rows_with_distance(visibility.lazy(), objects.lazy(), ego_idx)
+    return statistics_of_rows(rows, bands=bands, partly=partly, bins=bins)
+
+
+def statistics_of_rows(
+    rows: pl.LazyFrame, *, bands: tuple[float, ...] = (20.0, 50.0), partly=(0.1, 0.9), bins: int = 10
+) -> dict[str, pl.DataFrame]:
+    """:func:`occlusion_statistics` of rows that already have ``distance`` and ``target_type`` (from
+    :func:`rows_with_distance`, e.g. several recordings' rows concatenated)."""
     low, high = _checked(bands, partly, bins)
-    rows = _rows_with_distance(visibility.lazy(), objects.lazy(), ego_idx)
     labels = _band_labels(bands)
     band = pl.col("distance").cut(list(bands), labels=labels, left_closed=True)
     v = pl.col("visibility")
@@ -95,12 +104,10 @@ def occlusion_statistics(
         )
         .select("bin_start", "bin_end", "rows", "share")
     )
-    types = objects.lazy().select("total_nanos", pl.col("idx").alias("occluder"), _type_name().alias("occluder_type"))
     occluder_types = (
-        rows.select("total_nanos", pl.col("occluder_idxs").alias("occluder"))
-        .explode("occluder")
-        .drop_nulls("occluder")
-        .join(types, on=["total_nanos", "occluder"], how="left")
+        rows.select(pl.col("occluder_types").alias("occluder_type"))
+        .explode("occluder_type")
+        .drop_nulls("occluder_type")
         .group_by("occluder_type")
         .agg(rows=pl.len())
         .sort("rows", "occluder_type", descending=[True, False])
@@ -137,7 +144,8 @@ def _type_name() -> pl.Expr:
     return pl.col("type").replace_strict(TYPE_NAMES, default="unknown", return_dtype=pl.String)
 
 
-def _rows_with_distance(table: pl.LazyFrame, objects: pl.LazyFrame, ego_idx: int | None) -> pl.LazyFrame:
+def rows_with_distance(table: pl.LazyFrame, objects: pl.LazyFrame, ego_idx: int | None) -> pl.LazyFrame:
+    """The visibility table's rows with ``distance`` (metres, observer to target centre) and ``target_type``."""
     names = table.collect_schema().names()
     missing = [c for c in ("total_nanos", "idx", "visibility", "occluder_idxs") if c not in names]
     if missing:
@@ -153,6 +161,15 @@ def _rows_with_distance(table: pl.LazyFrame, objects: pl.LazyFrame, ego_idx: int
             raise ValueError("the visibility table has no idx_ego column: pass ego_idx (the observer it was made for)")
         table = table.with_columns(idx_ego=pl.lit(ego_idx, dtype=pl.Int64))
     where = objects.select("total_nanos", "idx", "x", "y", target_type=_type_name())
+    table = table.with_row_index("_row")
+    occluder_types = (
+        table.select("_row", "total_nanos", pl.col("occluder_idxs").alias("idx"))
+        .explode("idx")
+        .drop_nulls("idx")
+        .join(where.select("total_nanos", "idx", "target_type"), on=["total_nanos", "idx"], how="left")
+        .group_by("_row")
+        .agg(occluder_types=pl.col("target_type").fill_null("unknown"))
+    )
     return (
         table.join(where, on=["total_nanos", "idx"], how="left")
         .join(
@@ -160,5 +177,10 @@ def _rows_with_distance(table: pl.LazyFrame, objects: pl.LazyFrame, ego_idx: int
             on=["total_nanos", "idx_ego"],
             how="left",
         )
-        .with_columns(distance=((pl.col("x") - pl.col("x_ego")) ** 2 + (pl.col("y") - pl.col("y_ego")) ** 2).sqrt())
+        .join(occluder_types, on="_row", how="left")
+        .with_columns(
+            distance=((pl.col("x") - pl.col("x_ego")) ** 2 + (pl.col("y") - pl.col("y_ego")) ** 2).sqrt(),
+            occluder_types=pl.col("occluder_types").fill_null([]),
+        )
+        .drop("_row")
     )

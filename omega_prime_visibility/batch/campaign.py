@@ -1,0 +1,106 @@
+"""Statistics over a whole campaign: every result of a batch output folder, per recording and overall.
+
+Each result holds its recording's path and the options it was computed with (parquet metadata, see
+:mod:`.files`); the distances and the targets' types come from the recordings themselves (their moving objects,
+read without a map), so results need nothing beyond the visibility table. Results computed with different options
+are refused, naming the options that differ: their numbers do not compare.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import polars as pl
+import pyarrow.parquet as pq
+
+from ..analysis.statistics import rows_with_distance, statistics_of_rows
+from .files import OPTIONS_KEY, RECORDING_KEY
+from .run import SUMMARY_NAME
+
+
+def campaign_statistics(
+    folder: str | Path,
+    *,
+    bands: tuple[float, ...] = (20.0, 50.0),
+    partly: tuple[float, float] = (0.1, 0.9),
+    bins: int = 10,
+) -> dict[str, pl.DataFrame]:
+    """:func:`~omega_prime_visibility.occlusion_statistics` over every result in a batch output ``folder``.
+
+    Returns
+    -------
+    dict of polars.DataFrame
+        ``"by_band"``, ``"histogram"`` and ``"occluder_types"`` over all recordings together, and
+        ``"by_recording"``: ``recording, rows, visible, partly, hidden`` (shares of the recording's rows).
+    """
+    frames = []
+    for result, options, recording in _results(Path(folder)):
+        objects, host = _objects(recording)
+        ego = options.get("ego")
+        ego = ego if isinstance(ego, int) else host
+        rows = rows_with_distance(_table(result), objects, ego)
+        frames.append(rows.with_columns(recording=pl.lit(recording)))
+    rows = pl.concat(frames, how="vertical_relaxed")
+    stats = statistics_of_rows(rows, bands=bands, partly=partly, bins=bins)
+    low, high = partly
+    v = pl.col("visibility")
+    stats["by_recording"] = (
+        rows.group_by("recording")
+        .agg(
+            pl.len().alias("rows"),
+            (v > high).mean().alias("visible"),
+            ((v >= low) & (v <= high)).mean().alias("partly"),
+            (v < low).mean().alias("hidden"),
+        )
+        .sort("recording")
+        .collect()
+    )
+    return stats
+
+
+def _results(folder: Path) -> list[tuple[Path, dict, str]]:
+    """Every complete result under ``folder`` with its recording; checks the options agree."""
+    if not folder.is_dir():
+        raise ValueError(f"{folder} is not a folder of batch results")
+    found = []
+    for path in sorted(folder.rglob("*.parquet")):
+        if path.name == SUMMARY_NAME or path.name.startswith("."):
+            continue
+        metadata = pq.read_metadata(path).metadata or {}
+        if OPTIONS_KEY in metadata and RECORDING_KEY in metadata:
+            found.append((path, json.loads(metadata[OPTIONS_KEY]), metadata[RECORDING_KEY].decode()))
+    if not found:
+        raise ValueError(f"{folder} holds no batch results (run omega-prime-visibility batch ... -o {folder} first)")
+    first_path, first, _ = found[0]
+    for path, options, _ in found[1:]:
+        differ = sorted(k for k in set(first) | set(options) if first.get(k) != options.get(k))
+        if differ:
+            raise ValueError(
+                f"the results in {folder} were computed with different options ({', '.join(differ)}: "
+                f"{first_path.name} and {path.name}); statistics over them would not compare like with like"
+            )
+    return found
+
+
+def _table(result: Path) -> pl.LazyFrame:
+    """A result's table; through sensors, one row per (frame, target): the best visibility and every occluder."""
+    table = pl.scan_parquet(result)
+    names = table.collect_schema().names()
+    if "sensor" not in names:
+        return table
+    keys = [k for k in ("frame", "total_nanos", "idx_ego", "idx") if k in names]
+    every = pl.col("occluder_idxs").list.explode(keep_nulls=False, empty_as_null=False).unique().sort()
+    return table.group_by(keys).agg(pl.col("visibility").max(), every).sort(keys)
+
+
+def _objects(recording: str) -> tuple[pl.LazyFrame, int | None]:
+    """The recording's moving objects (positions and types) and its host vehicle."""
+    from ..inputs.io import RecordingReadError, read_recording
+
+    try:
+        r = read_recording(Path(recording))
+    except (RecordingReadError, OSError) as e:
+        raise ValueError(f"cannot read the recording {recording} of a batch result: {e}") from None
+    host = None if r.host_vehicle_idx is None else int(r.host_vehicle_idx)
+    return r._df.lazy().select("total_nanos", "idx", "x", "y", "type"), host
