@@ -122,3 +122,6 @@ def test_docs_conflicts_examples_run(namespace) -> None:
     # the bundled merge: the ego follows car 4 (1.4 s behind it), seen throughout
     assert conflicts["idx"].to_list() == [4] and conflicts["timegap"][0] == pytest.approx(-1.4)
     assert ns["properties"]["occluded_conflicts"].equals(conflicts)
+    statistics = next(block for block in python_blocks() if "occlusion_statistics(" in block)
+    run_block(statistics, ns, REPO)
+    assert ns["one"]["histogram"]["rows"].sum() == 1206

@@ -138,3 +138,20 @@ def test_campaign_bad_folders(campaign, tmp_path) -> None:
     shutil.copyfile(tmp_path / "other" / "a.mcap.parquet", mixed / "c.mcap.parquet")
     with pytest.raises(ValueError, match=r"different options \(engine"):
         campaign_statistics(mixed)
+
+
+def test_cli_statistics(campaign, tmp_path) -> None:
+    import subprocess
+    import sys
+
+    def cli(*args):
+        command = [sys.executable, "-m", "omega_prime_visibility.cli", "statistics", *map(str, args)]
+        return subprocess.run(command, capture_output=True, text=True)
+
+    out = cli(campaign / "results", "--bands", "30")
+    assert out.returncode == 0, out.stderr
+    assert "per recording" in out.stdout and "< 30 m" in out.stdout and ">= 30 m" in out.stdout
+    empty = cli(tmp_path)
+    assert empty.returncode == 2 and empty.stderr.startswith("error: ") and "holds no batch results" in empty.stderr
+    bad = cli(campaign / "results", "--bands", "near")
+    assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1

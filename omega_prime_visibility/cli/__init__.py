@@ -9,7 +9,7 @@ import sys
 import typer
 
 from ..engines import ENGINES, ENGINES_3D
-from . import batch, compile_kernels, pictures, run  # noqa: F401  (each registers its commands on the app)
+from . import batch, compile_kernels, pictures, run, statistics  # noqa: F401  (each registers its commands on the app)
 from .app import HELP, app
 from .batch import print_summary
 from .common import fail

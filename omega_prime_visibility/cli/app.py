@@ -17,7 +17,7 @@ HELP = (
     " of one recording; 'batch INPUTS -o FOLDER' computes many, locally or on a dask cluster; 'animate' renders a"
     " GIF or MP4 and 'report' an interactive HTML page. Add --help after a command for its options."
 )
-ORDER = ("run", "batch", "animate", "report", "engines", "compile")
+ORDER = ("run", "batch", "statistics", "animate", "report", "engines", "compile")
 
 
 class CommandsInOrder(typer.core.TyperGroup):
