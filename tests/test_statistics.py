@@ -155,3 +155,30 @@ def test_cli_statistics(campaign, tmp_path) -> None:
     assert empty.returncode == 2 and empty.stderr.startswith("error: ") and "holds no batch results" in empty.stderr
     bad = cli(campaign / "results", "--bands", "near")
     assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1
+
+
+def test_batch_conflicts_beside_each_result_and_in_the_campaign(campaign, tmp_path) -> None:
+    import subprocess
+    import sys
+
+    from omega_prime.metrics import MetricManager, distance_traveled, timegaps_and_min_timegaps, vel
+
+    from omega_prime_visibility import campaign_statistics, get_visibility_df, occluded_conflicts
+    from omega_prime_visibility.inputs.io import read_recording
+
+    out = tmp_path / "results"
+    command = [sys.executable, "-m", "omega_prime_visibility.cli", "batch", str(campaign / "a.mcap"), "-o", str(out)]
+    done = subprocess.run([*command, "--ego", "0", "--conflicts", "--no-progress"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    written = pl.read_parquet(out / "a.mcap.conflicts.parquet")
+    r = read_recording(campaign / "a.mcap")
+    manager = MetricManager(metrics=[vel, distance_traveled, timegaps_and_min_timegaps])
+    gaps = manager.compute(r, ego_id=0, time_buffer=3e9)[1]["timegaps"]
+    assert written.equals(occluded_conflicts(get_visibility_df(r, 0, progress=False), gaps, r._df, ego_idx=0))
+    assert written["idx"].to_list() == [4]  # the ego follows car 4
+    stats = campaign_statistics(out)
+    assert stats["conflicts"].select("recording", "idx").rows() == [(str(campaign / "a.mcap"), 4)]
+    # the option is stored: a rerun without it recomputes (and the earlier conflicts file stays as it was)
+    again = subprocess.run([*command, "--ego", "0", "--no-progress"], capture_output=True, text=True)
+    assert again.returncode == 0 and "1 done" in again.stdout
+    assert campaign_statistics(campaign / "results")["conflicts"].height == 0  # a folder without --conflicts

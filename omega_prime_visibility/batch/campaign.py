@@ -17,6 +17,7 @@ import pyarrow.parquet as pq
 from ..analysis.statistics import rows_with_distance, statistics_of_rows
 from .files import OPTIONS_KEY, RECORDING_KEY
 from .run import SUMMARY_NAME
+from .task import conflicts_path
 
 
 def campaign_statistics(
@@ -32,10 +33,14 @@ def campaign_statistics(
     -------
     dict of polars.DataFrame
         ``"by_band"``, ``"histogram"`` and ``"occluder_types"`` over all recordings together, and
-        ``"by_recording"``: ``recording, rows, visible, partly, hidden`` (shares of the recording's rows).
+        ``"by_recording"``: ``recording, rows, visible, partly, hidden`` (shares of the recording's rows), and
+        ``"conflicts"``: every result's occluded conflicts with its ``recording`` (written by ``batch --conflicts``;
+        empty without them).
     """
-    frames = []
+    frames, conflicts = [], []
     for result, options, recording in _results(Path(folder)):
+        if conflicts_path(result).is_file():
+            conflicts.append(pl.read_parquet(conflicts_path(result)).with_columns(recording=pl.lit(recording)))
         objects, host = _objects(recording)
         ego = options.get("ego")
         ego = ego if isinstance(ego, int) else host
@@ -55,6 +60,9 @@ def campaign_statistics(
         )
         .sort("recording")
         .collect()
+    )
+    stats["conflicts"] = (
+        pl.concat(conflicts, how="vertical_relaxed") if conflicts else pl.DataFrame(schema={"recording": pl.String})
     )
     return stats
 

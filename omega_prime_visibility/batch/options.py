@@ -37,6 +37,9 @@ class FileOptions:
         Bird's-eye view (exact) or boxes with heights (see ``get_visibility_df``).
     map_occluders : bool
         The map's road objects as static occluders (the ``map`` file for OSI traces, else the recording's own).
+    conflicts : bool
+        Also write each recording's occluded conflicts (``occluded_conflicts`` with its defaults: a PET of 3 s, a
+        5 s look-back, the notice model ``(1.0, 1.5)``) beside its result, as ``<result>.conflicts.parquet``.
 
     Examples
     --------
@@ -55,6 +58,7 @@ class FileOptions:
     sensors: str | None = field(default=None, metadata={"file": True, "names": tuple(LAYOUTS)})
     mode: str = "2d"
     map_occluders: bool = False
+    conflicts: bool = False
 
     def __post_init__(self) -> None:
         from ..inputs.sensors import resolve_sensors

@@ -110,6 +110,10 @@ def _compute_and_write(task: FileTask) -> int:
         b"omega_prime_visibility.version": version("omega-prime-visibility").encode(),
     }
     Path(task.result).parent.mkdir(parents=True, exist_ok=True)
+    if options.conflicts:  # first, so that a complete result always has its conflicts beside it
+        conflicts = _conflicts(recording, table, ego_idx)
+        with atomic_write(conflicts_path(task.result)) as temp:
+            conflicts.write_parquet(temp)
     with atomic_write(task.result) as temp:
         pq.write_table(arrow.replace_schema_metadata(metadata), temp)
     return table.height
@@ -122,3 +126,25 @@ def _static_occluders(path: str, mtime_ns: int) -> list:
     from ..inputs.io import read_static_occluders
 
     return read_static_occluders(path)
+
+
+def conflicts_path(result: str | Path) -> Path:
+    """Where ``batch --conflicts`` writes a result's occluded conflicts: ``<result>.conflicts.parquet``."""
+    result = Path(result)
+    return result.with_name(result.name.removesuffix(".parquet") + ".conflicts.parquet")
+
+
+def _conflicts(recording, table, ego_idx):
+    """``occluded_conflicts`` of every ego of the table, with omega-prime's timegaps (a 3 s buffer: the PET)."""
+    import polars as pl
+    from omega_prime.metrics import MetricManager, distance_traveled, timegaps_and_min_timegaps, vel
+
+    from ..analysis.conflicts import occluded_conflicts
+
+    egos = sorted(table["idx_ego"].unique().to_list()) if "idx_ego" in table.columns else [ego_idx]
+    manager = MetricManager(metrics=[vel, distance_traveled, timegaps_and_min_timegaps])
+    gaps = pl.concat(
+        [manager.compute(recording, ego_id=ego, time_buffer=3e9)[1]["timegaps"] for ego in egos], how="vertical"
+    )
+    single = None if "idx_ego" in table.columns else ego_idx
+    return occluded_conflicts(table, gaps, recording._df, ego_idx=single)

@@ -44,6 +44,14 @@ def batch(
     scheduler_file: Annotated[
         Path | None, typer.Option(metavar="FILE", help="dask scheduler file (see dask scheduler --help)")
     ] = None,
+    conflicts: Annotated[
+        bool,
+        typer.Option(
+            "--conflicts",
+            help="also write each recording's occluded conflicts (PET 3 s) beside its result, as"
+            " RESULT.conflicts.parquet",
+        ),
+    ] = False,
     overwrite: Annotated[bool, typer.Option(help="recompute results that are current")] = False,
     progress: Annotated[bool, typer.Option(help="show a progress bar over files")] = True,
 ) -> None:
@@ -58,7 +66,7 @@ def batch(
     from ..batch import SUMMARY_NAME, BatchInterrupted, run_batch
 
     options = {"ego": parse_ego(ego) if ego else None, "engine": engine, "static": static, "map": map_path}
-    options.update(sensors=sensors, mode=mode, map_occluders=map_occluders)
+    options.update(sensors=sensors, mode=mode, map_occluders=map_occluders, conflicts=conflicts)
     try:
         summary = run_batch(
             inputs,
