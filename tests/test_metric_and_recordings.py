@@ -32,7 +32,9 @@ def test_metric_runs_inside_metric_manager(bundled: omega_prime.Recording) -> No
     assert "vel" in df.columns
     expected = get_visibility_df(bundled, 0)
     assert properties["visibility"].equals(expected)
-    assert metrics == [visibility]
+    from omega_prime_visibility import occluded_conflicts_metric
+
+    assert metrics == [visibility, occluded_conflicts_metric]  # every Metric of the package, for plugin discovery
 
 
 def test_metric_passes_static_occluders_and_engine(bundled: omega_prime.Recording) -> None:
