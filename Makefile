@@ -35,6 +35,7 @@ bench: | $(UV_DEP)
 	$(UV) run python benchmarks/pictures.py
 	$(UV) run python benchmarks/agreement.py
 	$(UV) run python benchmarks/first_call.py
+	$(UV) run python benchmarks/bench_campaign.py
 
 bench-batch: | $(UV_DEP)
 	$(UV) run python benchmarks/bench_batch.py
