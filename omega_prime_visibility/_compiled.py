@@ -115,15 +115,29 @@ ANNOUNCE = True
 """Whether :func:`announce_compilation` speaks (``omega-prime-visibility compile`` says it all itself)."""
 
 
-def announce_compilation(name: str, engine_class: type) -> bool:
-    """Say on stderr that an engine's kernels are about to be compiled, when they were never compiled for these
-    sources (a first run stays silent for up to a minute or two otherwise); return whether it said so."""
+def marker(path_key: str) -> Path | None:
+    """The file saying that one path of an engine (``path_key``, e.g. ``"sweep"`` or ``"sweep+sensors"``) ran to the
+    end with the current cache, so its kernels are there; None where numba caches next to the sources."""
+    folder = numba.config.CACHE_DIR
+    return Path(folder) / f".ran-{path_key}" if folder else None
+
+
+def announce_compilation(name: str, engine_class: type, path_key: str | None = None) -> bool:
+    """Say on stderr that an engine's kernels are about to be compiled, when this path of it (``path_key``, default
+    the engine's name) never ran to the end with these sources (a first run stays silent for up to a minute or two
+    otherwise); return whether it said so. Without a cache folder of our own, whether the engine's own modules have
+    cached kernels decides."""
     if not ANNOUNCE:
         return False
-    module = Path(inspect.getfile(engine_class))
-    source = module.parent if module.parent != PACKAGE / "engines" else module  # its subpackage, or its module
-    if compiled_before(source):
-        return False
+    done = marker(path_key or name)
+    if done is not None:
+        if done.exists():
+            return False
+    else:
+        module = Path(inspect.getfile(engine_class))
+        source = module.parent if module.parent != PACKAGE / "engines" else module  # its subpackage, or its module
+        if compiled_before(source):
+            return False
     print(
         f"omega-prime-visibility: compiling the {name} engine's kernels, once per version of the package "
         "(up to a minute or two; later runs start at once)",
@@ -131,6 +145,16 @@ def announce_compilation(name: str, engine_class: type) -> bool:
         flush=True,
     )
     return True
+
+
+def mark_compiled(path_key: str) -> None:
+    """Note that this path of an engine ran to the end (see :func:`marker`); a read-only cache is left alone."""
+    done = marker(path_key)
+    if done is not None:
+        try:
+            done.touch()
+        except OSError:
+            pass
 
 
 CACHE_FOLDER = use_versioned_cache()  # on import, before any kernel is defined (the package imports this first)

@@ -15,7 +15,7 @@ import polars as pl
 import shapely
 from tqdm.auto import tqdm
 
-from ._compiled import announce_compilation
+from ._compiled import announce_compilation, mark_compiled
 from .engines import get_engine
 from .inputs.objects import ObjectTable, OnInvalid
 from .inputs.observers import EgoSpec, SensorSpec, describe_idx, resolve_egos  # noqa: F401 (public here too)
@@ -195,7 +195,8 @@ def get_visibility_df(
     n_workers = auto_workers(objects.n_frames * len(egos)) if workers is None else max(1, int(workers))
     chunk_frames = chunk_size(objects, len(egos), chunk_frames, 1 if sensor_set is None else len(sensor_set))
     n_workers = min(n_workers, len(chunks(objects.n_frames, chunk_frames, n_workers)))
-    announce_compilation(engine, engine_class)  # (the checks are done: work starts here)
+    path_key = engine if sensor_set is None else f"{engine}+sensors"  # the sensors' path compiles more kernels
+    announce_compilation(engine, engine_class, path_key)  # (the checks are done: work starts here)
     show = objects.n_frames >= PROGRESS_MIN_FRAMES if progress is None else progress
     bar = tqdm(total=objects.n_frames, disable=not show, desc="visibility", unit="frame")
     containment = ContainmentLog()
@@ -226,6 +227,7 @@ def get_visibility_df(
         if sink is not None and not written:
             sink.write_empty()
     containment.warn(stacklevel=3)
+    mark_compiled(path_key)
     if output is not None:
         return pl.scan_parquet(output)
     return (

@@ -8,6 +8,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from omega_prime_visibility._compiled import PACKAGE, sources_key
 
 PROBE = (
@@ -91,14 +93,36 @@ def test_compiled_before_looks_where_numba_caches(tmp_path: Path, monkeypatch) -
     assert compiled_before(engine)
 
 
-def test_a_first_run_says_it_compiles_and_a_later_one_does_not(monkeypatch, capsys) -> None:
+def test_a_first_run_says_it_compiles_and_a_later_one_does_not(monkeypatch, capsys, tmp_path) -> None:
     from conftest import boxes_table
 
-    from omega_prime_visibility import _compiled, get_visibility_df
+    from omega_prime_visibility import Sensor, _compiled, get_visibility_df
 
+    # a fresh cache folder's markers (the kernels themselves stay where they are)
+    monkeypatch.setattr(_compiled, "marker", lambda key: tmp_path / f".ran-{key}")
     table = boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 2, 0)])
     for cold in (True, False):
-        monkeypatch.setattr(_compiled, "compiled_before", lambda source, cold=cold: not cold)
         get_visibility_df(table, 0, engine="sweep")
         said = capsys.readouterr().err
         assert ("compiling the sweep engine's kernels" in said) == cold, said
+    assert (tmp_path / ".ran-sweep").exists()
+    # the sensors' path compiles kernels of its own: its first run says so too, once
+    for cold in (True, False):
+        get_visibility_df(table, 0, engine="sweep", sensors=[Sensor("front", fov=1.0)])
+        assert ("compiling the sweep engine's kernels" in capsys.readouterr().err) == cold
+    # an engine without kernel modules of its own (silhouette3d uses threed's) is announced once, not every time
+    boxes = table.with_columns(z=0.75, height=1.5, roll=0.0, pitch=0.0)
+    for cold in (True, False):
+        get_visibility_df(boxes, 0, mode="3d", engine="silhouette3d")
+        assert ("compiling the silhouette3d engine's kernels" in capsys.readouterr().err) == cold
+    # a run that fails half-way leaves no marker: the next one still announces
+    from omega_prime_visibility import api
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("killed half-way")
+
+    monkeypatch.setattr(api, "run", broken)
+    with pytest.raises(RuntimeError, match="half-way"):
+        get_visibility_df(table, 0, engine="visilibity")
+    assert "compiling the visilibity engine's kernels" in capsys.readouterr().err
+    assert not (tmp_path / ".ran-visilibity").exists()
