@@ -138,8 +138,9 @@ def announce_compilation(name: str, engine_class: type, path_key: str | None = N
         source = module.parent if module.parent != PACKAGE / "engines" else module  # its subpackage, or its module
         if compiled_before(source):
             return False
+    through = " for sensors" if (path_key or "").endswith("+sensors") else ""
     print(
-        f"omega-prime-visibility: compiling the {name} engine's kernels, once per version of the package "
+        f"omega-prime-visibility: compiling the {name} engine's kernels{through}, once per version of the package "
         "(up to a minute or two; later runs start at once)",
         file=sys.stderr,
         flush=True,
