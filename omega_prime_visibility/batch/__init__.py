@@ -2,8 +2,10 @@
 
 - :mod:`.options`: :class:`FileOptions`, what every file of a batch is computed with, stored in each result;
 - :mod:`.files`: inputs -> (recording, result) pairs, current results, leftovers of interrupted runs;
-- :mod:`.run`: :func:`run_batch`, :func:`process_file` (one file, atomic), the summary;
-- :mod:`.execute`: where the files are computed: here, a local process pool, or a dask cluster.
+- :mod:`.task`: :func:`process_file`, one file computed and written atomically (and its conflicts, when asked);
+- :mod:`.run`: :func:`run_batch` and the summary;
+- :mod:`.execute`: where the files are computed: here, a local process pool, or a dask cluster;
+- :mod:`.campaign`: :func:`~.campaign.campaign_statistics` over a batch output folder.
 """
 
 from .options import FileOptions
