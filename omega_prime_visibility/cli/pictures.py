@@ -131,9 +131,15 @@ def animate(
     typer.echo(f"wrote {output}")
 
 
-@app.command(short_help="an interactive HTML report of one recording")
+@app.command(short_help="an interactive HTML report of one recording, or of a batch output folder")
 def report(
-    recording: Recording,
+    recording: Annotated[
+        Path,
+        typer.Argument(
+            metavar="RECORDING",
+            help="omega-prime MCAP file, an OSI trace (.osi) with --map, or a batch output folder (a campaign page)",
+        ),
+    ],
     output: Annotated[Path, typer.Option("-o", "--output", metavar="PATH", help="write the .html report here")],
     ego: EgoOption = "",
     frames: FramesOption = "",
@@ -150,8 +156,12 @@ def report(
     mode: Mode = "2d",
     progress: Progress = True,
 ) -> None:
-    """Write an interactive HTML report (frame slider, timeline, per-target summary) that works offline."""
+    """Write an interactive HTML report (frame slider, timeline, per-target summary) that works offline; for a batch
+    output folder, the campaign page (occlusion statistics by distance and type, per recording, the conflicts)."""
     from ..plot import write_report
+
+    if recording.is_dir():
+        return _campaign_page(recording, output)
 
     parse_sensors(sensors)  # a bad layout or file fails here; a layout name is fitted to the ego later
     statics = load_static(static)
@@ -159,6 +169,19 @@ def report(
     try:
         write_report(r, ego_idx, output, statics, frames=span, view_range=view_range, engine=engine, mode=mode,
                      progress=progress, title=recording.name, sensors=sensors)  # fmt: skip
+    except (ValueError, ImportError) as e:
+        raise fail(str(e)) from None
+    typer.echo(f"wrote {output}")
+
+
+def _campaign_page(folder: Path, output: Path) -> None:
+    """``report FOLDER -o page.html``: the campaign page of a batch output folder."""
+    from ..plot.campaign import write_campaign_page
+    from ..table.output import check_output_path
+
+    try:
+        check_output_path(output, (".html",))
+        write_campaign_page(folder, output)
     except (ValueError, ImportError) as e:
         raise fail(str(e)) from None
     typer.echo(f"wrote {output}")

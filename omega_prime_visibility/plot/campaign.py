@@ -1,0 +1,169 @@
+"""The campaign page: one offline HTML page with the occlusion statistics of a batch output folder as charts
+(shares by distance band and type, the visibility histogram, who occludes), a table per recording and the occluded
+conflicts found (``batch --conflicts``). The vega libraries are embedded, as in the per-recording report."""
+
+from __future__ import annotations
+
+import html
+import os
+from pathlib import Path
+from typing import Any
+
+import polars as pl
+
+from ..table.output import atomic_write, check_output_path
+from ._optional import require
+from .report import _json_for_script, _script_safe
+from .style import OKABE_ITO
+
+CLASS_COLOURS = {"visible": OKABE_ITO["blue"], "partly": OKABE_ITO["sky blue"], "hidden": OKABE_ITO["vermillion"]}
+
+
+def write_campaign_page(folder: str | os.PathLike, output: str | os.PathLike, *, bands=(20.0, 50.0)) -> Path:
+    """Write the campaign page of the batch output ``folder`` to ``output`` (``.html``); return its path.
+
+    The page shows :func:`~omega_prime_visibility.campaign_statistics` of the folder. The file is written under a
+    temporary name and renamed when complete.
+    """
+    from ..batch.campaign import campaign_statistics
+
+    output = check_output_path(output, (".html",))
+    vlc = require("vl_convert", "the campaign page")
+    stats = campaign_statistics(folder, bands=bands)
+    charts = {"bands": _bands_chart(stats["by_band"]), "histogram": _histogram_chart(stats["histogram"])}
+    charts["occluders"] = _occluders_chart(stats["occluder_types"])
+    recordings = stats["by_recording"]
+    page = PAGE.format(
+        title=html.escape(f"Occlusion over a campaign: {Path(folder).name}"),
+        subtitle=html.escape(
+            f"{recordings.height} recordings, {int(recordings['rows'].sum())} (frame, target) rows; visible: "
+            "visibility above 0.9, partly occluded: 0.1 to 0.9, hidden: below 0.1"
+        ),
+        bundle=_script_safe(vlc.javascript_bundle()),
+        charts=_json_for_script(charts),
+        recordings=_table_html(recordings, "recordings"),
+        conflicts=_table_html(_conflict_rows(stats["conflicts"]), "conflicts")
+        if stats["conflicts"].height
+        else '<p id="conflicts">No conflicts stored (run <code>batch --conflicts</code> to find them).</p>',
+    )
+    with atomic_write(output) as temp:
+        temp.write_text(page, encoding="utf-8")
+    return output
+
+
+def _bands_chart(by_band: pl.DataFrame) -> dict:
+    alt = require("altair")
+    long = by_band.unpivot(
+        index=["band", "target_type", "rows"], on=["visible", "partly", "hidden"], variable_name="class"
+    )
+    colour = alt.Color("class:N", scale=alt.Scale(domain=list(CLASS_COLOURS), range=list(CLASS_COLOURS.values())))
+    chart = (
+        alt.Chart(long)
+        .mark_bar()
+        .encode(
+            x=alt.X("band:N", sort=list(dict.fromkeys(by_band["band"])), title="distance to the observer"),
+            y=alt.Y("value:Q", stack="normalize", title="share of rows", axis=alt.Axis(format="%")),
+            color=colour,
+            order=alt.Order("class_order:Q"),
+            column=alt.Column("target_type:N", title="target type"),
+            tooltip=["band", "target_type", "class", alt.Tooltip("value:Q", format=".1%"), "rows"],
+        )
+        .transform_calculate(class_order="indexof(['visible', 'partly', 'hidden'], datum['class'])")
+        .properties(width=160, height=220)
+    )
+    return chart.to_dict()
+
+
+def _histogram_chart(histogram: pl.DataFrame) -> dict:
+    alt = require("altair")
+    chart = (
+        alt.Chart(histogram)
+        .mark_bar(color=OKABE_ITO["blue"])
+        .encode(
+            x=alt.X("bin_start:Q", bin="binned", title="visibility"),
+            x2="bin_end:Q",
+            y=alt.Y("share:Q", title="share of rows", axis=alt.Axis(format="%")),
+            tooltip=["bin_start", "bin_end", "rows", alt.Tooltip("share:Q", format=".1%")],
+        )
+        .properties(width=420, height=200)
+    )
+    return chart.to_dict()
+
+
+def _occluders_chart(occluder_types: pl.DataFrame) -> dict:
+    alt = require("altair")
+    chart = (
+        alt.Chart(occluder_types)
+        .mark_bar(color=OKABE_ITO["orange"])
+        .encode(
+            y=alt.Y("occluder_type:N", sort="-x", title="occluder type"),
+            x=alt.X("rows:Q", title="rows in which an object of this type hides the target"),
+            tooltip=["occluder_type", "rows"],
+        )
+        .properties(width=420, height=max(40, 28 * occluder_types.height))
+    )
+    return chart.to_dict()
+
+
+def _conflict_rows(conflicts: pl.DataFrame) -> pl.DataFrame:
+    return conflicts.select(
+        "recording",
+        pl.col("idx_ego").alias("ego"),
+        pl.col("idx").alias("target"),
+        (pl.col("conflict_nanos") / 1e9).round(2).alias("conflict at (s)"),
+        pl.col("timegap").round(2).alias("time gap (s)"),
+        pl.col("sight_to_conflict").round(2).alias("seen before (s)"),
+        pl.col("notice_to_conflict").round(2).alias("noticed before (s)"),
+        pl.col("hidden_seconds").round(2).alias("hidden in the 5 s before (s)"),
+        pl.col("hidden_by").list.eval(pl.element().cast(pl.String)).list.join(" ").alias("hidden by (idx)"),
+    )
+
+
+def _table_html(table: pl.DataFrame, element_id: str) -> str:
+    def cell(value: Any) -> str:
+        if value is None:
+            return "–"
+        if isinstance(value, float):
+            return f"{value:.3f}".rstrip("0").rstrip(".") if abs(value) < 1e6 else f"{value:g}"
+        return html.escape(str(value))
+
+    head = "".join(f"<th>{html.escape(c)}</th>" for c in table.columns)
+    body = "".join("<tr>" + "".join(f"<td>{cell(v)}</td>" for v in row) + "</tr>" for row in table.iter_rows())
+    return f'<table id="{element_id}"><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>'
+
+
+PAGE = """<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<title>{title}</title>
+<style>
+body {{ font-family: system-ui, sans-serif; margin: 1.5em 2em; color: #222; }}
+h1 {{ font-size: 1.5em; margin-bottom: 0.2em; }} .sub {{ color: #555; margin-top: 0; }}
+table {{ border-collapse: collapse; font-size: 0.9em; }} th, td {{ border-bottom: 1px solid #ddd; padding: 3px 8px; }}
+th {{ text-align: left; background: #f3f3f3; }} td {{ font-variant-numeric: tabular-nums; }}
+section {{ margin: 1.2em 0 2em; }}
+</style>
+<script>{bundle}</script>
+</head>
+<body>
+<h1>{title}</h1>
+<p class="sub">{subtitle}</p>
+<section><h2>Visible, partly occluded and hidden, by distance and type</h2><div id="bands"></div></section>
+<section><h2>Visibility histogram</h2><div id="histogram"></div></section>
+<section><h2>Who occludes</h2><div id="occluders"></div></section>
+<section><h2>Per recording</h2>{recordings}</section>
+<section><h2>Occluded conflicts</h2>{conflicts}</section>
+<script id="chart-data" type="application/json">{charts}</script>
+<script>
+(() => {{
+  const charts = JSON.parse(document.getElementById("chart-data").textContent);
+  const names = Object.keys(charts);
+  Promise.all(names.map((name) => vegaEmbed("#" + name, charts[name], {{ actions: false, renderer: "svg" }})))
+    .then(() => {{ document.body.dataset.charts = "ready"; }})
+    .catch((err) => {{ console.error("charts: " + err); }});
+}})();
+</script>
+</body>
+</html>
+"""

@@ -1,0 +1,62 @@
+"""The campaign page (plot/campaign.py): offline, its tables say what campaign_statistics says, and it draws in a
+real headless browser."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+
+import pytest
+from chromium import Browser, find_chromium
+from conftest import REPO
+
+from omega_prime_visibility import campaign_statistics, run_batch
+from omega_prime_visibility.plot.campaign import write_campaign_page
+
+
+@pytest.fixture(scope="module")
+def results(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("campaign")
+    shutil.copyfile(REPO / "highway_merge.mcap", folder / "a.mcap")
+    run_batch([folder / "a.mcap"], folder / "results", ego=0, conflicts=True, progress=False)
+    return folder / "results"
+
+
+def test_the_page_is_offline_and_its_tables_are_the_statistics(results, tmp_path) -> None:
+    page = write_campaign_page(results, tmp_path / "campaign.html")
+    text = page.read_text()
+    assert "window.vegaEmbed=" in text and "<script src=" not in text and "cdn." not in text
+    stats = campaign_statistics(results)
+    row = stats["by_recording"].row(0, named=True)
+    assert f"<td>{row['rows']}</td>" in text and f"<td>{row['visible']:.3f}".rstrip("0").rstrip(".") in text
+    assert '<table id="conflicts">' in text and "<td>4</td>" in text  # the ego follows car 4
+    assert [p.name for p in tmp_path.iterdir()] == ["campaign.html"]  # written atomically, nothing else left
+
+
+def test_the_cli_writes_it_for_a_folder_and_refuses_an_empty_one(results, tmp_path) -> None:
+    def cli(*args):
+        command = [sys.executable, "-m", "omega_prime_visibility.cli", "report", *map(str, args)]
+        return subprocess.run(command, capture_output=True, text=True)
+
+    done = cli(results, "-o", tmp_path / "c.html")
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "c.html").is_file()
+    (tmp_path / "empty").mkdir()
+    empty = cli(tmp_path / "empty", "-o", tmp_path / "d.html")
+    assert empty.returncode == 2 and "holds no batch results" in empty.stderr and not (tmp_path / "d.html").exists()
+
+
+def test_the_page_in_a_headless_browser(results, tmp_path) -> None:
+    binary = find_chromium()
+    if binary is None:
+        pytest.skip("no chromium binary found (Debian: apt-get install chromium; .ci/run installs it as root)")
+    page = write_campaign_page(results, tmp_path / "campaign.html")
+    with Browser(binary) as browser:
+        browser.open(page.as_uri())
+        assert browser.wait_for("document.body.dataset.charts") == "ready"
+        for chart in ("bands", "histogram", "occluders"):
+            assert browser.evaluate(f"document.querySelectorAll('#{chart} svg .mark-rect path').length") > 0, chart
+        # the stacked bars: three classes in each of the three bands, per type and for all
+        assert browser.evaluate("document.querySelectorAll('#bands svg .mark-rect path').length") == 18
+        assert browser.console_errors() == []
