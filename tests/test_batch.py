@@ -444,18 +444,18 @@ def test_batch_result_and_summary_are_written_atomically(tmp_path, monkeypatch) 
     (a,) = copies(tmp_path / "in", 1)
     out = tmp_path / "out"
     run_batch([a], out, ego=0, workers=1, progress=False)
-    result, summary = out / "copy0.mcap.parquet", out / SUMMARY
+    result, summary, objects = out / "copy0.mcap.parquet", out / SUMMARY, out / "copy0.mcap.objects.parquet"
     old_result, old_summary = result.read_bytes(), summary.read_bytes()
     half = lambda path: path.write_bytes(b"PAR1 half")  # noqa: E731
     interrupted_writer(monkeypatch, pq, "write_table", result, old_result, half)
     failed = run_batch([a], out, ego=0, engine="sweep", workers=1, progress=False)  # new options: recomputed
     assert failed.select("status", "error").row(0) == ("failed", "OSError: disk full")
     assert result.read_bytes() == old_result
-    assert sorted(p.name for p in out.iterdir()) == sorted([result.name, SUMMARY])
+    assert sorted(p.name for p in out.iterdir()) == sorted([result.name, objects.name, SUMMARY])
     monkeypatch.undo()
     old_summary = summary.read_bytes()
     interrupted_writer(monkeypatch, pl.DataFrame, "write_parquet", summary, old_summary, half)
     with pytest.raises(OSError, match="disk full"):
         run_batch([a], out, ego=0, workers=1, progress=False)
     assert summary.read_bytes() == old_summary
-    assert sorted(p.name for p in out.iterdir()) == sorted([result.name, SUMMARY])
+    assert sorted(p.name for p in out.iterdir()) == sorted([result.name, objects.name, SUMMARY])

@@ -182,3 +182,23 @@ def test_batch_conflicts_beside_each_result_and_in_the_campaign(campaign, tmp_pa
     again = subprocess.run([*command, "--ego", "0", "--no-progress"], capture_output=True, text=True)
     assert again.returncode == 0 and "1 done" in again.stdout
     assert campaign_statistics(campaign / "results")["conflicts"].height == 0  # a folder without --conflicts
+
+
+def test_campaign_reads_the_objects_batch_stored_not_the_recording(tmp_path) -> None:
+    import shutil
+
+    from conftest import REPO
+
+    from omega_prime_visibility import campaign_statistics, run_batch
+
+    copy = tmp_path / "gone.mcap"
+    shutil.copyfile(REPO / "highway_merge.mcap", copy)
+    run_batch([copy], tmp_path / "results", ego=0, progress=False)
+    objects = tmp_path / "results" / "gone.mcap.objects.parquet"
+    assert pl.read_parquet(objects).columns == ["total_nanos", "idx", "x", "y", "type"]
+    before = campaign_statistics(tmp_path / "results")
+    copy.unlink()  # the recording moved away: the stored objects suffice
+    assert campaign_statistics(tmp_path / "results")["by_band"].equals(before["by_band"])
+    objects.unlink()  # neither: say which recording is missing
+    with pytest.raises(ValueError, match=r"cannot read the recording .*gone\.mcap"):
+        campaign_statistics(tmp_path / "results")

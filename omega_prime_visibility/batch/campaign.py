@@ -1,9 +1,9 @@
 """Statistics over a whole campaign: every result of a batch output folder, per recording and overall.
 
-Each result holds its recording's path and the options it was computed with (parquet metadata, see
-:mod:`.files`); the distances and the targets' types come from the recordings themselves (their moving objects,
-read without a map), so results need nothing beyond the visibility table. Results computed with different options
-are refused, naming the options that differ: their numbers do not compare.
+Each result holds its recording's path and the options it was computed with (parquet metadata, see :mod:`.files`).
+The distances and the targets' types come from the moving objects batch writes beside each result
+(``<result>.objects.parquet``), or, for results without them, from the recordings themselves (read without a map).
+Results computed with different options are refused, naming the options that differ: their numbers do not compare.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import pyarrow.parquet as pq
 from ..analysis.statistics import rows_with_distance, statistics_of_rows
 from .files import OPTIONS_KEY, RECORDING_KEY
 from .run import SUMMARY_NAME
-from .task import conflicts_path
+from .task import conflicts_path, objects_path
 
 
 def campaign_statistics(
@@ -41,9 +41,13 @@ def campaign_statistics(
     for result, options, recording in _results(Path(folder)):
         if conflicts_path(result).is_file():
             conflicts.append(pl.read_parquet(conflicts_path(result)).with_columns(recording=pl.lit(recording)))
-        objects, host = _objects(recording)
         ego = options.get("ego")
-        ego = ego if isinstance(ego, int) else host
+        stored = objects_path(result)
+        if isinstance(ego, int) and stored.is_file():  # written by batch beside the result: no need to read the MCAP
+            objects = pl.scan_parquet(stored)
+        else:
+            objects, host = _objects(recording)
+            ego = ego if isinstance(ego, int) else host
         rows = rows_with_distance(_table(result), objects, ego)
         frames.append(rows.with_columns(recording=pl.lit(recording)))
     rows = pl.concat(frames, how="vertical_relaxed")

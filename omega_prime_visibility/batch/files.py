@@ -125,12 +125,14 @@ def prepare_output_dir(output_dir: str | os.PathLike) -> Path:
 
 
 def remove_leftovers(result: Path) -> int:
-    """Remove temporary files an interrupted run left beside ``result`` (a killed process cannot clean up).
+    """Remove temporary files an interrupted run left beside ``result`` (a killed process cannot clean up), its
+    siblings' (``<result>.objects.parquet``, ``<result>.conflicts.parquet``) included.
 
     Only one batch at a time may write into an output folder. Returns how many were removed.
     """
     removed = 0
-    for temp in result.parent.glob(f".{glob.escape(result.name)}.*.tmp") if result.parent.is_dir() else ():
+    stem = glob.escape(result.name.removesuffix(".parquet"))
+    for temp in result.parent.glob(f".{stem}.*.tmp") if result.parent.is_dir() else ():
         temp.unlink(missing_ok=True)
         removed += 1
     return removed

@@ -110,7 +110,11 @@ def _compute_and_write(task: FileTask) -> int:
         b"omega_prime_visibility.version": version("omega-prime-visibility").encode(),
     }
     Path(task.result).parent.mkdir(parents=True, exist_ok=True)
-    if options.conflicts:  # first, so that a complete result always has its conflicts beside it
+    # first, so that a complete result always has them beside it: the objects' positions and types (what campaign
+    # statistics need, so they never read the recording again) and, when asked, the occluded conflicts
+    with atomic_write(objects_path(task.result)) as temp:
+        recording._df.select("total_nanos", "idx", "x", "y", "type").write_parquet(temp)
+    if options.conflicts:
         conflicts = _conflicts(recording, table, ego_idx)
         with atomic_write(conflicts_path(task.result)) as temp:
             conflicts.write_parquet(temp)
@@ -126,6 +130,12 @@ def _static_occluders(path: str, mtime_ns: int) -> list:
     from ..inputs.io import read_static_occluders
 
     return read_static_occluders(path)
+
+
+def objects_path(result: str | Path) -> Path:
+    """Where batch writes a result's moving objects (``total_nanos, idx, x, y, type``): ``<result>.objects.parquet``."""
+    result = Path(result)
+    return result.with_name(result.name.removesuffix(".parquet") + ".objects.parquet")
 
 
 def conflicts_path(result: str | Path) -> Path:
