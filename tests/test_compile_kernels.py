@@ -69,3 +69,19 @@ def test_warm_up_table_is_a_valid_recording_table() -> None:
     assert table.height == 21 and table["frame"].n_unique() == 3
     overlapping = table.filter(table["frame"] == 0, table["idx"].is_in([2, 3]))["polygon"].to_list()
     assert overlapping[0].intersection(overlapping[1]).area > 0  # tracker-style overlap, on purpose
+
+
+def test_compile_is_never_silent_for_long(monkeypatch) -> None:
+    # a line at least every HEARTBEAT_S seconds while an engine compiles (here: 0.05 s, so even a warm engine, which
+    # takes seconds to start in its fresh process, shows a few), then the engine's own line
+    from typer.testing import CliRunner
+
+    from omega_prime_visibility.cli import app, compile_kernels
+
+    monkeypatch.setattr(compile_kernels, "HEARTBEAT_S", 0.05)
+    result = CliRunner().invoke(app, ["compile", "sweep", "--jobs", "1"])
+    assert result.exit_code == 0, result.output
+    lines = result.output.splitlines()
+    assert lines[0].startswith("compiling the kernels of sweep, 1 at a time")
+    assert any(line.strip().startswith("... ") and "still compiling sweep" in line for line in lines[1:-2])
+    assert lines[-2].strip().startswith("sweep: done in") and lines[-1].startswith("compiled in")

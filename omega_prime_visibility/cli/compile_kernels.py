@@ -10,7 +10,7 @@ from __future__ import annotations
 import multiprocessing
 import os
 import time
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Annotated
 
 import numpy as np
@@ -23,6 +23,8 @@ from .app import app
 from .common import fail
 
 DEFAULT = ("visilibity", "sweep", "raycast3d", "silhouette3d")
+HEARTBEAT_S = 5.0
+"""Seconds between the lines saying that compiling goes on."""
 
 
 def warm_up_table(frames: int = 3) -> pl.DataFrame:
@@ -110,17 +112,19 @@ def compile_kernels(
         " a minute or two each on a busy 2-core machine)"
     )
     started = time.perf_counter()
-    if jobs == 1 or len(names) == 1:
-        for name in names:
-            typer.echo(f"  {name} ...")
-            typer.echo(f"  {name}: done in {compile_engine(name):.0f} s")
-    else:
-        with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
-            futures = {pool.submit(compile_engine, name): name for name in names}
-            for future in as_completed(futures):
+    # each engine in a fresh process, as on a new installation; this one reports
+    with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
+        futures = {pool.submit(compile_engine, name): name for name in names}
+        pending = set(futures)
+        while pending:  # a line at least every HEARTBEAT_S seconds: never silent for long
+            done, pending = wait(pending, timeout=HEARTBEAT_S, return_when=FIRST_COMPLETED)
+            for future in done:
                 try:
                     seconds = future.result()
                 except ValueError as e:
                     raise fail(f"{futures[future]}: {e}") from None
                 typer.echo(f"  {futures[future]}: done in {seconds:.0f} s")
+            if pending and not done:
+                busy = ", ".join(sorted(futures[f] for f in pending if f.running()))
+                typer.echo(f"  ... {time.perf_counter() - started:.0f} s, still compiling {busy}")
     typer.echo(f"compiled in {time.perf_counter() - started:.0f} s; later calls start at once")
