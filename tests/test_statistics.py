@@ -202,3 +202,28 @@ def test_campaign_reads_the_objects_batch_stored_not_the_recording(tmp_path) -> 
     objects.unlink()  # neither: say which recording is missing
     with pytest.raises(ValueError, match=r"cannot read the recording .*gone\.mcap"):
         campaign_statistics(tmp_path / "results")
+
+
+def test_an_empty_table_gives_empty_shares_not_nan() -> None:
+    table, objects = scene()
+    stats = occlusion_statistics(table.clear(), objects, ego_idx=0)
+    assert stats["by_band"].height == 0 and stats["occluder_types"].height == 0
+    assert stats["histogram"]["rows"].sum() == 0 and stats["histogram"]["share"].to_list() == [0.0] * 10
+
+
+def test_campaign_of_every_observer_uses_the_stored_objects(tmp_path) -> None:
+    import shutil
+
+    from conftest import REPO
+
+    from omega_prime_visibility import campaign_statistics, get_visibility_df, run_batch
+
+    copy = tmp_path / "all.mcap"
+    shutil.copyfile(REPO / "highway_merge.mcap", copy)
+    run_batch([copy], tmp_path / "results", ego="all", progress=False)
+    from omega_prime_visibility.inputs.io import read_recording
+
+    r = read_recording(copy)
+    expected = occlusion_statistics(get_visibility_df(r, "all", progress=False), r._df)
+    copy.unlink()  # every row names its observer (idx_ego): the stored objects are all that is needed
+    assert campaign_statistics(tmp_path / "results")["by_band"].equals(expected["by_band"])

@@ -100,7 +100,7 @@ def statistics_of_rows(
         .with_columns(
             bin_start=pl.col("bin").replace_strict(dict(enumerate(edges[:-1])), return_dtype=pl.Float64),
             bin_end=pl.col("bin").replace_strict(dict(enumerate(edges[1:])), return_dtype=pl.Float64),
-            share=pl.col("rows") / pl.col("rows").sum(),
+            share=pl.col("rows") / pl.max_horizontal(pl.col("rows").sum(), 1),  # an empty table: shares 0
         )
         .select("bin_start", "bin_end", "rows", "share")
     )

@@ -41,14 +41,14 @@ def campaign_statistics(
     for result, options, recording in _results(Path(folder)):
         if conflicts_path(result).is_file():
             conflicts.append(pl.read_parquet(conflicts_path(result)).with_columns(recording=pl.lit(recording)))
-        ego = options.get("ego")
-        stored = objects_path(result)
-        if isinstance(ego, int) and stored.is_file():  # written by batch beside the result: no need to read the MCAP
+        ego, table, stored = options.get("ego"), _table(result), objects_path(result)
+        knows_ego = isinstance(ego, int) or "idx_ego" in table.collect_schema().names()
+        if knows_ego and stored.is_file():  # written by batch beside the result: no need to read the MCAP
             objects = pl.scan_parquet(stored)
-        else:
+        else:  # an older result, or the host vehicle as ego: the recording says
             objects, host = _objects(recording)
             ego = ego if isinstance(ego, int) else host
-        rows = rows_with_distance(_table(result), objects, ego)
+        rows = rows_with_distance(table, objects, ego if isinstance(ego, int) else None)
         frames.append(rows.with_columns(recording=pl.lit(recording)))
     rows = pl.concat(frames, how="vertical_relaxed")
     stats = statistics_of_rows(rows, bands=bands, partly=partly, bins=bins)
