@@ -45,6 +45,9 @@ def test_the_cli_writes_it_for_a_folder_and_refuses_an_empty_one(results, tmp_pa
     (tmp_path / "empty").mkdir()
     empty = cli(tmp_path / "empty", "-o", tmp_path / "d.html")
     assert empty.returncode == 2 and "holds no batch results" in empty.stderr and not (tmp_path / "d.html").exists()
+    # options for one recording are refused for a folder, not ignored
+    ego = cli(results, "-o", tmp_path / "e.html", "--ego", "3", "--mode", "3d")
+    assert ego.returncode == 2 and ego.stderr.startswith("error: --ego and --mode apply to one recording")
 
 
 def test_the_page_in_a_headless_browser(results, tmp_path) -> None:

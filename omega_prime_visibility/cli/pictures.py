@@ -161,6 +161,11 @@ def report(
     from ..plot import write_report
 
     if recording.is_dir():
+        given = {"--ego": ego, "--frames": frames, "--sensors": sensors, "--engine": engine, "--map": map_path,
+                 "--static": static, "--mode": mode != "2d"}  # fmt: skip
+        used = [flag for flag, value in given.items() if value]
+        if used:
+            raise fail(f"{' and '.join(used)} apply to one recording; {recording} is a folder (a campaign page)")
         return _campaign_page(recording, output)
 
     parse_sensors(sensors)  # a bad layout or file fails here; a layout name is fitted to the ego later
