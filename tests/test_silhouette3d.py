@@ -183,3 +183,25 @@ def test_boxes_across_cube_faces_agree_with_monte_carlo() -> None:
         assert visible[k] / extent[k] == pytest.approx(share, abs=5 * sigma + 1e-9)
     assert 0 < visible[1] < extent[1] and occ[1] == [0]
     assert 0 < visible[3] < extent[3] and occ[3] == [2]
+
+
+def test_a_range_cutting_a_box_falls_back_on_the_ray_engine_for_that_viewpoint() -> None:
+    # a car along x at 77 to 81 m, seen from 15 m to the side through a 79 m range: its near side runs from 78.3 to
+    # 82.2 m, so the range cuts it. No longer refused: that viewpoint is the default ray engine's, row for row (part
+    # of the side lies beyond the range); a wider range keeps the exact answer
+    import polars as pl
+
+    from omega_prime_visibility import Sensor, get_visibility_df
+
+    table = pl.DataFrame(
+        {"frame": [0, 0], "total_nanos": [0, 0], "idx": [0, 1], "x": [0.0, 79.0], "y": [-15.0, 0.0],
+         "z": [0.75, 0.75], "length": [4.5, 4.0], "width": [1.8, 2.0], "height": [1.5, 1.5], "roll": [0.0, 0.0],
+         "pitch": [0.0, 0.0], "yaw": [0.0, 0.0]}
+    )  # fmt: skip
+    cut = [Sensor("far", range=79.0)]
+    exact = get_visibility_df(table, 0, mode="3d", engine="silhouette3d", sensors=cut, progress=False)
+    rays = get_visibility_df(table, 0, mode="3d", engine="raycast3d", sensors=cut, progress=False)
+    assert exact.equals(rays)
+    assert 0.0 < exact["visibility"][0] < 1.0 and exact["status"][0] == "partly_visible"
+    wide = get_visibility_df(table, 0, mode="3d", engine="silhouette3d", sensors=[Sensor("far", range=90.0)])
+    assert wide["visibility"][0] == 1.0

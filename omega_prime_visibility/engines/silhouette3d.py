@@ -15,8 +15,10 @@ What is exact and what is not:
   floating point;
 - the vertical field of view bounds directions by elevation, whose limits are cones: they are drawn as polygons
   of :data:`CURVE_POINTS` vertices per face (error below 1e-6 of a face's solid angle);
-- the range is honoured only where a target lies wholly within it (no effect) or wholly beyond it (not
-  visible); a target that the range cuts raises ``ValueError`` (use the ray engine);
+- the range is exact where every box lies wholly within it (no effect) or wholly beyond it (not visible); a
+  viewpoint whose range cuts a box is computed by the default ray engine instead (``raycast3d``, within its
+  documented sampling error), so a frame is never refused (:func:`box_visibility` itself raises
+  :class:`RangeCutsBox` there);
 - overlapping boxes are ordered by one direction of their common silhouette (exact only for disjoint boxes).
 
 Static occluders are not boxes: this engine refuses them (the ray engine handles them).
@@ -34,7 +36,7 @@ import shapely
 from ..inputs.objects import FrameObjects
 from ..inputs.statics import StaticOccluders
 from ..threed.boxes import EDGES, contains, corners, farthest_distance, frames, nearest_distance, ray_entries
-from . import Observation, Viewpoint, group_pairs
+from . import Observation, Viewpoint, get_engine, group_pairs
 from .observe3d import eye_and_view, observation, own_body
 
 CURVE_POINTS = 2048
@@ -243,7 +245,7 @@ def box_visibility(
     near, far = nearest_distance(sub, eye), farthest_distance(sub, eye)
     cut = (near <= max_range) & (far > max_range)
     if cut.any():
-        raise ValueError(
+        raise RangeCutsBox(
             f"the range of {max_range} m cuts box(es) {solid[cut].tolist()}: the silhouette engine measures only "
             "boxes wholly within or wholly beyond the range; use the ray engine"
         )
@@ -288,6 +290,11 @@ def box_visibility(
     return visible, extent, [sorted(set(o)) for o in occluders], skip, in_fov
 
 
+class RangeCutsBox(ValueError):
+    """A sensor's range cuts a box: part of it lies within range, part beyond, and its visible part is no longer
+    bounded by planes, so :func:`box_visibility` cannot measure it exactly."""
+
+
 class SilhouetteEngine:
     """The exact box engine (see the module docstring); ``measure = "steradians"``."""
 
@@ -298,6 +305,8 @@ class SilhouetteEngine:
         solids = getattr(statics, "solids", None)
         if statics.n_sources or (solids is not None and solids.n_sources):
             raise ValueError("the silhouette3d engine handles box scenes only; use raycast3d with static occluders")
+        self.statics = statics
+        self._rays = None  # the ray engine, for viewpoints whose range cuts a box (built when first needed)
 
     def observe(self, objects: FrameObjects, viewpoints: Sequence[Viewpoint]) -> list[Observation]:
         """One :class:`Observation` per viewpoint; needs the frame's 3D boxes (``objects.boxes3d``)."""
@@ -308,9 +317,13 @@ class SilhouetteEngine:
         n = len(objects)
         for view in viewpoints:
             eye, limits = eye_and_view(view, boxes)
-            visible, extent, occ, skip, in_fov = box_visibility(
-                boxes, eye, transparent=own_body(view, n), view=limits, max_range=view.range
-            )
+            try:
+                visible, extent, occ, skip, in_fov = box_visibility(
+                    boxes, eye, transparent=own_body(view, n), view=limits, max_range=view.range
+                )
+            except RangeCutsBox:  # never refuse the frame: this viewpoint is ray-cast (the default setting)
+                out.append(self._ray_engine().observe(objects, [view])[0])
+                continue
             key = np.repeat(np.arange(n), [len(o) for o in occ])
             value = np.array([j for o in occ for j in o], dtype=np.int64)
             offsets, occluders = group_pairs(key, value, n)
@@ -319,3 +332,9 @@ class SilhouetteEngine:
             none = np.zeros(0, np.int64)
             out.append(observation(view, visible, extent, offsets, occluders, empty, none, skip, in_view, in_fov))
         return out
+
+    def _ray_engine(self):
+        """The default ray engine for these (empty) statics, built once."""
+        if self._rays is None:
+            self._rays = get_engine("raycast3d")(self.statics)
+        return self._rays
