@@ -9,6 +9,14 @@ from pathlib import Path
 import numpy as np
 import polars as pl
 import pytest
+from hypothesis import settings
+
+# A failure prints the blob that replays it (@reproduce_failure). CI draws the same examples on every run, so a
+# landing never depends on which random scenes were drawn; a developer's run draws new ones (and replays its
+# failures from .hypothesis/).
+settings.register_profile("dev", print_blob=True)
+settings.register_profile("ci", print_blob=True, derandomize=True)
+settings.load_profile("ci" if os.environ.get("CI") else "dev")
 
 REPO = Path(__file__).resolve().parent.parent
 SHARED_DATA = REPO.parent / "shared" / "data"
