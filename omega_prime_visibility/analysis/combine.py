@@ -13,6 +13,17 @@ KEYS = ("frame", "total_nanos", "idx_ego", "idx", "sensor")
 """Columns that identify a row of a visibility table (those present)."""
 
 
+def every_listed(column: str) -> pl.Expr:
+    """In a ``group_by(...).agg``: every idx that a list column (``occluder_idxs``, ``static_occluder_idxs``) holds
+    in the group's rows, once each, ascending.
+
+    >>> t = pl.DataFrame({"idx": [1, 1], "occluder_idxs": [[4, 2], [2]]})
+    >>> t.group_by("idx").agg(every_listed("occluder_idxs")).row(0)
+    (1, [2, 4])
+    """
+    return pl.col(column).list.explode(keep_nulls=False, empty_as_null=False).unique().sort()
+
+
 def seen_by_any(table: pl.DataFrame | pl.LazyFrame, over: str = "sensor") -> pl.DataFrame | pl.LazyFrame:
     """One row per target and remaining key, combined over the values of ``over``.
 

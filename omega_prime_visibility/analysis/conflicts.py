@@ -15,7 +15,8 @@ import math
 
 import polars as pl
 
-from .intervals import NANOS, visible_intervals
+from .combine import every_listed
+from .intervals import NANOS, frame_period, visible_intervals
 
 CONFLICT_COLUMNS = ("idx_ego", "idx", "timegap", "ego_nanos", "target_nanos", "conflict_nanos")
 
@@ -133,17 +134,13 @@ def occluded_conflicts(
         .group_by("idx_ego", "idx")
         .agg(pl.col("first_noticed_nanos").min(), pl.col("notice_model").first())
     )
-    period = _frame_period(table)
+    period = frame_period(table)
     window = rows.filter(pl.col("total_nanos") >= pl.col("conflict_nanos") - round(look_back * NANOS))
     hiding = window.filter(~visible & pl.col("in_view_any"))
     hidden = hiding.group_by("idx_ego", "idx").agg(
         (pl.len() * period / NANOS).alias("hidden_seconds"),
-        pl.col("occluder_idxs").list.explode(keep_nulls=False, empty_as_null=False).unique().sort().alias("hidden_by"),
-        pl.col("static_occluder_idxs")
-        .list.explode(keep_nulls=False, empty_as_null=False)
-        .unique()
-        .sort()
-        .alias("hidden_by_static"),
+        every_listed("occluder_idxs").alias("hidden_by"),
+        every_listed("static_occluder_idxs").alias("hidden_by_static"),
     )
     out = (
         conflicts.lazy()
@@ -187,21 +184,9 @@ def _per_frame(table: pl.LazyFrame, ego_idx: int | None) -> pl.LazyFrame:
             "best_sensor"
         ),
         in_view.any().alias("in_view_any"),
-        pl.col("occluder_idxs")
-        .list.explode(keep_nulls=False, empty_as_null=False)
-        .unique()
-        .sort()
-        .implode()
-        .first()
-        .alias("occluder_idxs"),
-        pl.col("static_occluder_idxs").list.explode(keep_nulls=False, empty_as_null=False).unique().sort(),
+        every_listed("occluder_idxs"),
+        every_listed("static_occluder_idxs"),
     )
-
-
-def _frame_period(table: pl.LazyFrame) -> int:
-    """The median step between the table's frame times, nanoseconds (one second for a single frame time)."""
-    steps = table.select(pl.col("total_nanos").unique().sort().diff().drop_nulls()).collect().to_series()
-    return int(steps.median()) if len(steps) else NANOS
 
 
 def _distance_at_sight(objects: pl.DataFrame | pl.LazyFrame | None, conflicts: pl.LazyFrame) -> pl.LazyFrame:

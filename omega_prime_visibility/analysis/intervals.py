@@ -141,11 +141,17 @@ def visible_intervals(
     return out.select(columns).sort(*group, "start_frame").collect()
 
 
+def frame_period(table: pl.LazyFrame) -> int:
+    """The median step between a table's frame times, nanoseconds (one second for a single frame time: any period
+    will do then)."""
+    steps = table.select(pl.col("total_nanos").unique().sort().diff().drop_nulls()).collect().to_series()
+    return int(steps.median()) if len(steps) else NANOS
+
+
 def _windowed_notice(lazy: pl.LazyFrame, group: list[str], visible: pl.Expr, notice: tuple[float, float]) -> pl.Expr:
     """Per row: whether the target was visible for at least ``notice[0]`` seconds within the ``notice[1]`` seconds
     up to this frame's time (each visible frame counting one frame period of the table)."""
-    steps = lazy.select(pl.col("total_nanos").unique().sort().diff().drop_nulls()).collect().to_series()
-    period = int(steps.median()) if len(steps) else NANOS  # a table of one frame time: any period will do
+    period = frame_period(lazy)
     needed = max(1, math.ceil(round(notice[0] * NANOS) / period - 1e-9))  # visible frames that make d seconds
     window = round(notice[1] * NANOS)
     in_window = visible.cast(pl.Int64).rolling_sum_by("total_nanos", window_size=f"{window}i", closed="right")

@@ -77,13 +77,8 @@ def statistics_of_rows(
     low, high = _checked(bands, partly, bins)
     labels = _band_labels(bands)
     band = pl.col("distance").cut(list(bands), labels=labels, left_closed=True)
+    shares = class_shares(low, high)
     v = pl.col("visibility")
-    shares = [
-        pl.len().alias("rows"),
-        (v > high).mean().alias("visible"),
-        ((v >= low) & (v <= high)).mean().alias("partly"),
-        (v < low).mean().alias("hidden"),
-    ]
     banded = rows.with_columns(band=band.cast(pl.String))
     by_type = banded.group_by("band", "target_type").agg(shares)
     overall = banded.group_by("band").agg(shares).with_columns(target_type=pl.lit("all"))
@@ -117,6 +112,18 @@ def statistics_of_rows(
         "histogram": histogram.collect(),
         "occluder_types": occluder_types.collect(),
     }
+
+
+def class_shares(low: float, high: float) -> list[pl.Expr]:
+    """In a ``group_by(...).agg``: ``rows`` and the shares of them ``visible`` (visibility above ``high``),
+    ``partly`` occluded (``low`` to ``high``) and ``hidden`` (below ``low``)."""
+    v = pl.col("visibility")
+    return [
+        pl.len().alias("rows"),
+        (v > high).mean().alias("visible"),
+        ((v >= low) & (v <= high)).mean().alias("partly"),
+        (v < low).mean().alias("hidden"),
+    ]
 
 
 def _checked(bands, partly, bins) -> tuple[float, float]:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import polars as pl
 
 from ..table.schema import STATUSES
+from .combine import every_listed
 
 OUT_OF_VIEW = ("out_of_fov", "out_of_range")
 assert set(OUT_OF_VIEW) <= set(STATUSES)
@@ -61,6 +62,5 @@ def target_summary(table: pl.DataFrame) -> pl.DataFrame:
         ]
     for column, name in (("occluder_idxs", "occluders"), ("static_occluder_idxs", "static_occluders")):
         if column in table.columns:
-            every = pl.col(column).list.explode(keep_nulls=False, empty_as_null=False)
-            aggregations.append(every.unique().sort().alias(name))
+            aggregations.append(every_listed(column).alias(name))
     return table.group_by(by).agg(aggregations).sort(by)

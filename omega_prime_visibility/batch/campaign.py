@@ -14,7 +14,8 @@ from pathlib import Path
 import polars as pl
 import pyarrow.parquet as pq
 
-from ..analysis.statistics import rows_with_distance, statistics_of_rows
+from ..analysis.combine import every_listed
+from ..analysis.statistics import class_shares, rows_with_distance, statistics_of_rows
 from .files import OPTIONS_KEY, RECORDING_KEY
 from .run import SUMMARY_NAME
 from .task import conflicts_path, objects_path
@@ -52,19 +53,7 @@ def campaign_statistics(
         frames.append(rows.with_columns(recording=pl.lit(recording)))
     rows = pl.concat(frames, how="vertical_relaxed")
     stats = statistics_of_rows(rows, bands=bands, partly=partly, bins=bins)
-    low, high = partly
-    v = pl.col("visibility")
-    stats["by_recording"] = (
-        rows.group_by("recording")
-        .agg(
-            pl.len().alias("rows"),
-            (v > high).mean().alias("visible"),
-            ((v >= low) & (v <= high)).mean().alias("partly"),
-            (v < low).mean().alias("hidden"),
-        )
-        .sort("recording")
-        .collect()
-    )
+    stats["by_recording"] = rows.group_by("recording").agg(class_shares(*partly)).sort("recording").collect()
     stats["conflicts"] = (
         pl.concat(conflicts, how="vertical_relaxed") if conflicts else pl.DataFrame(schema={"recording": pl.String})
     )
@@ -102,8 +91,7 @@ def _table(result: Path) -> pl.LazyFrame:
     if "sensor" not in names:
         return table
     keys = [k for k in ("frame", "total_nanos", "idx_ego", "idx") if k in names]
-    every = pl.col("occluder_idxs").list.explode(keep_nulls=False, empty_as_null=False).unique().sort()
-    return table.group_by(keys).agg(pl.col("visibility").max(), every).sort(keys)
+    return table.group_by(keys).agg(pl.col("visibility").max(), every_listed("occluder_idxs")).sort(keys)
 
 
 def _objects(recording: str) -> tuple[pl.LazyFrame, int | None]:
