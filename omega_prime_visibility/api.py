@@ -19,6 +19,7 @@ from ._compiled import announce_compilation, mark_compiled
 from .engines import get_engine
 from .inputs.objects import ObjectTable, OnInvalid
 from .inputs.observers import EgoSpec, SensorSpec, describe_idx, resolve_egos  # noqa: F401 (public here too)
+from .inputs.roles import RoleSpec
 from .inputs.scene import as_lazy, load_objects, observer_sizes
 from .inputs.sensors import fitted_layout, is_layout, resolve_sensors
 from .table.output import PartWriter, atomic_directory, check_output_path
@@ -90,6 +91,8 @@ def get_visibility_df(
     static_occluder_heights: Sequence[float] | float | None = None,
     static_meshes: Sequence[Any] = (),
     map_occluders: str | os.PathLike | bool | None = None,
+    occluders: RoleSpec = None,
+    targets: RoleSpec = None,
 ) -> pl.DataFrame | pl.LazyFrame:
     """Visibility and occluders of every object, seen from the ego, in every frame where the ego exists.
 
@@ -146,6 +149,15 @@ def get_visibility_df(
         An OpenDRIVE map (True: the recording's own) whose road objects (``<object>``) become static occluders
         with their heights, numbered after ``static_occluder_polys``
         (:func:`omega_prime_visibility.threed.mapobjects.read_map_objects`).
+    occluders : str, list of str, list of int or polars expression, optional
+        Which moving objects may block the view: a group (``"vehicles"``, ``"pedestrians"``, ``"cyclists"``,
+        ``"two_wheelers"``, ``"vulnerable"``, ``"animals"``), omega-prime type or subtype names (``"PEDESTRIAN"``,
+        ``"HEAVY_TRUCK"``), a list of idx, or a boolean polars expression over the object table
+        (:mod:`omega_prime_visibility.inputs.roles`). The others still get rows as targets, but never hide
+        anything and are never listed as occluders. None (the default): every object blocks. Static occluders
+        always block.
+    targets : same forms as ``occluders``, optional
+        Which objects get rows (the others still block); work for the others is skipped. None: every object.
 
     Returns
     -------
@@ -180,7 +192,7 @@ def get_visibility_df(
     mode = check_mode(mode)
     engine = resolve_engine(engine, mode)
     sensor_set = resolve_sensors(sensors)  # a bad layout name or file fails before the table is read
-    objects = load_objects(df, on_invalid=on_invalid, three_d=mode == "3d")
+    objects = load_objects(df, on_invalid=on_invalid, three_d=mode == "3d", occluders=occluders, targets=targets)
     if sensors is not None and not _has_yaw(df):
         raise ValueError("sensors need the observers' heading: the moving-object table has no 'yaw' column")
     statics, static_positions = load_statics(

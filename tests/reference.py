@@ -294,6 +294,7 @@ def reference_visibility(
     heading: float = 0.0,
     fov: float = TWO_PI,
     max_range: float = np.inf,
+    blocking: Any = None,
 ) -> ReferenceResult:
     """Brute-force visibility of every object by dense ray casting.
 
@@ -319,6 +320,9 @@ def reference_visibility(
     prefilter : bool
         Skip edges whose angular interval does not meet the target's extent (pure speed-up; the
         result is identical up to floating point).
+    blocking : array_like of bool, optional
+        ``(n_objects,)`` mask of objects that may block (``occluders=``); the others are still measured as
+        targets, against the blocking ones only, and are never occluders. Default: all may block.
 
     Returns
     -------
@@ -355,8 +359,12 @@ def reference_visibility(
             continue
         starts[i], widths[i] = angular_extent_reference(o, g)
 
-    # Blockers: non-transparent objects (owner ids 0..n_obj-1) then statics (n_obj..n_obj+n_stat-1).
-    owners = [i for i in range(n_obj) if not transp[i]] + list(range(n_obj, n_obj + n_stat))
+    blocks = np.ones(n_obj, dtype=bool) if blocking is None else np.asarray(blocking, dtype=bool).reshape(-1)
+    # Blockers: non-transparent objects (owner ids 0..n_obj-1) then statics (n_obj..n_obj+n_stat-1); objects
+    # that may not block come last, each measured as a target only.
+    owners = [i for i in range(n_obj) if not transp[i] and blocks[i]] + list(range(n_obj, n_obj + n_stat))
+    n_blockers = len(owners)
+    owners += [i for i in range(n_obj) if not transp[i] and not blocks[i]]
     geoms = objs + stats
     seg_list = [geometry_segments(geoms[k]) for k in owners]
     owner_col = np.concatenate([np.full(len(s), c, dtype=int) for c, s in enumerate(seg_list)] or [np.empty(0, int)])
@@ -379,6 +387,7 @@ def reference_visibility(
             keep |= owner_col == col_of[i]
         else:
             keep = np.ones(len(segs), dtype=bool)
+        keep &= (owner_col < n_blockers) | (owner_col == col_of[i])  # bodies that may not block never do
         dist = _owner_distances(o, angles, segs[keep], owner_col[keep], len(owners))
         d_t = dist[:, col_of[i]]
         if not np.all(np.isfinite(d_t)):  # pragma: no cover - would indicate a bug in the extent

@@ -35,6 +35,10 @@ class FrameObjects:
         One counter-clockwise outline per object.
     boxes3d : ndarray, shape (n, 9), or None
         The objects' 3D boxes (:mod:`.threed.boxes`), when loaded with ``three_d=True``.
+    blocks : ndarray of bool, shape (n,), or None
+        Which objects may block the view (``occluders=``, :mod:`.roles`); None: all.
+    wanted : ndarray of bool, shape (n,), or None
+        Which objects get rows as targets (``targets=``); None: all.
     """
 
     frame: int
@@ -44,6 +48,8 @@ class FrameObjects:
     yaw: np.ndarray
     rings: Rings
     boxes3d: np.ndarray | None = None
+    blocks: np.ndarray | None = None
+    wanted: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.idx)
@@ -61,6 +67,13 @@ class ObjectTable:
     rings: Rings
     frame_starts: np.ndarray  # (f + 1,) row where each frame starts
     boxes3d: np.ndarray | None = None  # (rows, 9) with three_d=True
+    blocks: np.ndarray | None = None  # (rows,) bool: may block the view (None: all), see .roles
+    wanted: np.ndarray | None = None  # (rows,) bool: gets rows as a target (None: all)
+
+    @property
+    def chosen(self) -> bool:
+        """Whether ``occluders=`` or ``targets=`` narrowed the default (every object blocks and is a target)."""
+        return self.blocks is not None or self.wanted is not None
 
     @property
     def n_frames(self) -> int:
@@ -77,6 +90,8 @@ class ObjectTable:
             yaw=self.yaw[s:e],
             rings=self.rings.slice(s, e),
             boxes3d=None if self.boxes3d is None else self.boxes3d[s:e],
+            blocks=None if self.blocks is None else self.blocks[s:e],
+            wanted=None if self.wanted is None else self.wanted[s:e],
         )
 
     def frame_range(self, start: int, stop: int) -> ObjectTable:
@@ -91,4 +106,6 @@ class ObjectTable:
             self.rings.slice(s, e),
             self.frame_starts[start : stop + 1] - s,
             None if self.boxes3d is None else self.boxes3d[s:e],
+            None if self.blocks is None else self.blocks[s:e],
+            None if self.wanted is None else self.wanted[s:e],
         )

@@ -18,6 +18,7 @@ import shapely
 
 from ..geometry.rings import Rings, box_rings, convex_quadrilaterals, orient
 from .objects import ObjectTable, OnInvalid, VisibilityInputWarning
+from .roles import RoleSpec, role_mask
 
 REQUIRED_COLUMNS = ("frame", "total_nanos", "idx", "x", "y")
 BOX_COLUMNS = ("length", "width", "yaw")
@@ -202,7 +203,14 @@ def _polygon_rings(
     return orient(rings, True), good, reasons, notes, broken[good[broken]]
 
 
-def load_objects(data: Any, *, on_invalid: OnInvalid = "warn", three_d: bool = False) -> ObjectTable:
+def load_objects(
+    data: Any,
+    *,
+    on_invalid: OnInvalid = "warn",
+    three_d: bool = False,
+    occluders: RoleSpec = None,
+    targets: RoleSpec = None,
+) -> ObjectTable:
     """Validate the moving-object table once and group it by frame.
 
     Parameters
@@ -216,6 +224,8 @@ def load_objects(data: Any, *, on_invalid: OnInvalid = "warn", three_d: bool = F
     three_d : bool
         Also read the 3D boxes (``z, height, roll, pitch`` with ``length, width, yaw``; see :mod:`.threed.scene`);
         rows with NaN 3D values are skipped like NaN poses.
+    occluders, targets : optional
+        Which objects may block the view and which get rows (:mod:`.roles`); None: all of them.
 
     Raises
     ------
@@ -240,6 +250,7 @@ def load_objects(data: Any, *, on_invalid: OnInvalid = "warn", three_d: bool = F
     if dup.any():
         k = int(np.flatnonzero(dup)[0])
         raise ValueError(f"object idx {idx[k]} appears more than once in frame {frame[k]}: (frame, idx) must be unique")
+    blocks, wanted = role_mask(df, occluders, "occluders"), role_mask(df, targets, "targets")
     floats = _floats(df, ("x", "y", "yaw", *BOX_COLUMNS))
     x, y = floats["x"], floats["y"]
     yaw = floats.get("yaw", np.zeros(df.height))
@@ -296,7 +307,8 @@ def load_objects(data: Any, *, on_invalid: OnInvalid = "warn", three_d: bool = F
         frame_starts = np.zeros(1, dtype=np.int64)
     if boxes3d is not None:
         boxes3d = boxes3d[ok]
-    return ObjectTable(frame, total_nanos, idx, position, yaw, rings, frame_starts, boxes3d)
+    blocks, wanted = (None if mask is None else mask[ok] for mask in (blocks, wanted))
+    return ObjectTable(frame, total_nanos, idx, position, yaw, rings, frame_starts, boxes3d, blocks, wanted)
 
 
 def observer_sizes(objects: ObjectTable, egos: np.ndarray) -> dict[int, tuple[float, float]]:

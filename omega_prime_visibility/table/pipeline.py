@@ -26,6 +26,7 @@ from ..inputs.sensors import TWO_PI, Sensor, sensor_poses
 from ..inputs.statics import StaticOccluders
 from .rows import chunk_rows, frame_rows
 from .schema import Columns, TableBuilder
+from .selection import chunk_scenes, frame_scenes, kept_rows
 
 SensorSet = Sequence[Sensor] | dict[int, Sequence[Sensor]]
 """Sensors for every observer, or per observer idx (same names, same order)."""
@@ -209,12 +210,6 @@ def observe_frame(
     if len(rows) == 0:
         return
     views = viewpoints(objects, rows, statics, sensors)
-    try:
-        observations = engine.observe(objects, views)
-    except EngineFailure as failure:  # e.g. VisiLibity with the viewpoint within a wall's thickness
-        containment.add_fallback(objects.frame, str(failure))
-        observations = _fallback_engine(statics).observe(objects, views)
-    owns = np.array([view.own for view in views], dtype=np.int64)
     for view in views:
         if np.count_nonzero(view.transparent) > 1:  # more than its own body: it is inside some object
             inside = view.transparent.copy()
@@ -223,8 +218,44 @@ def observe_frame(
             ego = np.full(len(inside_idx), objects.idx[view.own])
             containment.add_pairs(ego, inside_idx, np.full(len(inside_idx), objects.frame))
     sensor_codes = None if sensors is None else np.tile(np.arange(sensors_per_observer(sensors)), len(rows))
+    if objects.blocks is not None or objects.wanted is not None:  # occluders= or targets= (see .selection)
+        scenes, expanded = frame_scenes(objects, views)
+        codes = None if sensor_codes is None else sensor_codes[expanded.base]
+        parts = [
+            frame_rows(
+                _observe(engine, statics, scene, [view], containment),
+                np.array([view.own]),
+                scene.idx,
+                None if codes is None else codes[e : e + 1],
+            )
+            for e, (scene, view) in enumerate(scenes)
+        ]
+        if parts:
+            builder.add(kept_rows(_joined(parts), expanded), frame=objects.frame, total_nanos=objects.total_nanos)
+        return
+    observations = _observe(engine, statics, objects, views, containment)
+    owns = np.array([view.own for view in views], dtype=np.int64)
     columns = frame_rows(observations, owns, objects.idx, sensor_codes)
     builder.add(columns, frame=objects.frame, total_nanos=objects.total_nanos)
+
+
+def _observe(
+    engine: Engine, statics: StaticOccluders, objects: FrameObjects, views: list[Viewpoint], log: ContainmentLog
+) -> list:
+    """The engine's observations of one frame, or the fallback engine's where it cannot compute the frame."""
+    try:
+        return engine.observe(objects, views)
+    except EngineFailure as failure:  # e.g. VisiLibity with the viewpoint within a wall's thickness
+        log.add_fallback(objects.frame, str(failure))
+        return _fallback_engine(statics).observe(objects, views)
+
+
+def _joined(parts: list[Columns]) -> Columns:
+    """Blocks of named columns (same names) one after another."""
+    builder = TableBuilder()
+    for part in parts:
+        builder.add(part)
+    return builder.arrays() or {name: np.zeros(0, dtype=np.int64) for name in parts[0]}
 
 
 _FALLBACK: list = []  # [(statics, engine)]: the last fallback engine built, reused while the statics are the same
@@ -250,16 +281,25 @@ def run_chunk(
     containment = ContainmentLog()
     if hasattr(eng, "observe_chunk") and unlimited(sensors):  # the whole chunk in compiled loops
         views, owners = chunk_viewpoints(objects, egos, statics, sensors)
+        per_observer = sensors_per_observer(sensors)
+        sensor_codes = None if sensors is None else np.tile(np.arange(per_observer), len(views) // per_observer)
+        scenes, seen, expanded = objects, views, None
+        if objects.chosen:  # occluders= or targets= (see .selection)
+            scenes, seen, expanded = chunk_scenes(views, owners, objects)
+            sensor_codes = None if sensor_codes is None else sensor_codes[expanded.base]
         try:
-            observation = eng.observe_chunk(objects, views)
+            observation = eng.observe_chunk(scenes, seen)
         except EngineFailure:  # some frame needs the fallback engine: frame by frame, which finds it
             pass
         else:
-            per_observer = sensors_per_observer(sensors)
-            sensor_codes = None if sensors is None else np.tile(np.arange(per_observer), len(views) // per_observer)
             _log_containment(containment, objects, views, owners)
-            rows = (objects.idx, objects.frame, objects.total_nanos, sensor_codes)
-            return chunk_rows(observation, views, owners, *rows), containment
+            rows = (scenes.idx, scenes.frame, scenes.total_nanos, sensor_codes)
+            seen_owners = owners if expanded is None else seen.target_offsets[:-1] + seen.own
+            columns = chunk_rows(observation, seen, seen_owners, *rows)
+            if expanded is not None and columns is not None:
+                columns = kept_rows(columns, expanded)
+                columns = columns if len(columns["idx"]) else None
+            return columns, containment
     builder = TableBuilder()
     for k in range(objects.n_frames):
         observe_frame(eng, statics, objects.frame_objects(k), egos, builder, containment, sensors)

@@ -1,0 +1,288 @@
+"""``occluders=`` and ``targets=`` through any engine, exactly, by the engine contract's transparency masks.
+
+Each viewpoint becomes one or more *views* at the same place, each with its own transparency, and keeps only the
+rows it is responsible for:
+
+- the **main view**, where every object that may not block is transparent: it gives the rows of the wanted
+  targets that may block (and of those that contain the viewpoint);
+- one view per **group** of wanted targets that may not block, the members of a group being chosen so that no two
+  share a direction from the viewpoint (so they cannot hide each other): each sees the blocking objects and its own
+  members only, and gives their rows.
+
+Each view is handed to the engine as a scene of its own holding only the bodies it needs: its targets, the observer
+and the blocking bodies that may be in front of one of its targets (sharing a direction with it and not farther
+than all of it: :mod:`..geometry.spans`). A body that cannot be in front of a target changes neither its visibility
+nor its occluder lists, so the rows are those of the whole scene, and work for targets not asked for is skipped,
+not computed and dropped.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+
+from ..engines import ChunkViewpoints, Viewpoint
+from ..geometry.spans import angular_spans
+from ..inputs.objects import FrameObjects, ObjectTable
+from .schema import LIST_COLUMNS, Columns
+
+SLACK = 1e-9
+"""Radians by which spans are widened before deciding that they share no direction."""
+
+
+@dataclass(frozen=True, slots=True)
+class Views:
+    """Viewpoints expanded into views (see the module docstring), each with the objects of its own scene.
+
+    Attributes
+    ----------
+    base : ndarray, shape (e,), int64
+        The viewpoint each view belongs to (views of a viewpoint are consecutive).
+    object_offsets : ndarray, shape (e + 1,), int64
+        View ``e``'s scene is ``rows[object_offsets[e]:object_offsets[e + 1]]``, in the frame's order.
+    rows : ndarray, shape (t,), int64
+        Row numbers in the loaded objects (the chunk's or the frame's).
+    transparent : ndarray, shape (t,), bool
+        Per object of a scene: transparent in that view.
+    keep : ndarray, shape (t,), bool
+        Per object of a scene: this view gives its row.
+    own : ndarray, shape (e,), int64
+        Position of the observer within each view's scene.
+    """
+
+    base: np.ndarray
+    object_offsets: np.ndarray
+    rows: np.ndarray
+    transparent: np.ndarray
+    keep: np.ndarray
+    own: np.ndarray
+
+
+def expand(
+    positions: np.ndarray,
+    own: np.ndarray,
+    target_offsets: np.ndarray,
+    transparent: np.ndarray,
+    first_row: np.ndarray,
+    objects: ObjectTable | FrameObjects,
+) -> Views:
+    """The views of viewpoints ``v`` at ``positions[v]`` (metres) whose targets are the objects ``first_row[v]``
+    onwards of ``objects`` (their frame's, one slot each, ``target_offsets`` as in
+    :class:`..engines.ChunkViewpoints`), with base transparency ``transparent`` per slot and observer ``own[v]``
+    (position within its frame)."""
+    n_views = len(own)
+    sizes = np.diff(target_offsets)
+    slot_view = np.repeat(np.arange(n_views), sizes)
+    slot_row = np.repeat(first_row, sizes) + np.arange(target_offsets[-1]) - np.repeat(target_offsets[:-1], sizes)
+    blocks = np.ones(len(slot_row), dtype=bool) if objects.blocks is None else objects.blocks[slot_row]
+    wanted = np.ones(len(slot_row), dtype=bool) if objects.wanted is None else objects.wanted[slot_row].copy()
+    own_slot = target_offsets[:-1] + own
+    wanted[own_slot] = False
+    centre, half, near, far = angular_spans(positions[slot_view], objects.rings, slot_row)
+    group, counts = _assign_groups(target_offsets, transparent, blocks, wanted, centre, half)
+    base, offsets, clear, keep = _fill_views(
+        target_offsets, transparent, blocks, group, counts, centre, half, near, far
+    )
+    # each view's scene: what it sees, what it reports and its observer
+    local = np.arange(offsets[-1]) - np.repeat(offsets[:-1], np.diff(offsets))
+    full_slot = np.repeat(target_offsets[base], np.diff(offsets)) + local
+    inside = ~clear | keep
+    inside[offsets[:-1] + own[base]] = True
+    object_offsets = np.zeros(len(base) + 1, dtype=np.int64)
+    np.cumsum(np.add.reduceat(inside.astype(np.int64), offsets[:-1]) if len(base) else [], out=object_offsets[1:])
+    own_in_scene = np.cumsum(inside)[offsets[:-1] + own[base]] - 1 - object_offsets[:-1]
+    kept = full_slot[inside]
+    return Views(base, object_offsets, slot_row[kept], clear[inside], keep[inside], own_in_scene)
+
+
+@numba.njit(cache=True, inline="always")
+def _shares(centre_a, half_a, centre_b, half_b):
+    """Whether two spans share a direction (:func:`..geometry.spans.overlapping` for two scalars)."""
+    gap = abs((centre_a - centre_b + np.pi) % (2 * np.pi) - np.pi)
+    return gap <= half_a + half_b + SLACK
+
+
+@numba.njit(cache=True)
+def _assign_groups(target_offsets, transparent, blocks, wanted, centre, half):
+    """Per slot, the view that gives its row: 0 the main view, ``k >= 1`` the ``k``-th group of wanted targets
+    that may not block (greedily by direction, no two members of a group sharing a direction), -1 none; and per
+    viewpoint, its number of views (the main view counted when it gives rows)."""
+    group = np.full(len(transparent), -1, dtype=np.int64)
+    counts = np.zeros(len(target_offsets) - 1, dtype=np.int64)
+    for v in range(len(target_offsets) - 1):
+        t0, t1 = target_offsets[v], target_offsets[v + 1]
+        has_main = False
+        free = np.zeros(t1 - t0, dtype=np.int64)
+        n_free = 0
+        for s in range(t0, t1):
+            if not wanted[s]:
+                continue
+            if blocks[s] or transparent[s]:
+                group[s] = 0
+                has_main = True
+            else:
+                free[n_free] = s
+                n_free += 1
+        order = free[:n_free][np.argsort(centre[free[:n_free]], kind="mergesort")]
+        n_groups = 0
+        for m in order:
+            chosen = n_groups + 1
+            for g in range(1, n_groups + 1):
+                fits = True
+                for s in range(t0, t1):
+                    if group[s] == g and _shares(centre[s], half[s], centre[m], half[m]):
+                        fits = False
+                        break
+                if fits:
+                    chosen = g
+                    break
+            group[m] = chosen
+            n_groups = max(n_groups, chosen)
+        counts[v] = n_groups + (1 if has_main else 0)
+    return group, counts
+
+
+@numba.njit(cache=True)
+def _fill_views(target_offsets, transparent, blocks, group, counts, centre, half, near, far):
+    """The fields of :class:`Views` from :func:`_assign_groups`: in each view, its targets and the blocking
+    bodies that may be in front of one of them (sharing a direction, not farther than all of it) are seen."""
+    n_views = counts.sum()
+    base = np.empty(n_views, dtype=np.int64)
+    offsets = np.zeros(n_views + 1, dtype=np.int64)
+    e = 0
+    for v in range(len(counts)):
+        for _ in range(counts[v]):
+            base[e] = v
+            offsets[e + 1] = offsets[e] + target_offsets[v + 1] - target_offsets[v]
+            e += 1
+    clear = np.ones(offsets[-1], dtype=np.bool_)
+    keep = np.zeros(offsets[-1], dtype=np.bool_)
+    e = 0
+    for v in range(len(counts)):
+        t0, t1 = target_offsets[v], target_offsets[v + 1]
+        has_main = False
+        n_groups = 0
+        for s in range(t0, t1):
+            if group[s] == 0:
+                has_main = True
+            n_groups = max(n_groups, group[s])
+        for g in range(0 if has_main else 1, n_groups + 1):
+            at = offsets[e] - t0
+            for s in range(t0, t1):
+                if group[s] != g:
+                    continue
+                keep[at + s] = True
+                if transparent[s]:
+                    continue
+                clear[at + s] = False
+                for b in range(t0, t1):
+                    if clear[at + b] and blocks[b] and not transparent[b]:
+                        if near[b] <= far[s] * (1 + 1e-9) + 1e-9 and _shares(centre[b], half[b], centre[s], half[s]):
+                            clear[at + b] = False
+            e += 1
+    return base, offsets, clear, keep
+
+
+def chunk_scenes(
+    views: ChunkViewpoints, owners: np.ndarray, objects: ObjectTable
+) -> tuple[ObjectTable, ChunkViewpoints, Views]:
+    """A chunk's viewpoints expanded into views, each view's scene one frame of a new table (the views as
+    viewpoints the engines take, one per frame)."""
+    first_row = owners - views.own
+    expanded = expand(views.position, views.own, views.target_offsets, views.transparent, first_row, objects)
+    b, rows = expanded.base, expanded.rows
+    scenes = ObjectTable(
+        objects.frame[rows],
+        objects.total_nanos[rows],
+        objects.idx[rows],
+        objects.position[rows],
+        objects.yaw[rows],
+        objects.rings.take(rows),
+        expanded.object_offsets,
+        None if objects.boxes3d is None else objects.boxes3d[rows],
+    )
+    inside = np.diff(views.static_offsets)[b]
+    static_offsets = np.zeros(len(b) + 1, dtype=np.int64)
+    np.cumsum(inside, out=static_offsets[1:])
+    static_inside = views.static_inside[np.repeat(views.static_offsets[b], inside) + _ranks(inside)]
+    chunk = ChunkViewpoints(
+        np.arange(len(b) + 1, dtype=np.int64),
+        views.position[b],
+        expanded.own,
+        expanded.object_offsets,
+        expanded.transparent,
+        static_offsets,
+        static_inside,
+    )
+    return scenes, chunk, expanded
+
+
+def _ranks(sizes: np.ndarray) -> np.ndarray:
+    """0, 1, ... within each of consecutive groups of ``sizes``."""
+    starts = np.zeros(len(sizes) + 1, dtype=np.int64)
+    np.cumsum(sizes, out=starts[1:])
+    return np.arange(starts[-1]) - np.repeat(starts[:-1], sizes)
+
+
+def frame_scenes(
+    objects: FrameObjects, viewpoints: list[Viewpoint]
+) -> tuple[list[tuple[FrameObjects, Viewpoint]], Views]:
+    """One frame's viewpoints expanded into views: each view's scene and its viewpoint in that scene."""
+    n = len(objects)
+    own = np.array([v.own for v in viewpoints], dtype=np.int64)
+    offsets = np.arange(len(viewpoints) + 1, dtype=np.int64) * n
+    positions = np.array([v.position for v in viewpoints], dtype=np.float64).reshape(-1, 2)
+    transparent = np.concatenate([v.transparent for v in viewpoints]) if viewpoints else np.zeros(0, dtype=bool)
+    expanded = expand(positions, own, offsets, transparent, np.zeros(len(viewpoints), dtype=np.int64), objects)
+    out = []
+    for e, b in enumerate(expanded.base.tolist()):
+        at = slice(expanded.object_offsets[e], expanded.object_offsets[e + 1])
+        rows = expanded.rows[at]
+        scene = FrameObjects(
+            objects.frame,
+            objects.total_nanos,
+            objects.idx[rows],
+            objects.position[rows],
+            objects.yaw[rows],
+            objects.rings.take(rows),
+            None if objects.boxes3d is None else objects.boxes3d[rows],
+        )
+        v = viewpoints[b]
+        view = Viewpoint(
+            v.position, v.heading, int(expanded.own[e]), expanded.transparent[at], v.static_transparent, v.fov,
+            v.range, v.height, v.vertical_fov, v.pitch,
+        )  # fmt: skip
+        out.append((scene, view))
+    return out, expanded
+
+
+def kept_rows(columns: Columns, views: Views) -> Columns:
+    """The rows of ``columns`` (each view's scene but its observer, view by view) that their view keeps,
+    ordered by viewpoint and then ``idx``, as without the choices."""
+    not_own = np.ones(len(views.keep), dtype=bool)
+    not_own[views.object_offsets[:-1] + views.own] = False
+    keep = views.keep[not_own]
+    n_rows = len(columns["idx"])
+    if len(keep) != n_rows:  # the engines' contract was broken
+        raise AssertionError(f"{n_rows} rows for {len(keep)} targets")
+    base = np.repeat(views.base, np.diff(views.object_offsets) - 1)[keep]
+    rows = np.flatnonzero(keep)
+    order = rows[np.lexsort((columns["idx"][rows], base))]
+    return take_rows(columns, order)
+
+
+def take_rows(columns: Columns, rows: np.ndarray) -> Columns:
+    """The rows ``rows`` (positions, in that order) of named columns, list columns included."""
+    out: Columns = {}
+    for name, column in columns.items():
+        if name in LIST_COLUMNS:
+            lengths, values = column
+            starts = np.zeros(len(lengths) + 1, dtype=np.int64)
+            np.cumsum(lengths, out=starts[1:])
+            picked = lengths[rows]
+            out[name] = (picked, values[np.repeat(starts[rows], picked) + _ranks(picked)])
+        else:
+            out[name] = column[rows]
+    return out
