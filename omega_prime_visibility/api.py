@@ -25,7 +25,7 @@ from .inputs.sensors import fitted_layout, is_layout, resolve_sensors
 from .table.output import PartWriter, atomic_directory, check_output_path
 from .table.pipeline import ContainmentLog, chunks, run
 from .table.schema import STATUSES, empty_table, to_polars
-from .threed.mode import Finisher, check_mode, load_statics, resolve_engine, with_can_see
+from .threed.mode import Finisher, check_mode, load_statics, resolve_measure, with_can_see
 
 PROGRESS_MIN_FRAMES = 200
 PARALLEL_MIN_WORK = 5_000  # (frame, observer) pairs from which all cores are used by default
@@ -93,6 +93,7 @@ def get_visibility_df(
     map_occluders: str | os.PathLike | bool | None = None,
     occluders: RoleSpec = None,
     targets: RoleSpec = None,
+    measure: Literal["angle", "area"] = "angle",
 ) -> pl.DataFrame | pl.LazyFrame:
     """Visibility and occluders of every object, seen from the ego, in every frame where the ego exists.
 
@@ -158,6 +159,11 @@ def get_visibility_df(
         always block.
     targets : same forms as ``occluders``, optional
         Which objects get rows (the others still block); work for the others is skipped. None: every object.
+    measure : {"angle", "area"}
+        What ``visibility`` is a share of: the target's angular extent (the default), or its footprint's area
+        (``"area"``: the part of the footprint in no other body's shadow, inside the field of view and range, by
+        exact polygon clipping, as openPASS measures it; 2D only, its own engine
+        :mod:`omega_prime_visibility.engines.area`). ``in_view`` and ``status`` keep their meaning, in area.
 
     Returns
     -------
@@ -190,7 +196,7 @@ def get_visibility_df(
     if output is not None:
         output = check_output_path(output)
     mode = check_mode(mode)
-    engine = resolve_engine(engine, mode)
+    engine = resolve_measure(measure, engine, mode)
     sensor_set = resolve_sensors(sensors)  # a bad layout name or file fails before the table is read
     objects = load_objects(df, on_invalid=on_invalid, three_d=mode == "3d", occluders=occluders, targets=targets)
     if sensors is not None and not _has_yaw(df):

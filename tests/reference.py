@@ -899,3 +899,62 @@ if st is not None:
         return random_scene(
             np.random.default_rng(seed), n, overlap=flags[0], with_statics=flags[1], include_ego=flags[2]
         )
+
+
+# ----------------------------------------------------------------------------------------------
+# The area measure, by dense point sampling of each footprint
+# ----------------------------------------------------------------------------------------------
+
+
+def reference_area_visibility(
+    observer: Any,
+    objects: Sequence[Any],
+    statics: Sequence[Any] = (),
+    transparent: Any = None,
+    n_side: int = 200,
+    heading: float = 0.0,
+    fov: float = TWO_PI,
+    max_range: float = np.inf,
+) -> tuple[np.ndarray, list[dict[int, float]]]:
+    """Share of each object's footprint seen from ``observer``, by sampling: the points of an ``n_side`` x
+    ``n_side`` grid over its bounding box that lie inside it, each seen when it is inside the field of view and
+    range and the segment from the observer to it meets no other non-transparent object or static occluder.
+
+    Returns the shares (``nan`` for transparent objects) and, per object, the share of its points each other body
+    hides (objects by position; statics as ``-1 - position``). The sampling error of a share is of the order of
+    the shadow edges' length times the grid spacing over the area.
+    """
+    import shapely
+
+    o = np.asarray(observer, dtype=float).reshape(2)
+    objs = [_as_geometry(g) for g in objects]
+    transp = np.zeros(len(objs), dtype=bool) if transparent is None else np.asarray(transparent, dtype=bool)
+    bodies = [(k, g) for k, g in enumerate(objs) if not transp[k]] + [
+        (-1 - k, _as_geometry(g)) for k, g in enumerate(statics)
+    ]
+    shares = np.full(len(objs), np.nan)
+    hiders: list[dict[int, float]] = [{} for _ in objs]
+    for i, target in enumerate(objs):
+        if transp[i]:
+            continue
+        x0, y0, x1, y1 = target.bounds
+        gx, gy = np.meshgrid(np.linspace(x0, x1, n_side + 2)[1:-1], np.linspace(y0, y1, n_side + 2)[1:-1])
+        points = np.column_stack([gx.ravel(), gy.ravel()])
+        points = points[shapely.contains_xy(target, points[:, 0], points[:, 1])]
+        rel = points - o
+        angle = np.arctan2(rel[:, 1], rel[:, 0])
+        inside = np.ones(len(points), dtype=bool)
+        if fov < TWO_PI:
+            inside &= (angle - (heading - fov / 2)) % TWO_PI <= fov
+        inside &= np.hypot(rel[:, 0], rel[:, 1]) <= max_range
+        sight = shapely.linestrings(np.stack([np.broadcast_to(o, points.shape), points], axis=1))
+        hidden = np.zeros(len(points), dtype=bool)
+        for k, body in bodies:
+            if k == i:
+                continue
+            by = shapely.intersects(sight, body) & inside
+            if by.any():
+                hiders[i][k] = float(by.mean())
+            hidden |= by
+        shares[i] = float((inside & ~hidden).mean())
+    return shares, hiders

@@ -309,10 +309,20 @@ ENGINES_3D: dict[str, Callable[[], type]] = {
 """The 3D engines (``mode="3d"``): Embree ray casting at three settings, and the exact box engine."""
 
 
+def _area() -> type:
+    from .area import AreaEngine
+
+    return AreaEngine
+
+
+ENGINES_AREA: dict[str, Callable[[], type]] = {"area": _area}
+"""The engine of the area measure (``measure="area"``): exact polygon clipping of footprints and shadows."""
+
+
 def get_engine(name: str) -> type[Engine]:
-    """The engine class registered under ``name`` (2D or 3D)."""
+    """The engine class registered under ``name`` (2D, 3D or the area measure's)."""
     try:
-        return {**ENGINES, **ENGINES_3D}[name]()
+        return {**ENGINES, **ENGINES_3D, **ENGINES_AREA}[name]()
     except KeyError:
         raise ValueError(f"unknown engine {name!r}; available: {sorted(ENGINES)} (3D: {sorted(ENGINES_3D)})") from None
 

@@ -50,6 +50,32 @@ def resolve_engine(engine: str | None, mode: Mode) -> str:
     return engine
 
 
+MEASURES = ("angle", "area")
+"""What ``visibility`` measures: the share of the target's angular extent (``"angle"``, the default) or of its
+footprint's area (``"area"``, 2D only, :mod:`..engines.area`)."""
+
+
+def resolve_measure(measure: str, engine: str | None, mode: Mode) -> str:
+    """The engine for ``measure`` (and ``engine``, ``mode``): the area measure has its own engine, ``"area"``.
+
+    Raises
+    ------
+    ValueError
+        An unknown measure, the area measure in 3D or with another engine, or an unknown engine.
+    """
+    if measure not in MEASURES:
+        raise ValueError(f"unknown measure {measure!r}; use 'angle' (the default) or 'area'")
+    if measure == "angle":
+        return resolve_engine(engine, mode)
+    if mode == "3d":
+        raise ValueError("measure='area' measures footprints in 2D; use mode='2d' (or measure='angle' in 3D)")
+    if engine not in (None, "area"):
+        raise ValueError(
+            f"measure='area' has its own exact engine (polygon clipping); leave engine unset, not {engine!r}"
+        )
+    return "area"
+
+
 def load_statics(
     polys: Sequence[Any] | Any | None,
     mode: Mode,
