@@ -298,7 +298,7 @@ def get_visibility_df_for_frame(
     **three_d: Any,
 ) -> pl.DataFrame:
     """:func:`get_visibility_df` for a single frame number (same parameters and columns; ``epsilon`` likewise has
-    no effect; ``mode`` and the 3D keywords are passed on).
+    no effect; ``mode``, the 3D keywords, ``occluders``, ``targets`` and ``measure`` are passed on).
 
     Raises
     ------

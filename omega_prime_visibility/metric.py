@@ -20,6 +20,7 @@ from .analysis.conflicts import occluded_conflicts
 from .api import get_visibility_df
 from .inputs.objects import OnInvalid
 from .inputs.observers import EgoSpec, SensorSpec
+from .inputs.roles import RoleSpec
 
 
 @metric(computes_properties=["visibility"])
@@ -37,6 +38,9 @@ def visibility(
     static_occluder_heights: Sequence[float] | float | None = None,
     map_occluders: str | None = None,
     sensors: SensorSpec = None,
+    occluders: RoleSpec = None,
+    targets: RoleSpec = None,
+    measure: Literal["angle", "area"] = "angle",
 ) -> tuple[pl.LazyFrame, dict[str, pl.LazyFrame]]:
     """Visibility of every object from ``ego_id`` (one idx, a list, or ``"all"``) in every frame.
 
@@ -50,7 +54,9 @@ def visibility(
     sensors, as in :func:`~omega_prime_visibility.get_visibility_df`.
 
     ``mode="3d"`` (with ``static_occluder_heights`` and ``map_occluders``, an OpenDRIVE path) gives the 3D table of
-    :func:`omega_prime_visibility.get_visibility_df` (with ``can_see``).
+    :func:`omega_prime_visibility.get_visibility_df` (with ``can_see``). ``occluders`` (who may block the view),
+    ``targets`` (who gets rows) and ``measure`` (``"angle"`` or ``"area"``) are those of
+    :func:`~omega_prime_visibility.get_visibility_df`.
     """
     # ValueError, not TypeError: omega-prime relabels a metric's TypeError as "Missing parameter"
     if (ego_id is None) == (ego_idx is None):
@@ -71,6 +77,9 @@ def visibility(
         static_occluder_heights=static_occluder_heights,
         map_occluders=map_occluders,
         sensors=sensors,
+        occluders=occluders,
+        targets=targets,
+        measure=measure,
     )
     return df, {"visibility": table.lazy()}
 

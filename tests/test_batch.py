@@ -142,6 +142,27 @@ def test_sensors_option(tmp_path) -> None:
         run_batch(MCAP, out, sensors="lidar", progress=False)
 
 
+def test_choices_options(tmp_path) -> None:
+    choices = {"occluders": ["CAR"], "targets": [3, 2], "measure": "area"}
+    first = run_batch(MCAP, tmp_path, ego=0, progress=False, **choices)
+    assert first["status"].to_list() == ["done"], first["error"][0]
+    expected = get_visibility_df(read_recording(MCAP), 0, progress=False, **choices)
+    assert_frame_equal(pl.read_parquet(tmp_path / "highway_merge.mcap.parquet"), expected)
+    stored = pq.read_metadata(tmp_path / "highway_merge.mcap.parquet").metadata[OPTIONS_KEY]
+    assert b'"targets": [2, 3]' in stored and b'"measure": "area"' in stored and b'"occluders": ["CAR"]' in stored
+    assert run_batch(MCAP, tmp_path, ego=0, progress=False, **choices)["status"].to_list() == ["skipped"]
+    # other choices are another table: recomputed
+    assert run_batch(MCAP, tmp_path, ego=0, progress=False, targets=[2, 3])["status"].to_list() == ["done"]
+    for bad, message in (
+        ({"occluders": "lorries"}, "unknown object kind 'lorries'"),
+        ({"targets": pl.col("type") == 3}, "a polars expression cannot be stored"),
+        ({"measure": "area", "engine": "sweep"}, "has its own exact engine"),
+        ({"measure": "volume"}, "unknown measure"),
+    ):
+        with pytest.raises(ValueError, match=message):
+            run_batch(MCAP, tmp_path, progress=False, **bad)
+
+
 def test_mode_3d_option(tmp_path, widths_as_heights_mcap) -> None:
     summary = run_batch(widths_as_heights_mcap, tmp_path, ego=0, mode="3d", progress=False)
     assert summary["status"].to_list() == ["done"], summary["error"][0]

@@ -315,3 +315,29 @@ def test_cli_osi_trace_without_map_is_read_without_one(shared_data) -> None:
     assert "visibility" in out.stdout
     help_text = " ".join(cli("--help").stdout.split())
     assert "An OSI trace without --map is read without a map" in help_text
+
+
+def test_cli_choices_give_the_api_table(tmp_path) -> None:
+    from omega_prime_visibility import get_visibility_df
+    from omega_prime_visibility.inputs.io import read_recording
+
+    path = tmp_path / "v.parquet"
+    out = cli(MCAP, "--ego", "0", "--occluders", "CAR", "--targets", "3,2", "--measure", "area", "-o", path)
+    assert out.returncode == 0, out.stderr
+    expected = get_visibility_df(read_recording(MCAP), 0, occluders=["CAR"], targets=[2, 3], measure="area")
+    assert pl.read_parquet(path).equals(expected)
+
+
+@pytest.mark.parametrize(
+    ("args", "fragments"),
+    [
+        (["--occluders", "lorries"], ["--occluders: unknown object kind 'lorries'", "vehicles"]),
+        (["--targets", "1,CAR"], ["--targets takes comma-separated names", "'1,CAR'"]),
+        (["--targets", "99"], ["--targets: idx [99] never occur"]),
+        (["--measure", "area", "--mode", "3d"], ["--measure area measures footprints in 2D", "--mode 2d"]),
+        (["--measure", "volume"], ["unknown measure 'volume'"]),
+        (["--measure", "area", "--engine", "sweep"], ["--measure area has its own exact engine"]),
+    ],
+)
+def test_cli_bad_choices_are_one_line(args: list[str], fragments: list[str]) -> None:
+    assert_error(cli(MCAP, "--no-progress", *args), *fragments)

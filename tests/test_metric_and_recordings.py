@@ -51,6 +51,17 @@ def test_metric_passes_sensors(bundled: omega_prime.Recording) -> None:
     assert set(expected["sensor"]) == {s.name for s in typical()}
 
 
+def test_metric_passes_the_choices(bundled: omega_prime.Recording) -> None:
+    manager = omega_prime.metrics.MetricManager(metrics=[visibility])
+    choices = {"occluders": ["CAR"], "targets": [2, 3], "measure": "area"}
+    _, properties = manager.compute(bundled, ego_id=0, **choices)
+    expected = get_visibility_df(bundled, 0, **choices)
+    assert properties["visibility"].equals(expected)
+    assert expected["idx"].unique().sort().to_list() == [2, 3]
+    assert not expected["occluder_idxs"].list.contains(1).any()  # the truck (HEAVY_TRUCK) may not block
+    assert not expected.equals(get_visibility_df(bundled, 0, targets=[2, 3]))
+
+
 def test_entry_point_is_declared() -> None:
     eps = entry_points(group="omega_prime.plugins.metric")
     assert any(ep.name == "visibility" and ep.load() is visibility for ep in eps)

@@ -20,6 +20,7 @@ with the road's hidden area (3.1 ms with shapely's union).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections import Counter
 from collections.abc import Sequence
@@ -35,6 +36,7 @@ from ..geometry.star_union import star_union_area
 from ..geometry.union_rings import star_union
 from ..inputs.objects import FrameObjects, ObjectTable, OnInvalid
 from ..inputs.observers import SensorSpec, resolve_egos
+from ..inputs.roles import RoleSpec
 from ..inputs.scene import load_objects, observer_sizes
 from ..inputs.sensors import Sensor, fitted_layout, is_layout, resolve_sensors
 from ..inputs.statics import StaticOccluders, load_static_occluders
@@ -75,6 +77,8 @@ def _outlines(
     """The outline (world frame, metres, see :meth:`SweepEngine.visible_outline`) of the region each sensor of the
     object at row ``row`` sees in this frame, with the sensor's viewpoint."""
     views = viewpoints(objects, np.array([row]), statics, sensors)
+    if objects.blocks is not None:  # occluders=: the others neither block nor hide
+        views = [dataclasses.replace(v, transparent=v.transparent | ~objects.blocks) for v in views]
     coords = objects.rings.coords
     out = []
     for view in views:
@@ -127,11 +131,13 @@ def _union(outlines: list[tuple[np.ndarray, Viewpoint]], origin: np.ndarray) -> 
     return _regions(outlines)
 
 
-def _prepare(df: Any, ego_idx: int, sensors: SensorSpec, static_occluder_polys, on_invalid: OnInvalid):
+def _prepare(
+    df: Any, ego_idx: int, sensors: SensorSpec, static_occluder_polys, on_invalid: OnInvalid, occluders: RoleSpec
+):
     if isinstance(ego_idx, bool) or not isinstance(ego_idx, int | np.integer):
         raise ValueError(f"ego_idx must be one idx (an int), not {ego_idx!r}")
     sensor_set = resolve_sensors(sensors)  # a bad layout name or file fails before the table is read
-    objects = load_objects(df, on_invalid=on_invalid)
+    objects = load_objects(df, on_invalid=on_invalid, occluders=occluders)
     egos, _ = resolve_egos(int(ego_idx), objects)
     statics = load_static_occluders(static_occluder_polys)
     if is_layout(sensors):  # fitted to the ego's own size, as get_visibility_df does
@@ -147,6 +153,7 @@ def visible_area(
     static_occluder_polys: Sequence[shapely.Geometry] | None = None,
     *,
     on_invalid: OnInvalid = "warn",
+    occluders: RoleSpec = None,
 ) -> shapely.Geometry:
     """The region the ego's sensors see in one frame (world frame, metres).
 
@@ -160,6 +167,8 @@ def visible_area(
         A frame number of the table.
     sensors : layout name, JSON path, Sensor or Sensors, optional
         None: the ego's centre, all around (up to :data:`UNBOUNDED_MARGIN` beyond the farthest road user).
+    occluders : optional
+        Which objects may block the view, as for :func:`~omega_prime_visibility.get_visibility_df` (None: all).
 
     Returns
     -------
@@ -179,7 +188,7 @@ def visible_area(
     >>> round(seen.area / (math.pi * 100 / 4), 3)
     1.0
     """
-    objects, statics, sensor_set = _prepare(df, ego_idx, sensors, static_occluder_polys, on_invalid)
+    objects, statics, sensor_set = _prepare(df, ego_idx, sensors, static_occluder_polys, on_invalid, occluders)
     k = np.searchsorted(objects.frame[objects.frame_starts[:-1]], frame)
     if k >= objects.n_frames or objects.frame[objects.frame_starts[k]] != frame:
         raise ValueError(f"frame {frame} does not occur in the table")
@@ -198,15 +207,17 @@ def visible_area_over_time(
     *,
     road: shapely.Geometry | None = None,
     on_invalid: OnInvalid = "warn",
+    occluders: RoleSpec = None,
 ) -> pl.DataFrame:
     """Per frame where the ego exists: ``frame, total_nanos, visible_area`` (square metres, see
     :func:`visible_area`) and, with a road outline (``road``, or the lane polygons of the recording's map),
-    ``hidden_road_area``: the road's area outside the seen region (square metres).
+    ``hidden_road_area``: the road's area outside the seen region (square metres). ``occluders`` as for
+    :func:`visible_area`.
     """
     if road is None:
         road = road_outline(df)
     objects: ObjectTable
-    objects, statics, sensor_set = _prepare(df, ego_idx, sensors, static_occluder_polys, on_invalid)
+    objects, statics, sensor_set = _prepare(df, ego_idx, sensors, static_occluder_polys, on_invalid, occluders)
     engine = SweepEngine(statics)
     frames, nanos, areas, hidden = [], [], [], []
     ego = np.array([ego_idx], dtype=np.int64)

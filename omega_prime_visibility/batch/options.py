@@ -37,6 +37,11 @@ class FileOptions:
         Bird's-eye view (exact) or boxes with heights (see ``get_visibility_df``).
     map_occluders : bool
         The map's road objects as static occluders (the ``map`` file for OSI traces, else the recording's own).
+    occluders, targets : str, tuple of str or tuple of int, optional
+        Who may block the view and who gets rows (names or idx, as for ``get_visibility_df``; a polars expression
+        cannot be stored with the results, so batch takes names and idx only). None: everyone.
+    measure : {"angle", "area"}
+        What ``visibility`` is a share of (see ``get_visibility_df``).
     conflicts : bool
         Also write each recording's occluded conflicts (``occluded_conflicts`` with its defaults: a PET of 3 s, a
         5 s look-back, the notice model ``(1.0, 1.5)``) beside its result, as ``<result>.conflicts.parquet``.
@@ -59,10 +64,13 @@ class FileOptions:
     mode: str = "2d"
     map_occluders: bool = False
     conflicts: bool = False
+    occluders: str | tuple[str, ...] | tuple[int, ...] | None = None
+    targets: str | tuple[str, ...] | tuple[int, ...] | None = None
+    measure: str = "angle"
 
     def __post_init__(self) -> None:
         from ..inputs.sensors import resolve_sensors
-        from ..threed.mode import check_mode, resolve_engine
+        from ..threed.mode import check_mode, resolve_engine, resolve_measure
 
         ego = self.ego
         if isinstance(ego, list | tuple) and ego and all(is_int(v) for v in ego):
@@ -72,7 +80,11 @@ class FileOptions:
         elif ego is not None and ego != "all":
             raise ValueError(f"ego must be an idx, a list of idx, 'all' or None (the host vehicle), not {ego!r}")
         object.__setattr__(self, "mode", check_mode(self.mode))
-        object.__setattr__(self, "engine", resolve_engine(self.engine, self.mode))
+        resolve_measure(self.measure, self.engine, self.mode)
+        if self.measure == "angle":
+            object.__setattr__(self, "engine", resolve_engine(self.engine, self.mode))
+        for name in ("occluders", "targets"):
+            object.__setattr__(self, name, _choice(getattr(self, name), name))
         resolve_sensors(self.sensors)  # an unknown layout or a bad sensors file: ValueError naming it
         for f in fields(self):
             value = getattr(self, f.name)
@@ -87,7 +99,13 @@ class FileOptions:
         """Keywords for ``get_visibility_df`` besides the recording, the ego and the static occluders, for a
         recording read with ``map_path``."""
         map_occluders = (map_path or True) if self.map_occluders else None
-        return {"engine": self.engine, "sensors": self.sensors, "mode": self.mode, "map_occluders": map_occluders}
+        choices = {"occluders": _listed(self.occluders), "targets": _listed(self.targets), "measure": self.measure}
+        return {
+            "engine": self.engine,
+            "sensors": self.sensors,
+            "mode": self.mode,
+            "map_occluders": map_occluders,
+        } | choices
 
     def fingerprint(self) -> str:
         """JSON of the options, with the SHA-256 of every file option's content (an edited file recomputes)."""
@@ -117,6 +135,30 @@ class FileOptions:
         if Path(self.map).suffix == ".json":
             return _map_table(self.map, Path(self.map).stat().st_mtime_ns).get(recording.name)
         return self.map
+
+
+def _choice(value: Any, option: str) -> str | tuple | None:
+    """``occluders``/``targets`` as stored: a name, or a sorted tuple of names or idx (checked)."""
+    from ..inputs.roles import check_names
+
+    if value is None:
+        return None
+    if isinstance(value, str):
+        check_names([value], option)
+        return value
+    if isinstance(value, list | tuple) and value and all(is_int(v) for v in value):
+        return tuple(sorted({int(v) for v in value}))
+    if isinstance(value, list | tuple) and value and all(isinstance(v, str) for v in value):
+        check_names(value, option)
+        return tuple(sorted(set(value)))
+    raise ValueError(
+        f"{option} in a batch takes a name, a list of names or a list of idx (a polars expression cannot be stored "
+        f"with the results), not {value!r}"
+    )
+
+
+def _listed(value: str | tuple | None) -> str | list | None:
+    return list(value) if isinstance(value, tuple) else value
 
 
 def is_int(value: object) -> bool:

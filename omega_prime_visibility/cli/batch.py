@@ -9,7 +9,20 @@ import polars as pl
 import typer
 
 from .app import app
-from .common import Ego, Engine, MapOccluders, Mode, Sensors, Static, fail, parse_ego
+from .common import (
+    Ego,
+    Engine,
+    MapOccluders,
+    Measure,
+    Mode,
+    Occluders,
+    Sensors,
+    Static,
+    Targets,
+    fail,
+    parse_choice,
+    parse_ego,
+)
 
 
 @app.command(short_help="one parquet result per recording into a folder, resumably")
@@ -38,6 +51,9 @@ def batch(
     sensors: Sensors = None,
     mode: Mode = "2d",
     map_occluders: MapOccluders = False,
+    occluders: Occluders = None,
+    targets: Targets = None,
+    measure: Measure = "angle",
     scheduler: Annotated[
         str | None, typer.Option(metavar="ADDRESS", help="dask scheduler address, e.g. tcp://host:8786")
     ] = None,
@@ -66,7 +82,8 @@ def batch(
     from ..batch import SUMMARY_NAME, BatchInterrupted, run_batch
 
     options = {"ego": parse_ego(ego) if ego else None, "engine": engine, "static": static, "map": map_path}
-    options.update(sensors=sensors, mode=mode, map_occluders=map_occluders, conflicts=conflicts)
+    options.update(sensors=sensors, mode=mode, map_occluders=map_occluders, conflicts=conflicts, measure=measure)
+    options.update(occluders=parse_choice(occluders, "occluders"), targets=parse_choice(targets, "targets"))
     try:
         summary = run_batch(
             inputs,

@@ -41,6 +41,26 @@ def parse_sensors(spec: str | None):
         raise fail(str(e)) from None
 
 
+def parse_choice(spec: str | None, option: str) -> list[str] | list[int] | None:
+    """``--occluders``/``--targets`` as the API's ``occluders``/``targets``: comma-separated names (a group, an
+    omega-prime type or subtype) or idx; an unknown name exits with one line before anything is read."""
+    if spec is None:
+        return None
+    parts = [p.strip() for p in spec.split(",") if p.strip()]
+    numbers = [re.fullmatch(r"-?\d+", p) is not None for p in parts]
+    if not parts or (any(numbers) and not all(numbers)):
+        raise fail(f"--{option} takes comma-separated names (e.g. vehicles,BICYCLE) or idx (e.g. 3,7), not {spec!r}")
+    if all(numbers):
+        return [int(p) for p in parts]
+    from ..inputs.roles import check_names
+
+    try:
+        check_names(parts, option)
+    except ValueError as e:
+        raise fail(str(e)) from None
+    return parts
+
+
 def fail(message: str) -> typer.Exit:
     """Print ``error: message`` (in a shell user's words) to stderr; return the exit to raise (status 2)."""
     typer.echo(f"error: {shell_words(message)}", err=True)
@@ -49,7 +69,9 @@ def fail(message: str) -> typer.Exit:
 
 def shell_words(message: str) -> str:
     """An API message in a shell user's words: ``mode='3d'`` becomes ``--mode 3d``."""
-    return re.sub(r"\bmode='(2d|3d)'", r"--mode \1", message)
+    message = re.sub(r"\bmode='(2d|3d)'", r"--mode \1", message)
+    message = re.sub(r"\bmeasure='(angle|area)'", r"--measure \1", message)
+    return re.sub(r"^(occluders|targets)\b", r"--\1", message)
 
 
 def resolve_map(path: Path, map_path: Path | None) -> Path | None:
@@ -120,6 +142,25 @@ Sensors = Annotated[
     typer.Option(
         metavar="LAYOUT",
         help="look through sensors: 'roof', 'typical' or a sensors .json file (angles in radians)",
+    ),
+]
+CHOICE_FORMS = (
+    "a group (vehicles, pedestrians, cyclists, two_wheelers, vulnerable, animals), omega-prime type or subtype names"
+    " (PEDESTRIAN, HEAVY_TRUCK) or idx, comma-separated"
+)
+Occluders = Annotated[
+    str | None,
+    typer.Option(metavar="KINDS", help=f"who may block the view: {CHOICE_FORMS}; default: everything"),
+]
+Targets = Annotated[
+    str | None,
+    typer.Option(metavar="KINDS", help=f"who gets rows (the others still block): {CHOICE_FORMS}; default: everyone"),
+]
+Measure = Annotated[
+    str,
+    typer.Option(
+        metavar="angle|area",
+        help="visibility as a share of the target's angular extent (angle) or of its footprint's area (area, 2D)",
     ),
 ]
 Recording = Annotated[

@@ -16,14 +16,18 @@ from .common import (
     Ego,
     Engine,
     MapOccluders,
+    Measure,
     Mode,
+    Occluders,
     Progress,
     Recording,
     Sensors,
     Static,
+    Targets,
     fail,
     load_recording,
     load_static,
+    parse_choice,
     parse_ego,
     parse_sensors,
     resolve_map,
@@ -46,6 +50,9 @@ def run(
     sensors: Sensors = None,
     mode: Mode = "2d",
     map_occluders: MapOccluders = False,
+    occluders: Occluders = None,
+    targets: Targets = None,
+    measure: Measure = "angle",
 ) -> None:
     """Compute the visibility table of one recording; print it with a per-target summary, or write it."""
     from ..analysis.summary import target_summary
@@ -54,11 +61,11 @@ def run(
     from ..table.output import atomic_write, check_output_path
 
     # every check that needs no computing comes first, so a typo never costs a long run
-    from ..threed.mode import check_mode, resolve_engine
+    from ..threed.mode import check_mode, resolve_measure
 
     try:
         mode = check_mode(mode)
-        engine = resolve_engine(engine, mode)
+        resolve_measure(measure, engine, mode)
     except ValueError as e:
         raise fail(str(e)) from None
     if output is not None:
@@ -68,6 +75,7 @@ def run(
             raise fail(str(e)) from None
     ego_idx = parse_ego(ego) if ego else None
     sensor_set = parse_sensors(sensors)
+    choices = {"occluders": parse_choice(occluders, "occluders"), "targets": parse_choice(targets, "targets")}
     statics = load_static(static)
     map_path = resolve_map(recording, map_path)
     r = load_recording(recording, map_path)
@@ -89,6 +97,8 @@ def run(
             sensors=sensor_set,
             mode=mode,
             map_occluders=(map_path if map_path is not None else True) if map_occluders else None,
+            measure=measure,
+            **choices,
         )
         if output is not None and stream is None:
             with atomic_write(output) as temp:

@@ -74,6 +74,12 @@ def _name_expression(name: str, option: str) -> tuple[pl.Expr, set[str]]:
     )
 
 
+def check_names(names: Sequence[str], option: str) -> None:
+    """Raise the error :func:`role_mask` would for an unknown name, before any table is read."""
+    for name in names:
+        _name_expression(name, option)
+
+
 def _is_idx(value: object) -> bool:
     return isinstance(value, numbers.Integral) and not isinstance(value, bool)
 
