@@ -23,6 +23,7 @@ PAGES = (
     "docs/batch.md",
     "docs/pictures.md",
     "docs/conflicts.md",
+    "docs/choices.md",
 )
 
 

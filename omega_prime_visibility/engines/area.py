@@ -59,8 +59,11 @@ class AreaEngine:
         seen = polygons
         if view.fov < TWO_PI:
             seen = shapely.intersection(polygons, wedge(view.heading, view.fov, reach))
-        in_fov = shapely.area(seen)
-        in_view = np.array([disc_area(g, view.range) for g in seen]) if math.isfinite(view.range) else in_fov.copy()
+        in_fov = _snapped(shapely.area(seen), area)
+        in_view = in_fov.copy()
+        if math.isfinite(view.range):
+            cut = far > view.range  # only targets reaching beyond the range lose area to it
+            in_view[cut] = [disc_area(g, view.range) for g in seen[cut]]
         # pairs (target, body) where the body may be in front of the target
         t, b = np.nonzero(
             active[:, None]
@@ -85,7 +88,7 @@ class AreaEngine:
         for targets, regions in ((t, shadows[b]), (st_t, static_shadows[st_s])):
             for k in _rounds(targets):
                 left[targets[k]] = shapely.difference(left[targets[k]], regions[k])
-        visible = np.where(active, _areas(left, view.range), 0.0)
+        visible = np.where(active, _snapped(_areas(left, view.range), in_view), 0.0)
         occ_offsets, occ = group_pairs(t[listed], b[listed], n)
         st_offsets, st = group_pairs(st_t[st_listed], st_s[st_listed], n)
         return Observation.from_parts(
@@ -128,6 +131,12 @@ class AreaEngine:
 def _shifted(objects: FrameObjects, origin: np.ndarray):
     """The objects' rings relative to ``origin``."""
     return type(objects.rings)(objects.rings.coords - origin, objects.rings.offsets)
+
+
+def _snapped(part: np.ndarray, whole: np.ndarray) -> np.ndarray:
+    """``part``, set to ``whole`` where it falls short of it by rounding only (a relative 1e-12), so that a target
+    wholly in view reads exactly 1."""
+    return np.where(part >= whole * (1 - 1e-12), whole, part)
 
 
 def _areas(geometries: np.ndarray, radius: float) -> np.ndarray:
