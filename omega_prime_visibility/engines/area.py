@@ -21,7 +21,8 @@ import numpy as np
 import shapely
 
 from ..geometry.rings import ring_ids
-from ..geometry.shadows import disc_area, shadow, wall_shadow, wedge
+from ..geometry.shadows import disc_area, wall_shadow, wedge
+from ..geometry.shadows import shadows as cast_shadows
 from ..geometry.spans import angular_spans, overlapping
 from ..inputs.objects import FrameObjects
 from ..inputs.sensors import TWO_PI
@@ -74,9 +75,9 @@ class AreaEngine:
             & (in_view > 0)[:, None]
         )
         shadows = np.empty(n, dtype=object)
-        for body in np.unique(b).tolist():
-            ring = coords[objects.rings.offsets[body] : objects.rings.offsets[body + 1]]
-            shadows[body] = shadow(ring, reach)
+        casting = np.unique(b)
+        shifted = _shifted(objects, origin)
+        shadows[casting] = cast_shadows(shifted, casting, centre[casting], half[casting], reach)
         st_t, st_s, static_shadows = self._static_pairs(origin, view, reach, seen, active & (in_view > 0))
         # what each body hides (inside the field of view and range): listed when it is more than rounding
         hidden = _areas(shapely.intersection(seen[t], shadows[b]), view.range)

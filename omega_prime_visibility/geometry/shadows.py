@@ -13,6 +13,8 @@ import math
 import numpy as np
 import shapely
 
+from .rings import Rings
+
 ARC_STEP = math.radians(30.0)
 """Largest angle one chord of an arc spans."""
 
@@ -57,6 +59,41 @@ def shadow(ring: np.ndarray, reach: float, convex: bool | None = None) -> shapel
         return _behind(ring, reach)
     parts = [polygon] + [_behind(np.array([ring[k], ring[(k + 1) % len(ring)]]), reach) for k in range(len(ring))]
     return shapely.union_all(parts)
+
+
+ARC_POINTS = 7
+"""Points on the arc behind a convex body in :func:`shadows` (six chords: at most 30° each for a span under 180°)."""
+
+
+def shadows(rings: Rings, bodies: np.ndarray, centre: np.ndarray, half: np.ndarray, reach: float) -> np.ndarray:
+    """:func:`shadow` of many bodies at once: ring ``bodies[k]`` of ``rings`` (origin outside each), with its
+    angular span ``centre[k] ± half[k]`` (radians, :func:`..spans.angular_spans`); object array of geometries.
+
+    Convex bodies are built in one vectorised call (the hull of their vertices and :data:`ARC_POINTS` arc points);
+    others one by one.
+    """
+    bodies = np.asarray(bodies, dtype=np.int64)
+    out = np.empty(len(bodies), dtype=object)
+    if not len(bodies):
+        return out
+    sub = rings.take(bodies)
+    sizes = sub.sizes
+    owner = np.repeat(np.arange(len(bodies)), sizes)
+    polygons = shapely.polygons(shapely.linearrings(sub.coords, indices=owner))
+    hull_area = shapely.area(shapely.convex_hull(polygons))
+    convex = np.abs(hull_area - shapely.area(polygons)) <= 1e-9 * np.maximum(hull_area, 1e-12)
+    step = 2.0 * half / (ARC_POINTS - 1)
+    angles = (centre - half)[:, None] + step[:, None] * np.arange(ARC_POINTS)[None, :]
+    radius = (reach / np.cos(0.5 * step))[:, None]
+    arc = np.stack([radius * np.cos(angles), radius * np.sin(angles)], axis=-1).reshape(-1, 2)
+    points = np.concatenate([sub.coords, arc])
+    index = np.concatenate([owner, np.repeat(np.arange(len(bodies)), ARC_POINTS)])
+    order = np.argsort(index, kind="stable")
+    hulls = shapely.convex_hull(shapely.multipoints(points[order], indices=index[order]))
+    out[convex] = hulls[convex]
+    for k in np.flatnonzero(~convex).tolist():
+        out[k] = shadow(sub.ring(k), reach, convex=False)
+    return out
 
 
 def wall_shadow(segments: np.ndarray, reach: float) -> shapely.Geometry:
