@@ -34,6 +34,7 @@ from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 import numpy as np
+import shapely
 from shapely import make_valid
 from shapely.geometry import LineString, MultiLineString, MultiPolygon, Point, Polygon
 from shapely.geometry.base import BaseGeometry
@@ -828,6 +829,15 @@ def occlusion_confirmed(
     if hi <= lo:
         return False
     angles = start + lo + (np.arange(n_rays) + 0.5) * (hi - lo) / n_rays
+    # and one ray through the middle of each piece between the bearings of both bodies' vertices and of the points
+    # where their outlines cross: within a piece neither the order of the two nor their nearest edges change, so
+    # a sliver of any width is found (a corner of one body reaching into the other, say)
+    crossings = shapely.get_coordinates(_as_geometry(target).boundary.intersection(_as_geometry(occluder).boundary))
+    critical = np.concatenate([verts, geometry_segments(target)[:, :2], crossings]).reshape(-1, 2)
+    cut = np.mod(np.arctan2(critical[:, 1] - o[1], critical[:, 0] - o[0]) - start, TWO_PI)
+    cut = np.unique(np.concatenate([[0.0, width], cut[cut <= width]]))
+    middles = 0.5 * (cut[1:] + cut[:-1])[np.diff(cut) > 1e-13]
+    angles = np.concatenate([angles, start + middles])
     d = nearest_hit_distances(o, [target, occluder], angles)
     d_t, d_j = d[:, 0], d[:, 1]
     counts = np.isfinite(d_t) & (d_t <= max_range)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
@@ -14,6 +15,7 @@ from hypothesis import HealthCheck, given, settings
 from reference import (
     dense_traffic,
     occluder_disagreements,
+    occlusion_confirmed,
     random_scene,
     reference_visibility,
     scene_series,
@@ -250,3 +252,50 @@ def test_walls_with_needles_and_collinear_corners(seed: int) -> None:
         assert np.abs(sweep["visibility"].to_numpy() - visilibity["visibility"].to_numpy()).max() <= 1e-6
         assert sweep["occluder_idxs"].to_list() == visilibity["occluder_idxs"].to_list()
         assert sweep["static_occluder_idxs"].to_list() == visilibity["static_occluder_idxs"].to_list()
+
+
+@pytest.mark.parametrize("engine", sorted(ENGINES))
+@pytest.mark.parametrize(("reach", "listed"), [(1e-7, True), (1e-3, True), (1e-9, False)])
+def test_a_corner_reaching_in_front_of_a_target_hides_a_sliver(engine: str, reach: float, listed: bool) -> None:
+    # the target [10, 12] x [-1, 1] seen from the origin spans the slopes -0.1 to 0.1; a body [10 - r, 11] x
+    # [1 - r, 3] reaching r metres over the target's near corner (10, 1) is hit first (through its bottom face, before
+    # x = 10) along the slopes from (1 - r) / 10 to 0.1: a sliver. Nearer by less than 1e-9 of the distance (1e-8 m),
+    # it is not counted in front (the documented tolerance).
+    body = shapely.box(10 - reach, 1 - reach, 11, 3)
+    target = shapely.box(10, -1, 12, 1)
+    table = scene_table(np.zeros(2), [target, body], include_ego=False)
+    out = get_visibility_df(table, 0, engine=engine)
+    hidden = (math.atan(0.1) - math.atan((1 - reach) / 10)) / (2 * math.atan(0.1)) if listed else 0.0
+    assert out.select("idx", "occluder_idxs").rows()[0] == (1, [2] if listed else [])
+    assert out["visibility"][0] == pytest.approx(1 - hidden, abs=1e-12)
+    assert occlusion_confirmed(np.zeros(2), target, body) is (reach > 1e-8)
+
+
+def test_the_corner_sliver_hypothesis_found() -> None:
+    # a random scene where target 2's corner reaches 2e-7 rad into body 3: both engines list 3 and agree on the
+    # sliver it hides (1.2e-6 of the extent); 100,000 rays spread over the extent missed it, the reference's rays
+    # through every piece between critical bearings find it
+    observer = np.array([60.90370647496192, -51.586576225031024])
+    target = shapely.Polygon(
+        [
+            (66.38339532833447, -49.704396813082546),
+            (82.26989843393568, -52.30061254220964),
+            (82.6817908176663, -49.78020194616487),
+            (66.79528771206509, -47.18398621703778),
+        ]
+    )
+    body = shapely.Polygon(
+        [
+            (87.38702031259432, -51.43516296010649),
+            (82.2399510231895, -51.684074456091906),
+            (82.33495981672387, -53.6486958227675),
+            (87.48202910612868, -53.39978432678208),
+        ]
+    )
+    table = scene_table(observer, [target, body], include_ego=False)
+    rows = [get_visibility_df(table, 0, engine=engine).rows() for engine in sorted(ENGINES)]
+    for got in rows:
+        assert [(r[2], r[3]) for r in got] == [(1, [2]), (2, [1])]
+        assert 1 - got[0][5] == pytest.approx(1.195e-6, rel=1e-3)
+    assert abs(rows[0][0][5] - rows[1][0][5]) < 1e-12
+    assert occlusion_confirmed(observer, target, body)
