@@ -112,8 +112,9 @@ def get_visibility_df(
         is exact and does not depend on it. Must be a non-negative finite number or None.
     engine : str, optional
         Registered engine name: in 2D ``"visilibity"`` (the default) or ``"sweep"`` (``ENGINES``); in 3D
-        ``"raycast3d"`` (the default), ``"raycast3d-high"``, ``"raycast3d-fast"`` or ``"silhouette3d"``
-        (exact, box scenes only) (``ENGINES_3D``).
+        ``"silhouette3d"`` (the default: exact for boxes and static footprints with heights),
+        ``"raycast3d"`` (the default where ``static_meshes`` are given), ``"raycast3d-high"`` or
+        ``"raycast3d-fast"`` (``ENGINES_3D``).
     progress : bool, optional
         Show a progress bar; by default only for long recordings.
     on_invalid : {"warn", "raise"}
@@ -196,7 +197,7 @@ def get_visibility_df(
     if output is not None:
         output = check_output_path(output)
     mode = check_mode(mode)
-    engine = resolve_measure(measure, engine, mode)
+    engine = resolve_measure(measure, engine, mode, meshes=bool(static_meshes))
     sensor_set = resolve_sensors(sensors)  # a bad layout name or file fails before the table is read
     objects = load_objects(df, on_invalid=on_invalid, three_d=mode == "3d", occluders=occluders, targets=targets)
     if sensors is not None and not _has_yaw(df):

@@ -1,27 +1,24 @@
-"""The exact 3D reference for box scenes: silhouettes in a central projection, measured as solid angle.
+"""The exact 3D engine for scenes of boxes and upright prisms: silhouettes in a central projection, measured as
+solid angle.
 
 Two disjoint convex bodies are met in the same order along every direction from an eye point that sees both (a
 plane separates them), so the directions along which a box target is the first thing hit are its silhouette
-minus the silhouettes of the boxes in front of it. Directions over the full sphere are split into the six faces
-of a cube around the eye; on each face a box's directions form a convex polygon (the central projection of the
-box clipped to the face's pyramid, whose vertices are the box's corners inside the pyramid, the crossings of its
-edges with the pyramid's four planes, and the pyramid's edges where they pierce the box). Polygons are
-subtracted with shapely and measured exactly (each planar triangle from the face's centre is a spherical
-triangle, Van Oosterom and Strackee's formula).
+minus the silhouettes of the bodies in front of it. The bodies are the objects' boxes and the static occluders
+raised to their heights, cut into convex prisms (:mod:`..threed.bodies`); directions over the full sphere are
+drawn on the six faces of a cube around the eye (:mod:`..threed.cube`), subtracted with shapely and measured
+exactly.
 
 What is exact and what is not:
 
-- box silhouettes, their order and the horizontal field of view (half-planes on each face) are exact to
-  floating point;
-- the vertical field of view bounds directions by elevation, whose limits are cones: they are drawn as polygons
-  of :data:`CURVE_POINTS` vertices per face (error below 1e-6 of a face's solid angle);
-- the range is exact where every box lies wholly within it (no effect) or wholly beyond it (not visible); a
-  viewpoint whose range cuts a box is computed by the default ray engine instead (``raycast3d``, within its
-  documented sampling error), so a frame is never refused (:func:`box_visibility` itself raises
-  :class:`RangeCutsBox` there);
-- overlapping boxes are ordered by one direction of their common silhouette (exact only for disjoint boxes).
+- silhouettes, their order and the horizontal field of view (half-planes on each face) are exact to floating
+  point, so ``can_see`` and the occluder lists are exact: a strip or a slot of any width is found;
+- the vertical field of view's limits (cones) and the range (a sphere, where it cuts a box) are drawn as polygons
+  of :data:`~..threed.cube.CURVE_POINTS` vertices (error below 1e-6 of the area near the curve);
+- overlapping bodies are ordered by one direction of their common silhouette (exact only for disjoint bodies).
 
-Static occluders are not boxes: this engine refuses them (the ray engine handles them).
+An occluder of a target is a body in front of it along some direction of the target's silhouette that is in
+view and within range. Meshes (``static_meshes``) are not convex bodies: scenes with them need the ray engine
+(``raycast3d``), which the 3D mode picks for them.
 """
 
 from __future__ import annotations
@@ -35,157 +32,206 @@ import shapely
 
 from ..inputs.objects import FrameObjects
 from ..inputs.statics import StaticOccluders
-from ..threed.boxes import EDGES, contains, corners, farthest_distance, frames, nearest_distance, ray_entries
-from . import Observation, Viewpoint, get_engine, group_pairs
+from ..threed.bodies import (
+    ConvexBodies,
+    bodies_from_boxes,
+    concatenate,
+    containing_origin,
+    entries,
+    prisms_from_footprints,
+)
+from ..threed.boxes import nearest_distance
+from ..threed.cube import MIN_SOLID_ANGLE, face_direction, silhouettes, solid_angles, view_regions, within_range
+from ..threed.statics import BASE, DEFAULT_HEIGHT
+from . import Observation, Viewpoint, group_pairs
 from .observe3d import eye_and_view, observation, own_body
 
-CURVE_POINTS = 2048
-"""Vertices of the polygon standing for an elevation limit on one cube face."""
-MIN_SOLID_ANGLE = 1e-13
-"""Steradians; smaller pieces of a silhouette count as empty."""
-
-_UP = np.array([0.0, 0.0, 1.0])
-# (forward, u, v) of the six cube faces; the side faces have v = up so elevation limits are curves v = f(u)
-FACES = np.array(
-    [
-        [[1, 0, 0], [0, 1, 0], [0, 0, 1]],
-        [[0, 1, 0], [-1, 0, 0], [0, 0, 1]],
-        [[-1, 0, 0], [0, -1, 0], [0, 0, 1]],
-        [[0, -1, 0], [1, 0, 0], [0, 0, 1]],
-        [[0, 0, 1], [1, 0, 0], [0, 1, 0]],
-        [[0, 0, -1], [1, 0, 0], [0, 1, 0]],
-    ],
-    dtype=np.float64,
-)
-_SQUARE = shapely.box(-1.0, -1.0, 1.0, 1.0)
-_CORNERS_UV = np.array([[1, 1], [1, -1], [-1, 1], [-1, -1]], dtype=np.float64)
+WHOLE_VIEW = (0.0, math.pi, -math.pi / 2, math.pi / 2)
+"""``(heading, half horizontal fov, lowest, highest elevation)`` of an eye that looks all around."""
 
 
-def ring_solid_angle(uv: np.ndarray) -> float:
-    """Signed solid angle (steradians) of the closed ring ``uv`` (shape (k, 2), on a face at distance 1).
+def _clipped(shapes: np.ndarray, windows: np.ndarray) -> np.ndarray:
+    """``shapes ∩ windows`` element-wise, where a window None is everything (contained shapes are not clipped)."""
+    out = shapes.copy()
+    some = ~shapely.is_missing(windows) & ~shapely.is_missing(shapes)
+    if some.any():
+        inside = shapely.contains(windows[some], shapes[some])
+        at = np.flatnonzero(some)[~inside]
+        if len(at):
+            out[at] = shapely.intersection(shapes[at], windows[at])
+    return out
 
-    >>> round(ring_solid_angle(np.array([[-1.0, -1.0], [1, -1], [1, 1], [-1, 1]])) / (4 * math.pi / 6), 12)
-    1.0
+
+def convex_visibility(
+    bodies: ConvexBodies,
+    measured: np.ndarray,
+    *,
+    view: tuple[float, float, float, float] = WHOLE_VIEW,
+    max_range: float = math.inf,
+    near: np.ndarray | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Exact visible, total, in-view and in-field-of-view solid angle of the ``measured`` bodies seen from the
+    origin (the eye; ``bodies`` relative to it, the eye outside every body given), and their occluders.
+
+    Parameters
+    ----------
+    bodies : ConvexBodies
+        Every body that blocks, metres, relative to the eye.
+    measured : ndarray of int
+        The bodies to measure (targets).
+    view : (heading, half horizontal fov, lowest elevation, highest elevation)
+        Radians, as :func:`..threed.boxes.view_limits` returns.
+    max_range : float
+        Metres: a direction sees a target only where it enters it within this distance.
+    near : ndarray, shape (len(measured),), optional
+        Distance (metres) from the eye to each target's nearest point, when known (else computed).
+
+    Returns
+    -------
+    visible, extent, in_view, in_fov : ndarray, shape (len(measured),)
+        Steradians: directions along which the target is the first thing hit, in view and within range; that
+        hit the target at all; that hit it in view and within range, occlusion ignored; that hit it in view.
+    pair_target, pair_body : ndarray of int
+        Occluders: body ``pair_body[k]`` is in front of measured target ``pair_target[k]`` (a position in
+        ``measured``) along some direction that sees the target in view and within range.
     """
-    u0, v0 = uv[:, 0], uv[:, 1]
-    u1, v1 = np.roll(u0, -1), np.roll(v0, -1)
-    triple = u0 * v1 - v0 * u1
-    nb, nc = np.sqrt(u0 * u0 + v0 * v0 + 1), np.sqrt(u1 * u1 + v1 * v1 + 1)
-    return float(2 * np.arctan2(triple, nb * nc + nb + nc + u0 * u1 + v0 * v1 + 1).sum())
+    measured = np.asarray(measured, dtype=np.int64)
+    m = len(measured)
+    visible, extent, in_view, in_fov = (np.zeros(m) for _ in range(4))
+    pair_target: list[np.ndarray] = []
+    pair_body: list[np.ndarray] = []
+    if m == 0:
+        return visible, extent, in_view, in_fov, np.zeros(0, np.int64), np.zeros(0, np.int64)
+    slot = np.full(len(bodies), -1, dtype=np.int64)
+    slot[measured] = np.arange(m)
+    far = np.linalg.norm(bodies.vertices, axis=1)
+    farthest = np.zeros(len(bodies))
+    np.maximum.at(farthest, bodies.vertex_body, far)
+    near = _nearest(bodies, measured) if near is None else np.asarray(near, dtype=np.float64)
+    lower = _nearest_bound(bodies)
+    lower[measured] = near
+    beyond = near > max_range
+    cut = ~beyond & (farthest[measured] > max_range)
+    ranged = {int(t): within_range(bodies, int(measured[t]), max_range) for t in np.flatnonzero(cut)}
+    regions = view_regions(*view)
+    for f in range(6):
+        region = regions[f]
+        if region is not None and region.is_empty:
+            continue
+        sil = silhouettes(bodies, f)
+        seen_t = np.flatnonzero(~shapely.is_missing(sil[measured]))
+        if not len(seen_t):
+            continue
+        shapes = sil[measured[seen_t]]
+        extent[seen_t] += solid_angles(shapes)
+        windows = np.full(len(seen_t), region, dtype=object)
+        for k, t in enumerate(seen_t):
+            if t in ranged:
+                r = ranged[int(t)][f]
+                windows[k] = shapely.Polygon() if r is None else r if region is None else r.intersection(region)
+            elif beyond[t]:
+                windows[k] = shapely.Polygon()
+        in_fov[seen_t] += solid_angles(_clipped(shapes, np.full(len(seen_t), region, dtype=object)))
+        in_view[seen_t] += solid_angles(_clipped(shapes, windows))
+        present = np.flatnonzero(~shapely.is_missing(sil))
+        tree = shapely.STRtree(sil[present])
+        live = np.flatnonzero(~beyond[seen_t])
+        ti, bj = tree.query(shapes[live], predicate="intersects")
+        ti, bj = live[ti], present[bj]
+        other = bj != measured[seen_t[ti]]
+        ti, bj = ti[other], bj[other]
+        if len(ti):
+            ti, bj = _blockers(bodies, measured[seen_t], shapes, sil, ti, bj, f, lower, farthest)
+            overlap = np.full(len(ti), None, dtype=object)
+            clip = ~shapely.is_missing(windows[ti])
+            overlap[clip] = shapely.intersection(shapes[ti[clip]], sil[bj[clip]])
+            listed = ~clip
+            listed[clip] = solid_angles(_clipped(overlap[clip], windows[ti[clip]])) > MIN_SOLID_ANGLE
+            pair_target.append(seen_t[ti[listed]])
+            pair_body.append(bj[listed])
+        parts = shapes.copy()
+        if len(ti):
+            order = np.argsort(ti, kind="stable")
+            ti, bj = ti[order], bj[order]
+            starts = np.flatnonzero(np.r_[True, ti[1:] != ti[:-1]])
+            groups = np.split(bj, starts[1:])
+            blockers = np.array([shapely.union_all(sil[g]) for g in groups], dtype=object)
+            hit = ti[starts]
+            parts[hit] = shapely.difference(shapes[hit], blockers)
+        visible[seen_t] += solid_angles(_clipped(parts, windows))
+    visible = np.minimum(visible, in_view)
+    pt = np.concatenate(pair_target) if pair_target else np.zeros(0, np.int64)
+    pb = np.concatenate(pair_body) if pair_body else np.zeros(0, np.int64)
+    return visible, extent, in_view, in_fov, pt.astype(np.int64), pb.astype(np.int64)
 
 
-def solid_angle(geometry: shapely.Geometry | None) -> float:
-    """Solid angle (steradians) of a polygonal shapely geometry drawn on a cube face (holes subtracted)."""
-    if geometry is None or geometry.is_empty:
-        return 0.0
-    total = 0.0
-    for part in shapely.get_parts(geometry):
-        if isinstance(part, shapely.Polygon):
-            total += abs(ring_solid_angle(np.asarray(part.exterior.coords)[:-1]))
-            total -= sum(abs(ring_solid_angle(np.asarray(r.coords)[:-1])) for r in part.interiors)
-        elif isinstance(part, shapely.GeometryCollection):
-            total += solid_angle(part)
-    return total
+def _blockers(bodies, targets, shapes, sil, ti, bj, f, lower, farthest):
+    """Of the pairs (``shapes[ti]``, body ``bj``) whose silhouettes intersect, those whose interiors meet and
+    whose body ``bj`` is in front of the target ``targets[ti]``: wholly nearer (its farthest point before the
+    target's nearest), else along one direction of their common silhouette."""
+    meet = shapely.relate_pattern(shapes[ti], sil[bj], "T********")
+    ti, bj = ti[meet], bj[meet]
+    target = targets[ti]
+    front = farthest[bj] < lower[target]
+    unsure = ~front & ~(farthest[target] < lower[bj])
+    if unsure.any():
+        at = np.flatnonzero(unsure)
+        overlap = shapely.intersection(shapes[ti[at]], sil[bj[at]])
+        big = solid_angles(overlap) > MIN_SOLID_ANGLE
+        front[at[big]] = _in_front(bodies, target[at[big]], bj[at[big]], overlap[big], f)
+    return ti[front], bj[front]
 
 
-def silhouettes(box_corners: np.ndarray, boxes: np.ndarray, eye: np.ndarray) -> list[list[shapely.Polygon | None]]:
-    """``out[f][i]``: the directions of box ``i`` on cube face ``f`` as a convex polygon in face coordinates
-    (None where the box is not seen through that face). ``box_corners`` is :func:`~..boxes3d.corners` of
-    ``boxes``; the eye must lie outside every box given."""
-    rel = box_corners - eye  # (n, 8, 3)
-    centre, rot, half = frames(boxes)
-    n = len(boxes)
-    out: list[list[shapely.Polygon | None]] = []
-    for forward, eu, ev in FACES:
-        d, u, v = rel @ forward, rel @ eu, rel @ ev  # (n, 8)
-        tol = 1e-12 * np.maximum(np.abs(d), 1.0)
-        inside = (d > 0) & (np.abs(u) <= d + tol) & (np.abs(v) <= d + tol)
-        points: list[list[np.ndarray]] = [[np.stack([u[i, inside[i]], v[i, inside[i]]], 1) / d[i, inside[i], None]]
-                                          for i in range(n)]  # fmt: skip
-        a, b = EDGES[:, 0], EDGES[:, 1]
-        for g in (d - u, d + u, d - v, d + v):
-            ga, gb = g[:, a], g[:, b]
-            cross = ga * gb < 0
-            t = np.where(cross, ga / np.where(cross, ga - gb, 1.0), 0.0)
-            dd = d[:, a] + t * (d[:, b] - d[:, a])
-            uu = u[:, a] + t * (u[:, b] - u[:, a])
-            vv = v[:, a] + t * (v[:, b] - v[:, a])
-            ok = cross & (dd > 0) & (np.abs(uu) <= dd * (1 + 1e-9)) & (np.abs(vv) <= dd * (1 + 1e-9))
-            for i in np.flatnonzero(ok.any(axis=1)):
-                k = ok[i]
-                points[i].append(np.clip(np.stack([uu[i, k], vv[i, k]], 1) / dd[i, k, None], -1.0, 1.0))
-        directions = forward + _CORNERS_UV[:, :1] * eu + _CORNERS_UV[:, 1:] * ev
-        for c in range(4):
-            hit = ray_entries(eye, np.repeat(directions[c : c + 1], n, 0), centre, rot, half, np.arange(n))
-            for i in np.flatnonzero(np.isfinite(hit)):
-                points[i].append(_CORNERS_UV[c : c + 1])
-        face = []
-        for i in range(n):
-            pts = np.concatenate(points[i])
-            hull = shapely.MultiPoint(pts).convex_hull if len(pts) >= 3 else None
-            face.append(hull if isinstance(hull, shapely.Polygon) and solid_angle(hull) > MIN_SOLID_ANGLE else None)
-        out.append(face)
+def _nearest_bound(bodies: ConvexBodies) -> np.ndarray:
+    """A lower bound (metres) of the distance from the origin to each body: its farthest face plane that the
+    origin lies outside of (exact where the nearest point lies inside that face)."""
+    return np.maximum(-bodies.offsets, 0.0).max(axis=1, initial=0.0)
+
+
+def _nearest(bodies: ConvexBodies, which: np.ndarray) -> np.ndarray:
+    """Distance (metres) from the origin to the nearest point of each body ``which`` (convex polytopes: the
+    nearest point lies on a face, an edge or at a vertex)."""
+    out = np.full(len(which), np.inf)
+    for k, b in enumerate(which):
+        ids = np.flatnonzero(bodies.vertex_body == b)
+        points = bodies.vertices[ids]
+        best = float(np.linalg.norm(points, axis=1).min())
+        edges = bodies.edges[bodies.edge_body == b]
+        if len(edges):
+            a, c = bodies.vertices[edges[:, 0]], bodies.vertices[edges[:, 1]]
+            d = c - a
+            t = np.clip(-(a * d).sum(1) / np.maximum((d * d).sum(1), 1e-300), 0.0, 1.0)
+            best = min(best, float(np.linalg.norm(a + t[:, None] * d, axis=1).min()))
+        for p in range(bodies.normals.shape[1]):
+            c = bodies.offsets[b, p]
+            normal = bodies.normals[b, p]
+            if c >= 0 or not normal.any():
+                continue
+            foot = c * normal  # the plane's nearest point: on the face if inside every other plane
+            if (bodies.normals[b] @ foot <= bodies.offsets[b] + 1e-9).all():
+                best = min(best, -c)
+        out[k] = best
     return out
 
 
-def _clip(polygon: np.ndarray, c: np.ndarray) -> np.ndarray:
-    """Convex ``polygon`` (k, 2) clipped to ``c[0] + c[1] u + c[2] v >= 0``."""
-    out = []
-    k = len(polygon)
-    for i in range(k):
-        p, q = polygon[i], polygon[(i + 1) % k]
-        fp, fq = c[0] + c[1] * p[0] + c[2] * p[1], c[0] + c[1] * q[0] + c[2] * q[1]
-        if fp >= 0:
-            out.append(p)
-        if (fp >= 0) != (fq >= 0):
-            out.append(p + (q - p) * (fp / (fp - fq)))
-    return np.array(out).reshape(-1, 2)
-
-
-def _half_space(normal: np.ndarray, face: np.ndarray) -> shapely.Geometry:
-    """Directions ``p`` with ``normal . p >= 0`` on a cube face."""
-    square = np.array([[-1.0, -1.0], [1, -1], [1, 1], [-1, 1]])
-    clipped = _clip(square, np.array([normal @ face[0], normal @ face[1], normal @ face[2]]))
-    return shapely.Polygon(clipped) if len(clipped) >= 3 else shapely.Polygon()
-
-
-def _elevation_above(limit: float, f: int) -> shapely.Geometry:
-    """Directions of elevation >= ``limit`` (radians) on cube face ``f``, the curved limit as a polygon."""
-    if limit <= -math.pi / 2:
-        return _SQUARE
-    if f < 4:  # side face: elevation = atan(v / sqrt(1 + u^2))
-        u = np.linspace(-1.0, 1.0, CURVE_POINTS)
-        v = np.clip(math.tan(limit) * np.sqrt(1 + u * u), -2.0, 2.0)
-        return shapely.Polygon(np.column_stack([np.r_[u, 1, -1], np.r_[v, 3, 3]])).intersection(_SQUARE)
-    up = f == 4  # top face: elevation = ±atan(1 / r), r = |(u, v)|
-    if (up and limit <= 0) or (not up and limit <= -math.pi / 2):
-        return _SQUARE
-    if not up and limit >= 0:
-        return shapely.Polygon()
-    angle = np.linspace(0, 2 * math.pi, 4 * CURVE_POINTS, endpoint=False)
-    disk = shapely.Polygon(np.column_stack([np.cos(angle), np.sin(angle)]) / abs(math.tan(limit)))
-    return _SQUARE.intersection(disk) if up else _SQUARE.difference(disk)
-
-
-def view_regions(heading: float, half_fov: float, low: float, high: float) -> list[shapely.Geometry | None]:
-    """Per cube face, the directions in view as a polygon in face coordinates (None: the whole face)."""
-    out: list[shapely.Geometry | None] = []
-    left = np.array([math.cos(heading + half_fov), math.sin(heading + half_fov), 0.0])
-    right = np.array([math.cos(heading - half_fov), math.sin(heading - half_fov), 0.0])
-    n_left, n_right = np.cross(left, _UP), np.cross(_UP, right)  # p . n >= 0 on the inner side of each limit
-    for f, face in enumerate(FACES):
-        region = None
-        if half_fov < math.pi:
-            a, b = _half_space(n_left, face), _half_space(n_right, face)
-            region = a.intersection(b) if half_fov <= math.pi / 2 else a.union(b)
-        if low > -math.pi / 2:
-            above = _elevation_above(low, f)
-            region = above if region is None else region.intersection(above)
-        if high < math.pi / 2:
-            below = _SQUARE.difference(_elevation_above(high, f))
-            region = below if region is None else region.intersection(below)
-        out.append(region)
-    return out
+def _in_front(bodies: ConvexBodies, target: np.ndarray, blocker: np.ndarray, overlap: np.ndarray, f: int):
+    """Whether each ``blocker`` is entered before its ``target`` along a direction of their common silhouette
+    (its centroid on face ``f``; the two bodies' nearest vertices where a sliver's centroid misses either)."""
+    uv = shapely.get_coordinates(shapely.centroid(overlap))
+    d = face_direction(f, uv)
+    t_target = entries(bodies, target, d)
+    t_blocker = entries(bodies, blocker, d)
+    bad = ~(np.isfinite(t_target) & np.isfinite(t_blocker))
+    if bad.any():
+        uv2 = shapely.get_coordinates(shapely.point_on_surface(overlap[bad]))
+        d2 = face_direction(f, uv2)
+        t_target[bad] = entries(bodies, target[bad], d2)
+        t_blocker[bad] = entries(bodies, blocker[bad], d2)
+        still = bad & ~(np.isfinite(t_target) & np.isfinite(t_blocker))
+        for k in np.flatnonzero(still):
+            t_target[k] = np.linalg.norm(bodies.vertices[bodies.vertex_body == target[k]], axis=1).min()
+            t_blocker[k] = np.linalg.norm(bodies.vertices[bodies.vertex_body == blocker[k]], axis=1).min()
+    return t_blocker < t_target
 
 
 def box_visibility(
@@ -193,10 +239,11 @@ def box_visibility(
     eye: np.ndarray,
     *,
     transparent: np.ndarray | None = None,
-    view: tuple[float, float, float, float] = (0.0, math.pi, -math.pi / 2, math.pi / 2),
+    view: tuple[float, float, float, float] = WHOLE_VIEW,
     max_range: float = math.inf,
+    statics: ConvexBodies | None = None,
 ) -> tuple[np.ndarray, np.ndarray, list[list[int]], np.ndarray, np.ndarray]:
-    """Exact visible and total solid angle of every box seen from ``eye``.
+    """Exact visible and total solid angle of every box seen from ``eye``, among ``statics``.
 
     Parameters
     ----------
@@ -209,20 +256,23 @@ def box_visibility(
     view : (heading, half horizontal fov, lowest elevation, highest elevation)
         Radians, as :func:`..threed.boxes.view_limits` returns.
     max_range : float
-        Metres; see the module docstring.
+        Metres.
+    statics : ConvexBodies, optional
+        Static prisms that block (:func:`..threed.bodies.prisms_from_footprints`), in the boxes' frame; those
+        containing the eye are left out.
 
     Returns
     -------
     visible : ndarray, shape (n,)
-        Steradians of directions along which the box is the first thing hit, within the view.
+        Steradians of directions along which the box is the first thing hit, within view and range.
     extent : ndarray, shape (n,)
         Steradians of directions that hit the box at all.
     occluders : list of lists of int
-        Per box, the boxes in front of it along some direction of its silhouette, ascending.
+        Per box, the boxes in front of it along some direction that sees it in view and within range.
     transparent : ndarray of bool, shape (n,)
         The transparent boxes (given, or containing the eye).
     in_fov : ndarray, shape (n,)
-        Steradians of the box's directions inside the view, occlusion ignored.
+        Steradians of the box's directions inside the view, occlusion and range ignored.
 
     Examples
     --------
@@ -233,80 +283,76 @@ def box_visibility(
     (0.559, [[], [0]])
     """
     boxes = np.asarray(boxes, dtype=np.float64).reshape(-1, 9)
-    eye = np.asarray(eye, dtype=np.float64)
-    n = len(boxes)
-    skip = contains(boxes, eye) if transparent is None else np.asarray(transparent, bool) | contains(boxes, eye)
-    solid = np.flatnonzero(~skip)
-    visible, extent, in_fov = np.zeros(n), np.zeros(n), np.zeros(n)
-    occluders: list[list[int]] = [[] for _ in range(n)]
-    if len(solid) == 0:
-        return visible, extent, occluders, skip, in_fov
-    sub = boxes[solid]
-    near, far = nearest_distance(sub, eye), farthest_distance(sub, eye)
-    cut = (near <= max_range) & (far > max_range)
-    if cut.any():
-        raise RangeCutsBox(
-            f"the range of {max_range} m cuts box(es) {solid[cut].tolist()}: the silhouette engine measures only "
-            "boxes wholly within or wholly beyond the range; use the ray engine"
-        )
-    sil = silhouettes(corners(sub), sub, eye)
-    regions = view_regions(*view)
-    centre, rot, half = frames(sub)
-    front: dict[tuple[int, int], bool] = {}  # (i, j): box j is in front of box i where both are seen
-
-    def in_front(i: int, j: int, overlap: shapely.Geometry, face: np.ndarray) -> bool:
-        if (i, j) not in front:
-            p = overlap.representative_point()
-            direction = face[0] + p.x * face[1] + p.y * face[2]
-            t = ray_entries(eye, np.stack([direction, direction]), centre, rot, half, np.array([i, j]))
-            if not np.isfinite(t).all():  # a sliver of an overlap: fall back on the nearest points
-                t = np.array([near[i], near[j]])
-            front[(i, j)], front[(j, i)] = bool(t[1] < t[0]), bool(t[0] < t[1])
-        return front[(i, j)]
-
-    for f, face in enumerate(FACES):
-        polys = sil[f]
-        seen = [i for i in range(len(solid)) if polys[i] is not None]
-        for i in seen:
-            extent[solid[i]] += solid_angle(polys[i])
-            seen_part = polys[i] if regions[f] is None else polys[i].intersection(regions[f])
-            in_fov[solid[i]] += solid_angle(seen_part)
-            if near[i] > max_range or seen_part.is_empty:
-                continue
-            part = polys[i]
-            blockers = []
-            for j in seen:
-                if j == i or not polys[i].intersects(polys[j]):
-                    continue
-                overlap = polys[i].intersection(polys[j])
-                if solid_angle(overlap) > MIN_SOLID_ANGLE and in_front(i, j, overlap, face):
-                    blockers.append(polys[j])
-                    occluders[solid[i]].append(int(solid[j]))
-            if blockers:
-                part = part.difference(shapely.union_all(blockers))
-            if regions[f] is not None:
-                part = part.intersection(regions[f])
-            visible[solid[i]] += solid_angle(part)
+    result = _boxes_among(boxes, np.asarray(eye, dtype=np.float64), transparent, view, max_range, statics)
+    visible, extent, _, in_fov, pairs, _, skip = result
+    occluders: list[list[int]] = [[] for _ in range(len(boxes))]
+    for t, b in zip(*pairs, strict=True):
+        occluders[t].append(int(b))
     return visible, extent, [sorted(set(o)) for o in occluders], skip, in_fov
 
 
-class RangeCutsBox(ValueError):
-    """A sensor's range cuts a box: part of it lies within range, part beyond, and its visible part is no longer
-    bounded by planes, so :func:`box_visibility` cannot measure it exactly."""
+def _boxes_among(boxes, eye, transparent, view, max_range, statics):
+    """:func:`convex_visibility` of ``boxes`` among ``statics`` from ``eye``: per box ``visible, extent, in_view,
+    in_fov``, occluder pairs ``(box, box)`` and ``(box, static source)``, and the transparent boxes."""
+    n = len(boxes)
+    bodies = bodies_from_boxes(boxes).relative_to(eye)
+    skip = containing_origin(bodies)
+    if transparent is not None:
+        skip |= np.asarray(transparent, dtype=bool)
+    n_static = 0
+    if statics is not None and len(statics):
+        rel = statics.relative_to(eye)
+        keep = np.flatnonzero(~containing_origin(rel) & _may_block(rel, view, max_range))
+        rel = rel.take(keep)
+        n_static = len(rel)
+        bodies = concatenate(bodies, rel)
+    solid = np.r_[np.flatnonzero(~skip), n + np.arange(n_static)]
+    bodies = bodies.take(solid)
+    measured = np.flatnonzero(solid < n)
+    visible, extent, in_view, in_fov = (np.zeros(n) for _ in range(4))
+    rows = solid[measured]
+    near = nearest_distance(boxes[rows], eye)
+    v, e, iv, fv, pt, pb = convex_visibility(bodies, measured, view=view, max_range=max_range, near=near)
+    visible[rows], extent[rows], in_view[rows], in_fov[rows] = v, e, iv, fv
+    target, blocker = rows[pt], solid[pb]
+    is_box = blocker < n
+    static_source = bodies.source[pb[~is_box]]
+    return visible, extent, in_view, in_fov, (target[is_box], blocker[is_box]), (target[~is_box], static_source), skip
+
+
+def _may_block(bodies: ConvexBodies, view: tuple[float, float, float, float], max_range: float) -> np.ndarray:
+    """Bodies (relative to the eye) that may block a direction in view within range: their bounding sphere
+    reaches within range and into the horizontal field of view."""
+    centre, radius = bodies.bounding_spheres()
+    dist = np.linalg.norm(centre, axis=1)
+    ok = dist - radius <= max_range
+    heading, half_fov = view[0], view[1]
+    if half_fov < math.pi:
+        flat = np.linalg.norm(centre[:, :2], axis=1)
+        off = np.abs((np.arctan2(centre[:, 1], centre[:, 0]) - heading + math.pi) % (2 * math.pi) - math.pi)
+        spread = np.where(flat > radius, np.arcsin(np.minimum(1.0, radius / np.maximum(flat, 1e-12))), math.pi)
+        ok &= off <= half_fov + spread + 1e-9
+    return ok
 
 
 class SilhouetteEngine:
-    """The exact box engine (see the module docstring); ``measure = "steradians"``."""
+    """The exact engine for boxes and static prisms (see the module docstring); ``measure = "steradians"``."""
 
     name: ClassVar[str] = "silhouette3d"
     measure: ClassVar[str] = "steradians"
 
     def __init__(self, statics: StaticOccluders) -> None:
         solids = getattr(statics, "solids", None)
-        if statics.n_sources or (solids is not None and solids.n_sources):
-            raise ValueError("the silhouette3d engine handles box scenes only; use raycast3d with static occluders")
+        if solids is not None and solids.n_sources > statics.n_sources:
+            raise ValueError(
+                "the silhouette3d engine measures boxes and static footprints with heights; static_meshes need "
+                "the ray engine (engine='raycast3d', the 3D default when meshes are given)"
+            )
+        n = statics.n_sources
+        tops = np.full(n, DEFAULT_HEIGHT) if solids is None else np.asarray(solids.heights, dtype=np.float64)
+        bases = np.full(n, BASE) if solids is None else np.asarray(solids.bases, dtype=np.float64)
         self.statics = statics
-        self._rays = None  # the ray engine, for viewpoints whose range cuts a box (built when first needed)
+        self.prisms = prisms_from_footprints(list(statics.geometries), tops, bases) if n else None
 
     def observe(self, objects: FrameObjects, viewpoints: Sequence[Viewpoint]) -> list[Observation]:
         """One :class:`Observation` per viewpoint; needs the frame's 3D boxes (``objects.boxes3d``)."""
@@ -317,24 +363,15 @@ class SilhouetteEngine:
         n = len(objects)
         for view in viewpoints:
             eye, limits = eye_and_view(view, boxes)
-            try:
-                visible, extent, occ, skip, in_fov = box_visibility(
-                    boxes, eye, transparent=own_body(view, n), view=limits, max_range=view.range
-                )
-            except RangeCutsBox:  # never refuse the frame: this viewpoint is ray-cast (the default setting)
-                out.append(self._ray_engine().observe(objects, [view])[0])
-                continue
-            key = np.repeat(np.arange(n), [len(o) for o in occ])
-            value = np.array([j for o in occ for j in o], dtype=np.int64)
-            offsets, occluders = group_pairs(key, value, n)
-            empty = np.zeros(n + 1, dtype=np.int64)
-            in_view = np.where(nearest_distance(boxes, eye) <= view.range, in_fov, 0.0)
-            none = np.zeros(0, np.int64)
-            out.append(observation(view, visible, extent, offsets, occluders, empty, none, skip, in_view, in_fov))
+            prisms = self.prisms
+            if prisms is not None and np.asarray(view.static_transparent, bool).any():
+                clear = np.asarray(view.static_transparent, bool)
+                prisms = prisms.take(np.flatnonzero(~clear[prisms.source]))
+            result = _boxes_among(boxes, eye, own_body(view, n), limits, view.range, prisms)
+            visible, extent, in_view, in_fov, (bt, bb), (st, ss), skip = result
+            offsets, occluders = group_pairs(bt, bb, n)
+            st_offsets, st_occluders = group_pairs(st, ss, n)
+            out.append(
+                observation(view, visible, extent, offsets, occluders, st_offsets, st_occluders, skip, in_view, in_fov)
+            )
         return out
-
-    def _ray_engine(self):
-        """The default ray engine for these (empty) statics, built once."""
-        if self._rays is None:
-            self._rays = get_engine("raycast3d")(self.statics)
-        return self._rays

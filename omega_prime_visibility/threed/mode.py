@@ -27,7 +27,10 @@ from ..inputs.statics import StaticOccluders, load_static_occluders
 from .statics import blocks_in_2d, check_heights, static_solids
 
 Mode = Literal["2d", "3d"]
-DEFAULT_ENGINES = {"2d": "visilibity", "3d": "raycast3d"}
+DEFAULT_ENGINES = {"2d": "visilibity", "3d": "silhouette3d"}
+"""Each mode's default engine; in 3D the exact engine, or the ray engine when meshes are given (:data:`MESH_ENGINE`)."""
+MESH_ENGINE = "raycast3d"
+"""The 3D default where static meshes are given: meshes are not convex prisms, so they are ray-cast."""
 
 
 def check_mode(mode: str) -> Mode:
@@ -38,10 +41,11 @@ def check_mode(mode: str) -> Mode:
     return m  # type: ignore[return-value]
 
 
-def resolve_engine(engine: str | None, mode: Mode) -> str:
-    """The engine for ``mode``: the given name (checked against that mode's registry) or the mode's default."""
+def resolve_engine(engine: str | None, mode: Mode, meshes: bool = False) -> str:
+    """The engine for ``mode``: the given name (checked against that mode's registry) or the mode's default
+    (in 3D with static meshes, :data:`MESH_ENGINE`)."""
     if engine is None:
-        return DEFAULT_ENGINES[mode]
+        return MESH_ENGINE if meshes and mode == "3d" else DEFAULT_ENGINES[mode]
     names = ENGINES_3D if mode == "3d" else ENGINES
     if engine not in names:
         other = "3d" if mode == "2d" else "2d"
@@ -55,7 +59,7 @@ MEASURES = ("angle", "area")
 footprint's area (``"area"``, 2D only, :mod:`..engines.area`)."""
 
 
-def resolve_measure(measure: str, engine: str | None, mode: Mode) -> str:
+def resolve_measure(measure: str, engine: str | None, mode: Mode, meshes: bool = False) -> str:
     """The engine for ``measure`` (and ``engine``, ``mode``): the area measure has its own engine, ``"area"``.
 
     Raises
@@ -66,7 +70,7 @@ def resolve_measure(measure: str, engine: str | None, mode: Mode) -> str:
     if measure not in MEASURES:
         raise ValueError(f"unknown measure {measure!r}; use 'angle' (the default) or 'area'")
     if measure == "angle":
-        return resolve_engine(engine, mode)
+        return resolve_engine(engine, mode, meshes)
     if mode == "3d":
         raise ValueError("measure='area' measures footprints in 2D; use mode='2d' (or measure='angle' in 3D)")
     if engine not in (None, "area"):

@@ -45,7 +45,9 @@ class StaticSolids:
     source : ndarray, shape (k,), int64
         Position of the static occluder each triangle belongs to (footprints first, then meshes).
     heights : ndarray, shape (n_footprints,)
-        The height of each footprint, metres above z = 0.
+        The height of each footprint, metres above z = 0 (z of its top).
+    bases : ndarray, shape (n_footprints,)
+        z of each footprint's bottom, metres.
     n_sources : int
         Footprints and meshes together.
     """
@@ -53,6 +55,7 @@ class StaticSolids:
     triangles: np.ndarray
     source: np.ndarray
     heights: np.ndarray
+    bases: np.ndarray
     n_sources: int
 
 
@@ -143,7 +146,7 @@ def static_solids(
         sources.append(np.full(len(tri), statics.n_sources + k, dtype=np.int64))
     triangles = np.concatenate(parts) if parts else np.zeros((0, 3, 3))
     source = np.concatenate(sources).astype(np.int64) if sources else np.zeros(0, np.int64)
-    return StaticSolids(triangles, source, heights, statics.n_sources + len(meshes))
+    return StaticSolids(triangles, source, heights, base, statics.n_sources + len(meshes))
 
 
 def blocks_in_2d(height: float | np.ndarray, eye_height: float, rule_height: float | None = None) -> bool | np.ndarray:

@@ -23,7 +23,9 @@ import numpy as np
 import shapely
 
 from ...geometry.kernels import push_pair
+from ...threed.bodies import bodies_from_boxes
 from ...threed.boxes import _slab
+from ...threed.cube import FACES, silhouettes
 
 MISS = -1
 """Label of a ray that misses the target (it matches any label when cells are compared)."""
@@ -71,9 +73,7 @@ def patches(corners_rel: np.ndarray, centres_rel: np.ndarray, boxes_rel: np.ndar
     targets = [np.flatnonzero(good)]
     near = np.flatnonzero(~good)
     if len(near):  # wraps around the eye: its silhouette on each face of a cube around the eye
-        from ..silhouette3d import FACES, silhouettes
-
-        faces = silhouettes(corners_rel[near], boxes_rel[near], np.zeros(3))
+        faces = [silhouettes(bodies_from_boxes(boxes_rel[near]), f) for f in range(6)]
         extra_offsets, extra_uv = [], []
         at = len(hull_uv)
         for k, target in enumerate(near):
