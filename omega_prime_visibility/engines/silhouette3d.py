@@ -69,6 +69,7 @@ def convex_visibility(
     view: tuple[float, float, float, float] = WHOLE_VIEW,
     max_range: float = math.inf,
     near: np.ndarray | None = None,
+    parts: list | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Exact visible, total, in-view and in-field-of-view solid angle of the ``measured`` bodies seen from the
     origin (the eye; ``bodies`` relative to it, the eye outside every body given), and their occluders.
@@ -85,6 +86,9 @@ def convex_visibility(
         Metres: a direction sees a target only where it enters it within this distance.
     near : ndarray, shape (len(measured),), optional
         Distance (metres) from the eye to each target's nearest point, when known (else computed).
+    parts : list, optional
+        Receives ``(target, face, polygon)`` for every visible piece: the directions that see ``measured[target]``
+        through cube face ``face``, in that face's coordinates (:mod:`..threed.cube`).
 
     Returns
     -------
@@ -149,7 +153,7 @@ def convex_visibility(
             listed[clip] = solid_angles(_clipped(overlap[clip], windows[ti[clip]])) > MIN_SOLID_ANGLE
             pair_target.append(seen_t[ti[listed]])
             pair_body.append(bj[listed])
-        parts = shapes.copy()
+        pieces = shapes.copy()
         if len(ti):
             order = np.argsort(ti, kind="stable")
             ti, bj = ti[order], bj[order]
@@ -157,8 +161,12 @@ def convex_visibility(
             groups = np.split(bj, starts[1:])
             blockers = np.array([shapely.union_all(sil[g]) for g in groups], dtype=object)
             hit = ti[starts]
-            parts[hit] = shapely.difference(shapes[hit], blockers)
-        visible[seen_t] += solid_angles(_clipped(parts, windows))
+            pieces[hit] = shapely.difference(shapes[hit], blockers)
+        seen_parts = _clipped(pieces, windows)
+        visible[seen_t] += solid_angles(seen_parts)
+        if parts is not None:
+            for k in np.flatnonzero(~shapely.is_empty(seen_parts)):
+                parts.append((int(seen_t[k]), f, seen_parts[k]))
     visible = np.minimum(visible, in_view)
     pt = np.concatenate(pair_target) if pair_target else np.zeros(0, np.int64)
     pb = np.concatenate(pair_body) if pair_body else np.zeros(0, np.int64)
@@ -283,7 +291,7 @@ def box_visibility(
     (0.559, [[], [0]])
     """
     boxes = np.asarray(boxes, dtype=np.float64).reshape(-1, 9)
-    result = _boxes_among(boxes, np.asarray(eye, dtype=np.float64), transparent, view, max_range, statics)
+    result = boxes_among(boxes, np.asarray(eye, dtype=np.float64), transparent, view, max_range, statics)
     visible, extent, _, in_fov, pairs, _, skip = result
     occluders: list[list[int]] = [[] for _ in range(len(boxes))]
     for t, b in zip(*pairs, strict=True):
@@ -291,9 +299,10 @@ def box_visibility(
     return visible, extent, [sorted(set(o)) for o in occluders], skip, in_fov
 
 
-def _boxes_among(boxes, eye, transparent, view, max_range, statics):
+def boxes_among(boxes, eye, transparent, view, max_range, statics, parts=None):
     """:func:`convex_visibility` of ``boxes`` among ``statics`` from ``eye``: per box ``visible, extent, in_view,
-    in_fov``, occluder pairs ``(box, box)`` and ``(box, static source)``, and the transparent boxes."""
+    in_fov``, occluder pairs ``(box, box)`` and ``(box, static source)``, and the transparent boxes; ``parts``
+    receives the visible pieces as ``(box row, face, polygon)``."""
     n = len(boxes)
     bodies = bodies_from_boxes(boxes).relative_to(eye)
     skip = containing_origin(bodies)
@@ -312,7 +321,10 @@ def _boxes_among(boxes, eye, transparent, view, max_range, statics):
     visible, extent, in_view, in_fov = (np.zeros(n) for _ in range(4))
     rows = solid[measured]
     near = nearest_distance(boxes[rows], eye)
-    v, e, iv, fv, pt, pb = convex_visibility(bodies, measured, view=view, max_range=max_range, near=near)
+    found: list | None = None if parts is None else []
+    v, e, iv, fv, pt, pb = convex_visibility(bodies, measured, view=view, max_range=max_range, near=near, parts=found)
+    if parts is not None:
+        parts.extend((int(rows[t]), f, polygon) for t, f, polygon in found)  # type: ignore[union-attr]
     visible[rows], extent[rows], in_view[rows], in_fov[rows] = v, e, iv, fv
     target, blocker = rows[pt], solid[pb]
     is_box = blocker < n
@@ -341,9 +353,9 @@ class SilhouetteEngine:
     name: ClassVar[str] = "silhouette3d"
     measure: ClassVar[str] = "steradians"
 
-    def __init__(self, statics: StaticOccluders) -> None:
+    def __init__(self, statics: StaticOccluders, meshes_elsewhere: bool = False) -> None:
         solids = getattr(statics, "solids", None)
-        if solids is not None and solids.n_sources > statics.n_sources:
+        if solids is not None and solids.n_sources > statics.n_sources and not meshes_elsewhere:
             raise ValueError(
                 "the silhouette3d engine measures boxes and static footprints with heights; static_meshes need "
                 "the ray engine (engine='raycast3d', the 3D default when meshes are given)"
@@ -354,6 +366,13 @@ class SilhouetteEngine:
         self.statics = statics
         self.prisms = prisms_from_footprints(list(statics.geometries), tops, bases) if n else None
 
+    def prisms_for(self, view: Viewpoint) -> ConvexBodies | None:
+        """The static prisms that block for ``view`` (those of static occluders containing it left out)."""
+        clear = np.asarray(view.static_transparent, dtype=bool)
+        if self.prisms is None or not clear.any():
+            return self.prisms
+        return self.prisms.take(np.flatnonzero(~clear[self.prisms.source]))
+
     def observe(self, objects: FrameObjects, viewpoints: Sequence[Viewpoint]) -> list[Observation]:
         """One :class:`Observation` per viewpoint; needs the frame's 3D boxes (``objects.boxes3d``)."""
         boxes = getattr(objects, "boxes3d", None)
@@ -363,11 +382,7 @@ class SilhouetteEngine:
         n = len(objects)
         for view in viewpoints:
             eye, limits = eye_and_view(view, boxes)
-            prisms = self.prisms
-            if prisms is not None and np.asarray(view.static_transparent, bool).any():
-                clear = np.asarray(view.static_transparent, bool)
-                prisms = prisms.take(np.flatnonzero(~clear[prisms.source]))
-            result = _boxes_among(boxes, eye, own_body(view, n), limits, view.range, prisms)
+            result = boxes_among(boxes, eye, own_body(view, n), limits, view.range, self.prisms_for(view))
             visible, extent, in_view, in_fov, (bt, bb), (st, ss), skip = result
             offsets, occluders = group_pairs(bt, bb, n)
             st_offsets, st_occluders = group_pairs(st, ss, n)
