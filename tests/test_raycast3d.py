@@ -168,9 +168,11 @@ def test_a_mesh_hiding_what_the_boxes_leave_reads_zero(tmp_path) -> None:
     target = [30.0, 0, 0.75, 4.5, 1.8, 1.5, 0, 0, 0]
     right = [10.0, -0.75, 1.5, 0.5, 1.5, 3.0, 0, 0, 0]
     left = [10.0, 0.75, 1.5, 0.5, 1.5, 3.0, 0, 0, 0]
-    obs = observe(RaycastEngine, [EGO, right, target], statics=with_meshes(mesh_box(tmp_path, "left", left[:6])))
+    behind = load_static_occluders([shapely.LineString([(-20, -5), (-20, 5)])])  # a wall behind the ego: static 0
+    statics = replace(behind, solids=static_solids(behind, meshes=[mesh_box(tmp_path, "left", left[:6])]))
+    obs = observe(RaycastEngine, [EGO, right, target], statics=statics)
     assert share(obs, 2) == 0.0 and exact_share([EGO, right, target], 2) > 0.3
-    assert obs.occluders.tolist() == [1] and obs.static_occluders.tolist() == [0]
+    assert obs.occluders.tolist() == [1] and obs.static_occluders.tolist() == [1]  # the mesh, after the wall
 
 
 def test_hidden_behind_another_occluder_is_listed() -> None:
@@ -277,8 +279,8 @@ def test_random_scenes_with_meshes_within_the_documented_error() -> None:
     from omega_prime_visibility.threed.boxes import _TRIANGLES, corners
 
     rng = np.random.default_rng(5)
-    errors = []
-    for _ in range(6):
+    errors: dict = {RaycastEngine: [], FastRaycastEngine: [], HighRaycastEngine: []}
+    for _ in range(8):
         boxes = highway(30, rng)
         as_mesh = rng.choice(np.arange(1, len(boxes)), 6, replace=False)
         transparent = np.zeros(len(boxes), dtype=bool)
@@ -286,13 +288,17 @@ def test_random_scenes_with_meshes_within_the_documented_error() -> None:
         visible, extent, occ, _, _ = box_visibility(boxes, EYE, transparent=transparent)
         keep = np.setdiff1d(np.arange(len(boxes)), as_mesh)
         meshes = [trimesh.Trimesh(vertices=corners(boxes[k : k + 1])[0], faces=_TRIANGLES) for k in as_mesh]
-        obs = observe(RaycastEngine, boxes[keep], statics=with_meshes(*meshes))
-        got = np.array([share(obs, j) for j in range(1, len(keep))])
         want = visible[keep[1:]] / extent[keep[1:]]
-        assert ((got > 0) == (want > 0)).all()
-        errors.append(np.abs(got - want))
-        for j, k in enumerate(keep[1:], start=1):  # box occluders exactly; mesh k listed as static source
-            listed = obs.occluders[obs.occluder_offsets[j] : obs.occluder_offsets[j + 1]].tolist()
-            assert listed == [int(np.flatnonzero(keep == o)[0]) for o in occ[k] if o in keep]
-    e = np.concatenate(errors)
-    assert e.max() <= 0.02 and e.mean() <= 0.003, (e.max(), e.mean())
+        for engine, errs in errors.items():
+            obs = observe(engine, boxes[keep], statics=with_meshes(*meshes))
+            got = np.array([share(obs, j) for j in range(1, len(keep))])
+            assert ((got > 0) == (want > 0)).all()
+            errs.append(np.abs(got - want))
+            for j, k in enumerate(keep[1:], start=1):  # box occluders exactly
+                listed = obs.occluders[obs.occluder_offsets[j] : obs.occluder_offsets[j + 1]].tolist()
+                assert listed == [int(np.flatnonzero(keep == o)[0]) for o in occ[k] if o in keep]
+    # docs/3d.md: max / mean per setting on 20 such scenes (fast 0.031 / 0.0007, high 0.0078 / 0.0003)
+    for engine, (most, mean) in {RaycastEngine: (0.02, 0.003), FastRaycastEngine: (0.05, 0.003),
+                                 HighRaycastEngine: (0.01, 0.001)}.items():  # fmt: skip
+        e = np.concatenate(errors[engine])
+        assert e.max() <= most and e.mean() <= mean, (engine.setting, e.max(), e.mean())

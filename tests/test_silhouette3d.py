@@ -342,3 +342,17 @@ def test_a_plate_behind_a_slotted_wall_seen_from_above() -> None:
     assert visible[0] == pytest.approx(fan_solid_angle(top, eye) + fan_solid_angle(front, eye), rel=1e-9)
     closed = prisms_from_footprints([shapely.box(10.0, -10, 10.2, 10)], tops=[5.0], bases=[-1.0])
     assert box_visibility(plate, eye, statics=closed)[0][0] == 0.0
+
+
+def test_an_occluder_of_the_part_out_of_view_is_not_listed() -> None:
+    # a view of ±40° about +x; the target (x 19..21, y 15..25: bearings 38.3° to 52.8°) straddles its left edge; a
+    # post at x 9.9..10.1, y 8.7..9.5 (bearings 40.7° to 43.8°) hides only directions out of view: the target is
+    # hidden nowhere in view and the post is not its occluder; a post at y 7..8.2 (34.7° to 39.6°) is
+    target = box(20.0, 20.0, 1.25, 2, 10, 4)
+    view = (0.0, math.radians(40), -math.pi / 2, math.pi / 2)
+    out_of_view = box(10.0, 9.1, 1.25, 0.2, 0.8, 6)
+    visible, extent, occ, _, in_fov = box_visibility(np.array([out_of_view, target]), EYE, view=view)
+    assert visible[1] == pytest.approx(in_fov[1], rel=1e-12) and 0 < in_fov[1] < extent[1] and occ[1] == []
+    in_view = box(10.0, 7.6, 1.25, 0.2, 1.2, 6)
+    visible, _, occ, _, in_fov = box_visibility(np.array([in_view, target]), EYE, view=view)
+    assert 0 < visible[1] < in_fov[1] and occ[1] == [0]

@@ -118,9 +118,11 @@ def convex_visibility(
     cut = ~beyond & (farthest[measured] > max_range)
     ranged = {int(t): within_range(bodies, int(measured[t]), max_range) for t in np.flatnonzero(cut)}
     regions = view_regions(*view)
+    targets_only = bodies.take(measured)
     for f in range(6):
         region = regions[f]
-        if region is not None and region.is_empty:
+        if region is not None and (region.is_empty or region.area == 0.0):  # nothing in view: the extent only
+            extent += solid_angles(silhouettes(targets_only, f))
             continue
         sil = silhouettes(bodies, f)
         seen_t = np.flatnonzero(~shapely.is_missing(sil[measured]))
