@@ -11,6 +11,7 @@ import shapely
 
 from omega_prime_visibility.engines.silhouette3d import box_visibility
 from omega_prime_visibility.threed.bodies import (
+    MAX_PART_VERTICES,
     bodies_from_boxes,
     containing_origin,
     convex_parts,
@@ -28,7 +29,8 @@ EYE = np.array([0.0, 0.0, 1.25])
         shapely.Polygon([(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)]),  # L
         shapely.box(0, 0, 10, 6).difference(shapely.box(3, 2, 7, 4)),  # a courtyard
         shapely.Polygon([(0, 0), (4, 0), (4, 3), (3, 1), (2, 3), (1, 1), (0, 3)]),  # a comb
-        shapely.Point(0, 0).buffer(5, 16),  # convex: one part
+        shapely.Point(0, 0).buffer(5, 1),  # convex: one part
+        shapely.Point(0, 0).buffer(5, 16),  # a convex 64-gon: fans of at most 8 vertices
     ],
 )
 def test_convex_parts_tile_the_footprint(polygon) -> None:
@@ -37,7 +39,9 @@ def test_convex_parts_tile_the_footprint(polygon) -> None:
     assert all(shapely.is_ccw(p.exterior) for p in parts)
     assert sum(p.area for p in parts) == pytest.approx(polygon.area, rel=1e-12)
     assert shapely.union_all(parts).symmetric_difference(polygon).area < 1e-9
-    assert len(parts) == 1 if polygon.convex_hull.area - polygon.area < 1e-9 else len(parts) > 1
+    assert all(len(p.exterior.coords) - 1 <= MAX_PART_VERTICES for p in parts)
+    split = polygon.convex_hull.area - polygon.area > 1e-9 or len(polygon.exterior.coords) - 1 > MAX_PART_VERTICES
+    assert (len(parts) > 1) == split
 
 
 def test_entries_of_a_prism_and_a_wall() -> None:

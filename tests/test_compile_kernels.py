@@ -35,9 +35,15 @@ before = signatures()
 r = read_recording("highway_merge.mcap")
 wall = shapely.LineString([(60, -5.4), (140, -5.4)])
 mode = "3d" if "3d" in engine else "2d"
+meshes = []
+if engine.startswith("raycast3d"):  # the ray engines sample only meshes: one on the road ahead
+    import trimesh
+
+    meshes = [trimesh.creation.box(extents=(3.0, 2.0, 2.0)).apply_translation((120.0, -1.0, 1.0))]
 for ego, sensors in ((0, None), (0, "typical"), ([0, 1], None)):
-    statics = [] if engine == "silhouette3d" else [wall]
-    get_visibility_df(r, ego, statics, engine=engine, mode=mode, sensors=sensors, progress=False, workers=1)
+    get_visibility_df(
+        r, ego, [wall], engine=engine, mode=mode, sensors=sensors, progress=False, workers=1, static_meshes=meshes
+    )
 if mode == "2d":
     visible_area_over_time(r, 0, "typical", [wall])
 after = signatures()

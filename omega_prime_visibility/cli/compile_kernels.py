@@ -74,14 +74,24 @@ def compile_engine(name: str) -> float:
     table = warm_up_table()
     wall = shapely.LineString([(-40.0, -3.0), (80.0, -3.0)])
     mode = "3d" if name in ENGINES_3D else "2d"
-    statics = [] if name == "silhouette3d" else [wall]  # the exact 3D engine takes boxes only
+    meshes = [warm_up_mesh()] if name.startswith("raycast3d") else []  # the ray engines sample only meshes
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         for ego, sensors in ((0, None), ("all", None), (0, "typical")):
-            get_visibility_df(table, ego, statics, engine=name, mode=mode, sensors=sensors, progress=False, workers=1)
+            get_visibility_df(
+                table, ego, [wall], engine=name, mode=mode, sensors=sensors, progress=False, workers=1,
+                static_meshes=meshes,
+            )  # fmt: skip
         if mode == "2d":
             visible_area_over_time(table, 0, "typical", [wall])
     return time.perf_counter() - started
+
+
+def warm_up_mesh():
+    """A small mesh (a 2 m cube beside the road of the warm-up table) for the ray engines' sampling kernels."""
+    import trimesh
+
+    return trimesh.creation.box(extents=(2.0, 2.0, 2.0)).apply_translation((25.0, -6.0, 1.0))
 
 
 @app.command("compile", short_help="compile the engines' kernels now (make run does it)")

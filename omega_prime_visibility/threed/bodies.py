@@ -158,7 +158,7 @@ def convex_parts(polygon: shapely.Polygon) -> list[np.ndarray]:
     """
     polygon = shapely.normalize(shapely.simplify(polygon, 0.0))
     if not polygon.interiors and abs(polygon.convex_hull.area - polygon.area) <= 1e-12 * max(polygon.area, 1.0):
-        return [_ccw(polygon)] if polygon.area > 0 else []
+        return _fans(_ccw(polygon)) if polygon.area > 0 else []
     triangles = [t for t in shapely.get_parts(shapely.constrained_delaunay_triangles(polygon)) if t.area > 0]
     pieces: list[shapely.Polygon | None] = list(triangles)
     merged = True
@@ -187,6 +187,16 @@ def convex_parts(polygon: shapely.Polygon) -> list[np.ndarray]:
             if merged:
                 break
     return [_ccw(p) for p in pieces if p is not None]
+
+
+def _fans(ring: np.ndarray) -> list[np.ndarray]:
+    """A convex counter-clockwise ring cut into fans from its first vertex of at most :data:`MAX_PART_VERTICES`
+    vertices each (a round pole's 64-gon is 11 parts, so every body keeps a small number of faces)."""
+    k = len(ring)
+    if k <= MAX_PART_VERTICES:
+        return [ring]
+    step = MAX_PART_VERTICES - 2
+    return [np.concatenate([ring[:1], ring[i : min(i + step + 1, k)]]) for i in range(1, k - 1, step)]
 
 
 def _ccw(polygon: shapely.Polygon) -> np.ndarray:
