@@ -11,7 +11,7 @@ entries and containment are vectorised over bodies.
 
 >>> import numpy as np, shapely
 >>> wall = prisms_from_footprints([shapely.LineString([(0, 5), (10, 5)])], tops=[2.0], bases=[-1.0])
->>> len(wall), wall.source.tolist(), wall.vertices[:, 2].max()
+>>> len(wall), wall.source.tolist(), float(wall.vertices[:, 2].max())
 (1, [0], 2.0)
 >>> box = bodies_from_boxes(np.array([[10.0, 0, 0.75, 4, 2, 1.5, 0, 0, 0]]))
 >>> entries(box.relative_to(np.array([0.0, 0, 1])), np.array([0]), np.array([[1.0, 0, 0]])).tolist()
