@@ -69,3 +69,35 @@ def test_orientation_of_a_needle_at_map_coordinates() -> None:
         rings = Rings(ring, np.array([0, 3]))
         assert signed_area(rings)[0] == area
         assert signed_area(orient(rings, True))[0] == 2.0**-20
+
+
+def test_angular_spans_against_shapely_on_random_rings() -> None:
+    # random star-shaped rings and viewpoints inside and outside them: the span holds every direction to the
+    # outline (dense points along its edges) and is tight (reached by vertices); near and far are shapely's
+    # distances; a ring around or touching its viewpoint spans every direction
+    from omega_prime_visibility.geometry.spans import FULL, angular_spans
+
+    rng = np.random.default_rng(4)
+    polygons = []
+    for _ in range(300):
+        k = rng.integers(3, 9)
+        angle = np.sort(rng.uniform(0, 2 * np.pi, k))
+        radius = rng.uniform(0.5, 6, k)
+        polygons.append(rng.uniform(-30, 30, 2) + np.column_stack([np.cos(angle), np.sin(angle)]) * radius[:, None])
+    rings = Rings(np.concatenate(polygons), np.r_[0, np.cumsum([len(p) for p in polygons])])
+    points = rng.uniform(-36, 36, (300, 2))
+    points[:40] = [p.mean(axis=0) for p in polygons[:40]]  # inside their own ring
+    centre, half, near, far = angular_spans(points, rings, np.arange(300))
+    for k, ring in enumerate(polygons):
+        polygon, point = shapely.Polygon(ring), shapely.Point(points[k])
+        assert near[k] == pytest.approx(polygon.exterior.distance(point), abs=1e-12)
+        assert far[k] == pytest.approx(np.linalg.norm(ring - points[k], axis=1).max(), rel=1e-15)
+        if polygon.covers(point):
+            assert half[k] == FULL
+            continue
+        closed = np.vstack([ring, ring[:1]])
+        t = np.linspace(0, 1, 50)[:, None, None]
+        dense = (closed[:-1] + t * (closed[1:] - closed[:-1])).reshape(-1, 2) - points[k]
+        off = (np.arctan2(dense[:, 1], dense[:, 0]) - centre[k] + np.pi) % (2 * np.pi) - np.pi
+        assert half[k] < np.pi / 2 * 1.999 or half[k] == FULL
+        assert np.abs(off).max() <= half[k] + 1e-12 and np.abs(off).max() == pytest.approx(half[k], abs=1e-12)

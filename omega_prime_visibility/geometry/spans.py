@@ -1,10 +1,14 @@
 """Angular spans: the directions and distances at which a viewpoint can meet a polygon, for deciding cheaply which
-bodies cannot be in front of which (numpy, vectorised over (viewpoint, ring) pairs)."""
+bodies cannot be in front of which (one compiled loop over (viewpoint, ring) pairs)."""
 
 from __future__ import annotations
 
+import math
+
+import numba
 import numpy as np
 
+from .kernels import segment_distance2
 from .rings import Rings
 
 FULL = np.pi
@@ -45,41 +49,45 @@ def angular_spans(
     >>> float(centre[0]), round(float(half[0]), 6), float(near[0]), round(float(far[0]) ** 2, 9)
     (0.0, 0.785398, 1.0, 10.0)
     """
-    points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-    ring_of_pair = np.asarray(ring_of_pair, dtype=np.int64)
+    points = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
+    ring_of_pair = np.ascontiguousarray(ring_of_pair, dtype=np.int64)
+    coords = np.ascontiguousarray(rings.coords, dtype=np.float64)
+    offsets = np.ascontiguousarray(rings.offsets, dtype=np.int64)
+    return _spans(points, coords, offsets, ring_of_pair)
+
+
+@numba.njit(cache=True)
+def _spans(points, coords, offsets, ring_of_pair):
+    """:func:`angular_spans` in one loop: per pair, the vertices' bearings unwrapped along the ring (each edge
+    turns by less than π unless it passes the viewpoint), the ring's winding, and its near and far distances."""
     p = len(ring_of_pair)
-    if p == 0:
-        empty = np.zeros(0)
-        return empty, empty.copy(), empty.copy(), empty.copy()
-    sizes = rings.sizes[ring_of_pair]
-    starts = np.zeros(p + 1, dtype=np.int64)
-    np.cumsum(sizes, out=starts[1:])
-    local = np.arange(starts[-1]) - np.repeat(starts[:-1], sizes)
-    pair = np.repeat(np.arange(p), sizes)
-    first = rings.offsets[ring_of_pair][pair]
-    vertex = rings.coords[first + local] - points[pair]
-    following = rings.coords[first + (local + 1) % sizes[pair]] - points[pair]
-    angle = np.arctan2(vertex[:, 1], vertex[:, 0])
-    step = np.arctan2(following[:, 1], following[:, 0]) - angle
-    step = (step + np.pi) % (2 * np.pi) - np.pi  # each edge turns by less than π unless it passes the viewpoint
-    # unwrapped angle of each vertex along its ring, from the ring's first vertex
-    turned = np.cumsum(step) - step
-    turned -= np.repeat(turned[starts[:-1]], sizes)
-    unwrapped = np.repeat(angle[starts[:-1]], sizes) + turned
-    low = np.minimum.reduceat(unwrapped, starts[:-1])
-    high = np.maximum.reduceat(unwrapped, starts[:-1])
-    winding = np.add.reduceat(step, starts[:-1])
-    # distance to each edge (point to segment), the nearest being the ring's near distance
-    edge = following - vertex
-    length2 = np.einsum("ij,ij->i", edge, edge)
-    t = np.clip(-np.einsum("ij,ij->i", vertex, edge) / np.where(length2 > 0, length2, 1.0), 0.0, 1.0)
-    closest = vertex + t[:, None] * edge
-    near = np.sqrt(np.minimum.reduceat(np.einsum("ij,ij->i", closest, closest), starts[:-1]))
-    far = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", vertex, vertex), starts[:-1]))
-    half = 0.5 * (high - low)
-    surrounds = (np.abs(winding) > np.pi) | (half >= 0.5 * np.pi * 1.999) | (near <= 0.0)
-    half = np.where(surrounds, FULL, half)
-    centre = 0.5 * (high + low)
+    centre, half, near, far = np.empty(p), np.empty(p), np.empty(p), np.empty(p)
+    for k in range(p):
+        r = ring_of_pair[k]
+        start, n = offsets[r], offsets[r + 1] - offsets[r]
+        px, py = points[k, 0], points[k, 1]
+        ax, ay = coords[start, 0] - px, coords[start, 1] - py
+        angle = math.atan2(ay, ax)
+        unwrapped, low, high, winding = angle, angle, angle, 0.0
+        near2, far2 = np.inf, 0.0
+        for i in range(n):
+            j = start + (i + 1) % n
+            bx, by = coords[j, 0] - px, coords[j, 1] - py
+            following = math.atan2(by, bx)
+            step = following - angle
+            step = (step + np.pi) % (2 * np.pi) - np.pi
+            if i > 0:
+                low, high = min(low, unwrapped), max(high, unwrapped)
+            unwrapped += step
+            winding += step
+            near2 = min(near2, segment_distance2(ax, ay, bx, by))
+            far2 = max(far2, ax * ax + ay * ay)
+            ax, ay, angle = bx, by, following
+        near[k], far[k] = math.sqrt(near2), math.sqrt(far2)
+        h = 0.5 * (high - low)
+        if abs(winding) > np.pi or h >= 0.5 * np.pi * 1.999 or near[k] <= 0.0:
+            h = FULL
+        half[k], centre[k] = h, 0.5 * (high + low)
     return centre, half, near, far
 
 
