@@ -10,6 +10,7 @@ import pytest
 import shapely
 
 from omega_prime_visibility.engines import Reason, Viewpoint
+from omega_prime_visibility.engines import get_engine as get_engine_class
 from omega_prime_visibility.engines.raycast3d import FastRaycastEngine, HighRaycastEngine, RaycastEngine
 from omega_prime_visibility.engines.silhouette3d import box_visibility
 from omega_prime_visibility.geometry.rings import box_rings
@@ -302,3 +303,40 @@ def test_random_scenes_with_meshes_within_the_documented_error() -> None:
                                  HighRaycastEngine: (0.01, 0.001)}.items():  # fmt: skip
         e = np.concatenate(errors[engine])
         assert e.max() <= most and e.mean() <= mean, (engine.setting, e.max(), e.mean())
+
+
+def test_scenic_s_altitude_case_a_notch_at_the_top_of_a_wall() -> None:
+    # Scenic's test_can_see_altitude_optimization: from the eye, a 100 x 100 plate 1 m thick (y 4.5..5.5, x and z
+    # within ±50 of the eye) behind a 100 x 100 wall (y 3.4..4.4) with a notch |x| < 25, z > 35 cut into its top.
+    # Only the notch shows the plate: on its face y = 4.5 the part |x| <= 25 * 4.5 / 4.4 (the notch's sides at
+    # y = 4.4), z >= 35 * 4.5 / 3.4 (its floor at y = 3.4), up to the plate's top z = 50 (its top face lies behind
+    # that strip along every direction). Paper: that rectangle's solid angle. The eye is at z = 1.25 here, so
+    # every z is shifted by 1.25.
+    import trimesh
+    from test_silhouette3d import fan_solid_angle
+
+    up = 1.25
+    plate = [0.0, 5.0, up, 100.0, 1.0, 100.0, 0, 0, 0]
+    x_face, z_face = 25 * 4.5 / 4.4, 35 * 4.5 / 3.4
+    face = np.array([[-x_face, 4.5, z_face], [x_face, 4.5, z_face], [x_face, 4.5, 50], [-x_face, 4.5, 50]])
+    paper = fan_solid_angle(face, np.zeros(3))
+    # the wall as footprints with heights: the full width up to z = 35, its two sides up to 50
+    parts = [shapely.box(-50, 3.4, 50, 4.4), shapely.box(-50, 3.4, -25, 4.4), shapely.box(25, 3.4, 50, 4.4)]
+    statics = load_static_occluders(parts)
+    prisms = replace(statics, solids=static_solids(statics, heights=[35 + up, 50 + up, 50 + up], bases=[-50 + up] * 3))
+    boxes = [EGO, plate]
+    exact = observe(get_engine_class("silhouette3d"), boxes, statics=prisms)
+    assert exact.visible_angle[1] == pytest.approx(paper, rel=1e-9)
+    assert exact.static_occluders.tolist() == [0, 1, 2]
+    # the wall as one mesh, as Scenic gives it: every ray setting sees the plate through the notch
+    blocks = [((0, 3.9, -7.5 + up), (100, 1, 85)), ((-37.5, 3.9, 42.5 + up), (25, 1, 15)),
+              ((37.5, 3.9, 42.5 + up), (25, 1, 15))]  # fmt: skip
+    wall = trimesh.util.concatenate(
+        [trimesh.creation.box(extents=size).apply_translation(centre) for centre, size in blocks]
+    )
+    empty = load_static_occluders(None)
+    with_wall = replace(empty, solids=static_solids(empty, meshes=[wall]))
+    for engine in (FastRaycastEngine, RaycastEngine, HighRaycastEngine):
+        obs = observe(engine, boxes, statics=with_wall)
+        assert obs.visible_angle[1] > 0, engine.setting
+        assert obs.static_occluders.tolist() == [0]
