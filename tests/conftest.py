@@ -101,3 +101,18 @@ def widths_as_heights_mcap(tmp_path_factory) -> Path:
         written = omega_prime.Recording.from_file(path)._df
     assert (written["height"] == written["width"]).all(), "omega-prime's writer now keeps heights: drop this fixture"
     return path
+
+
+def cap_directions(centre: np.ndarray, radius: float, eye: np.ndarray, n: int, rng: np.random.Generator) -> np.ndarray:
+    """``n`` unit directions uniform over the cone from ``eye`` around the sphere (``centre``, ``radius``, metres)
+    that a 3D Monte Carlo count shoots at a target."""
+    axis = np.asarray(centre, dtype=float) - eye
+    dist = np.linalg.norm(axis)
+    cos_cap = np.cos(np.arcsin(min(1.0, radius / dist)))
+    z = rng.uniform(cos_cap, 1, n)
+    phi = rng.uniform(0, 2 * np.pi, n)
+    s = np.sqrt(1 - z * z)
+    a = axis / dist
+    t = np.cross(a, [0.0, 0, 1])
+    t /= np.linalg.norm(t)
+    return (s * np.cos(phi))[:, None] * t + (s * np.sin(phi))[:, None] * np.cross(a, t) + z[:, None] * a

@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 import shapely
+from conftest import cap_directions
 
 from omega_prime_visibility.engines.silhouette3d import box_visibility
 from omega_prime_visibility.threed.bodies import (
@@ -143,16 +144,7 @@ def _pose(b: np.ndarray) -> np.ndarray:
 def _monte_carlo(scene, owner, b, k, rng, n=40_000) -> tuple[float, int]:
     """Share of random directions in the cone around box ``b``'s bounding sphere that hit it first, among those
     that hit it (trimesh's ray caster)."""
-    axis = b[:3] - EYE
-    dist = np.linalg.norm(axis)
-    cos_cap = math.cos(math.asin(min(1.0, np.linalg.norm(b[3:6]) / 2 / dist)))
-    z = rng.uniform(cos_cap, 1, n)
-    phi = rng.uniform(0, 2 * math.pi, n)
-    s = np.sqrt(1 - z * z)
-    a = axis / dist
-    t = np.cross(a, [0.0, 0, 1])
-    t /= np.linalg.norm(t)
-    dirs = (s * np.cos(phi))[:, None] * t + (s * np.sin(phi))[:, None] * np.cross(a, t) + z[:, None] * a
+    dirs = cap_directions(b[:3], np.linalg.norm(b[3:6]) / 2, EYE, n, rng)
     first = scene.ray.intersects_first(np.repeat(EYE[None], n, 0), dirs)
     alone = bodies_from_boxes(b[None]).relative_to(EYE)
     on_target = np.isfinite(entries(alone, np.zeros(n, dtype=np.int64), dirs))

@@ -8,6 +8,7 @@ import numpy as np
 import polars as pl
 import pytest
 import shapely
+from conftest import cap_directions
 
 from omega_prime_visibility import get_visibility_df
 from omega_prime_visibility.engines.silhouette3d import box_visibility
@@ -157,16 +158,7 @@ def monte_carlo(
     """Share of uniformly random directions in a cap around the target's bounding sphere that see it first
     (entered within ``max_range``), among those that hit it."""
     centre, rot, half = frames(boxes)
-    axis = centre[target] - eye
-    dist = np.linalg.norm(axis)
-    cos_cap = math.cos(math.asin(min(1.0, np.linalg.norm(half[target]) / dist)))
-    z = rng.uniform(cos_cap, 1, n)
-    phi = rng.uniform(0, 2 * math.pi, n)
-    s = np.sqrt(1 - z * z)
-    a = axis / dist
-    t = np.cross(a, [0.0, 0, 1])
-    t /= np.linalg.norm(t)
-    dirs = (s * np.cos(phi))[:, None] * t + (s * np.sin(phi))[:, None] * np.cross(a, t) + z[:, None] * a
+    dirs = cap_directions(centre[target], np.linalg.norm(half[target]), eye, n, rng)
     hits = np.stack([ray_entries(eye, dirs, centre, rot, half, np.full(n, k)) for k in range(len(boxes))])
     on_target = np.isfinite(hits[target])
     seen = on_target & (hits.argmin(axis=0) == target) & (hits[target] <= max_range)

@@ -19,7 +19,7 @@ around the eye (:func:`..silhouette3d.boxes_among`). So, per target:
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 import shapely
@@ -32,14 +32,11 @@ from ..observe3d import eye_and_view, observation, own_body
 from ..silhouette3d import boxes_among
 from .embree import FirstHit
 
-if TYPE_CHECKING:
-    from .engine import RaycastEngine
 
-
-def with_exact_parts(engine: RaycastEngine, objects: FrameObjects, view: Viewpoint, sampled: Observation):
-    """``sampled`` (the ray engine's observation of ``view``) with the exact engine's corrections (module
-    docstring): extents, in-view angles and box and footprint occluders exact, shares bounded by the exact ones,
-    targets no ray saw probed."""
+def with_exact_parts(engine: Any, objects: FrameObjects, view: Viewpoint, sampled: Observation) -> Observation:
+    """``sampled`` (the observation of ``view`` by ``engine``, a :class:`.engine.RaycastEngine`) with the exact
+    engine's corrections (module docstring): extents, in-view angles and box and footprint occluders exact,
+    shares bounded by the exact ones, targets a mesh may hide probed."""
     boxes = objects.boxes3d
     n = len(boxes)
     eye, limits = eye_and_view(view, boxes)
