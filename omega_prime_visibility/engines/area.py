@@ -1,6 +1,7 @@
 """The area measure (``measure="area"``): the share of a target's footprint that lies in no other body's shadow,
 inside the field of view and range, by exact polygon clipping (:mod:`..geometry.shadows`), as openPASS's
-SensorGeometric2D measures it.
+SensorGeometric2D measures it. Frames of convex bodies without static occluders (boxes, nearly every recording)
+take a compiled path with the same numbers (:mod:`.area_pieces`).
 
 It keeps the engine contract with areas for angles: ``visible_angle`` is the visible area, ``angular_extent`` the
 footprint's area, ``in_view_angle`` and ``in_fov_angle`` the areas inside the field of view and range, and inside
@@ -28,6 +29,7 @@ from ..inputs.objects import FrameObjects
 from ..inputs.sensors import TWO_PI
 from ..inputs.statics import StaticOccluders
 from . import Observation, Viewpoint, group_pairs
+from .area_pieces import convex_frame_areas
 
 MIN_HIDDEN = 1e-9
 """Share of a target's area a body must hide to be listed as an occluder (below it: rounding of the clipping)."""
@@ -38,6 +40,9 @@ class AreaEngine:
 
     name = "area"
     measure = "square metres"
+    compiled = True
+    """Whether frames without static occluders take the compiled path (:mod:`.area_pieces`); the general path
+    (polygon clipping) takes them when False, as the tests compare."""
 
     def __init__(self, statics: StaticOccluders) -> None:
         self.statics = statics
@@ -48,6 +53,10 @@ class AreaEngine:
         return [self._observe_one(objects, view) for view in viewpoints]
 
     def _observe_one(self, objects: FrameObjects, view: Viewpoint) -> Observation:
+        if not self.statics.n_sources and self.compiled:
+            fast = self._observe_convex(objects, view)
+            if fast is not None:
+                return fast
         n = len(objects)
         origin = np.asarray(view.position, dtype=np.float64)
         coords = objects.rings.coords - origin
@@ -103,6 +112,30 @@ class AreaEngine:
             in_view if limited else None,
             in_fov if limited else None,
         )
+
+    def _observe_convex(self, objects: FrameObjects, view: Viewpoint) -> Observation | None:
+        """The compiled path (:mod:`.area_pieces`) for a frame without static occluders; None where a body is
+        not convex or a target does not fit its buffers."""
+        n = len(objects)
+        origin = np.asarray(view.position, dtype=np.float64)
+        shifted = _shifted(objects, origin)
+        active = ~np.asarray(view.transparent, dtype=bool)
+        centre, half, near, far = angular_spans(np.zeros((n, 2)), shifted, np.arange(n))
+        reach = 1.01 * float(far[active].max()) + 1.0 if active.any() else 1.0
+        area, in_fov, in_view, visible, occ_offsets, occ, fitted = convex_frame_areas(
+            np.ascontiguousarray(shifted.coords), shifted.offsets.astype(np.int64), active, centre, half, near, far,
+            reach, float(view.range), float(view.heading), min(float(view.fov), TWO_PI), MIN_HIDDEN,
+        )  # fmt: skip
+        if not fitted:
+            return None
+        in_fov = _snapped(in_fov, area)
+        in_view = np.minimum(_snapped(in_view, in_fov), in_fov)
+        visible = np.where(active, _snapped(visible, in_view), 0.0)
+        limited = view.limited
+        return Observation.from_parts(
+            visible, area, occ_offsets, occ, np.zeros(n + 1, np.int64), np.zeros(0, np.int64), view.transparent,
+            in_view if limited else None, in_fov if limited else None,
+        )  # fmt: skip
 
     def _static_pairs(
         self, origin: np.ndarray, view: Viewpoint, reach: float, seen: np.ndarray, targets: np.ndarray

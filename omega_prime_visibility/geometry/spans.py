@@ -13,6 +13,8 @@ from .rings import Rings
 
 FULL = np.pi
 """Half-width of the span of a ring that surrounds or touches its viewpoint: every direction."""
+SLACK = 1e-9
+"""Radians by which spans are widened before deciding that they share no direction."""
 
 
 def angular_spans(
@@ -91,7 +93,21 @@ def _spans(points, coords, offsets, ring_of_pair):
     return centre, half, near, far
 
 
-def overlapping(centre_a, half_a, centre_b, half_b, slack: float = 1e-9) -> np.ndarray:
+@numba.njit(cache=True, inline="always")
+def spans_share(centre_a, half_a, centre_b, half_b):
+    """Whether two spans share a direction (:func:`overlapping` for two scalars, widened by :data:`SLACK`)."""
+    gap = abs((centre_a - centre_b + np.pi) % (2 * np.pi) - np.pi)
+    return gap <= half_a + half_b + SLACK
+
+
+@numba.njit(cache=True, inline="always")
+def may_be_in_front(centre_b, half_b, near_b, centre_t, half_t, far_t):
+    """Whether body ``b`` may hide part of target ``t`` (spans and distances from :func:`angular_spans`): they
+    share a direction and ``b`` begins no farther than ``t`` ends (up to a relative 1e-9)."""
+    return near_b <= far_t * (1 + 1e-9) + 1e-9 and spans_share(centre_b, half_b, centre_t, half_t)
+
+
+def overlapping(centre_a, half_a, centre_b, half_b, slack: float = SLACK) -> np.ndarray:
     """Whether spans ``a`` and ``b`` (broadcast) share a direction, as closed arcs widened by ``slack`` radians.
 
     Examples

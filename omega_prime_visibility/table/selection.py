@@ -24,12 +24,9 @@ import numba
 import numpy as np
 
 from ..engines import ChunkViewpoints, Viewpoint
-from ..geometry.spans import angular_spans
+from ..geometry.spans import angular_spans, may_be_in_front, spans_share
 from ..inputs.objects import FrameObjects, ObjectTable
 from .schema import LIST_COLUMNS, Columns
-
-SLACK = 1e-9
-"""Radians by which spans are widened before deciding that they share no direction."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -97,13 +94,6 @@ def expand(
     return Views(base, object_offsets, slot_row[kept], clear[inside], keep[inside], own_in_scene)
 
 
-@numba.njit(cache=True, inline="always")
-def _shares(centre_a, half_a, centre_b, half_b):
-    """Whether two spans share a direction (:func:`..geometry.spans.overlapping` for two scalars)."""
-    gap = abs((centre_a - centre_b + np.pi) % (2 * np.pi) - np.pi)
-    return gap <= half_a + half_b + SLACK
-
-
 @numba.njit(cache=True)
 def _assign_groups(target_offsets, transparent, blocks, wanted, centre, half):
     """Per slot, the view that gives its row: 0 the main view, ``k >= 1`` the ``k``-th group of wanted targets
@@ -132,7 +122,7 @@ def _assign_groups(target_offsets, transparent, blocks, wanted, centre, half):
             for g in range(1, n_groups + 1):
                 fits = True
                 for s in range(t0, t1):
-                    if group[s] == g and _shares(centre[s], half[s], centre[m], half[m]):
+                    if group[s] == g and spans_share(centre[s], half[s], centre[m], half[m]):
                         fits = False
                         break
                 if fits:
@@ -179,7 +169,7 @@ def _fill_views(target_offsets, transparent, blocks, group, counts, centre, half
                 clear[at + s] = False
                 for b in range(t0, t1):
                     if clear[at + b] and blocks[b] and not transparent[b]:
-                        if near[b] <= far[s] * (1 + 1e-9) + 1e-9 and _shares(centre[b], half[b], centre[s], half[s]):
+                        if may_be_in_front(centre[b], half[b], near[b], centre[s], half[s], far[s]):
                             clear[at + b] = False
             e += 1
     return base, offsets, clear, keep
