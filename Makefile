@@ -36,6 +36,7 @@ bench: | $(UV_DEP)
 	$(UV) run python benchmarks/agreement.py
 	$(UV) run python benchmarks/first_call.py
 	$(UV) run python benchmarks/bench_campaign.py
+	$(UV) run python benchmarks/bench_choices.py --frames 300
 
 bench-batch: | $(UV_DEP)
 	$(UV) run python benchmarks/bench_batch.py

@@ -22,7 +22,9 @@ from ..engines import ENGINES, ENGINES_3D
 from .app import app
 from .common import fail
 
-DEFAULT = ("visilibity", "sweep", "raycast3d", "silhouette3d")
+DEFAULT = ("visilibity", "sweep", "raycast3d", "silhouette3d", "area")
+AREA = "area"
+"""The area measure's engine (``measure="area"``), compiled like the others."""
 HEARTBEAT_S = 5.0
 """Seconds between the lines saying that compiling goes on."""
 
@@ -75,13 +77,17 @@ def compile_engine(name: str) -> float:
     wall = shapely.LineString([(-40.0, -3.0), (80.0, -3.0)])
     mode = "3d" if name in ENGINES_3D else "2d"
     meshes = [warm_up_mesh()] if name.startswith("raycast3d") else []  # the ray engines sample only meshes
+    choice = {"engine": None, "measure": "area"} if name == AREA else {"engine": name, "static_meshes": meshes}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         for ego, sensors in ((0, None), ("all", None), (0, "typical")):
+            get_visibility_df(table, ego, [wall], mode=mode, sensors=sensors, progress=False, workers=1, **choice)
+        if name == AREA:  # frames without static occluders take the compiled path
+            get_visibility_df(table, 0, mode=mode, progress=False, workers=1, **choice)
+        elif mode == "2d":  # who blocks and who is looked for: the views' kernels
             get_visibility_df(
-                table, ego, [wall], engine=name, mode=mode, sensors=sensors, progress=False, workers=1,
-                static_meshes=meshes,
-            )  # fmt: skip
+                table, 0, [wall], targets=[1, 2], occluders=[0, 1, 3], progress=False, workers=1, **choice
+            )
         if mode == "2d":
             visible_area_over_time(table, 0, "typical", [wall])
     return time.perf_counter() - started
@@ -113,9 +119,9 @@ def compile_kernels(
     there already. Run it once on every fresh cluster node before a batch.
     """
     names = list(engines or DEFAULT)
-    unknown = [n for n in names if n not in ENGINES and n not in ENGINES_3D]
+    unknown = [n for n in names if n not in ENGINES and n not in ENGINES_3D and n != AREA]
     if unknown:
-        raise fail(f"unknown engine {unknown[0]!r}; available: {sorted(ENGINES) + sorted(ENGINES_3D)}")
+        raise fail(f"unknown engine {unknown[0]!r}; available: {sorted(ENGINES) + sorted(ENGINES_3D) + [AREA]}")
     jobs = jobs or min(2, len(os.sched_getaffinity(0)))
     typer.echo(
         f"compiling the kernels of {', '.join(names)}, {jobs} at a time (once per version of the package;"
