@@ -37,6 +37,7 @@ bench: | $(UV_DEP)
 	$(UV) run python benchmarks/first_call.py
 	$(UV) run python benchmarks/bench_campaign.py
 	$(UV) run python benchmarks/bench_choices.py --frames 300
+	$(UV) run python benchmarks/bench_3d.py --quick
 
 bench-batch: | $(UV_DEP)
 	$(UV) run python benchmarks/bench_batch.py
