@@ -157,3 +157,25 @@ def test_the_compiled_path_agrees_with_polygon_clipping(seed: int, monkeypatch) 
     assert fast.occluders.tolist() == slow.occluders.tolist()
     assert fast.occluder_offsets.tolist() == slow.occluder_offsets.tolist()
     assert 0 < (slow.visible_angle[1:] < slow.angular_extent[1:] * 0.999).sum()  # something is hidden
+
+
+def test_a_non_convex_body_takes_the_general_path() -> None:
+    # an L-shaped body: the compiled path declines the frame (None) and the general path measures it
+    from omega_prime_visibility.engines import Viewpoint
+    from omega_prime_visibility.engines.area import AreaEngine
+    from omega_prime_visibility.geometry.rings import Rings, orient
+    from omega_prime_visibility.inputs.objects import FrameObjects
+    from omega_prime_visibility.inputs.statics import load_static_occluders
+
+    ego = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
+    ell = [(10, -3), (11, -3), (11, -1), (10.5, -1), (10.5, 3), (10, 3)]  # a notch at y > -1, x 10.5..11
+    box = [(20, -1), (22, -1), (22, 1), (20, 1)]
+    coords = np.array(ego + ell + box, dtype=float)
+    rings = orient(Rings(coords, np.array([0, 4, 10, 14])))
+    frame = FrameObjects(0, 0, np.arange(3), np.array([[0.0, 0], [10.5, 0], [21, 0]]), np.zeros(3), rings)
+    view = Viewpoint(np.zeros(2), 0.0, 0, np.array([True, False, False]), np.zeros(0, bool))
+    engine = AreaEngine(load_static_occluders(None))
+    assert engine._observe_convex(frame, view) is None
+    obs = engine.observe(frame, [view])[0]
+    # the L hides the box wholly: its thin bar x 10..10.5 spans |y| <= 3 at 10 m, the box |y| <= 1 at 20..22 m
+    assert obs.visible_angle[2] == 0.0 and obs.occluders.tolist() == [1]
