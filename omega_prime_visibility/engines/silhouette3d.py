@@ -106,8 +106,6 @@ def convex_visibility(
     pair_body: list[np.ndarray] = []
     if m == 0:
         return visible, extent, in_view, in_fov, np.zeros(0, np.int64), np.zeros(0, np.int64)
-    slot = np.full(len(bodies), -1, dtype=np.int64)
-    slot[measured] = np.arange(m)
     far = np.linalg.norm(bodies.vertices, axis=1)
     farthest = np.zeros(len(bodies))
     np.maximum.at(farthest, bodies.vertex_body, far)
