@@ -63,8 +63,7 @@ class AreaEngine:
         polygons = shapely.polygons(shapely.linearrings(coords, indices=ring_ids(objects.rings.offsets)))
         area = shapely.area(polygons)
         active = ~np.asarray(view.transparent, dtype=bool)
-        centre, half, near, far = angular_spans(np.zeros((n, 2)), _shifted(objects, origin), np.arange(n))
-        reach = 1.01 * float(far[active].max()) + 1.0 if active.any() else 1.0
+        centre, half, near, far, reach = _spans_and_reach(_shifted(objects, origin), active)
         limited = view.limited
         seen = polygons
         if view.fov < TWO_PI:
@@ -120,8 +119,7 @@ class AreaEngine:
         origin = np.asarray(view.position, dtype=np.float64)
         shifted = _shifted(objects, origin)
         active = ~np.asarray(view.transparent, dtype=bool)
-        centre, half, near, far = angular_spans(np.zeros((n, 2)), shifted, np.arange(n))
-        reach = 1.01 * float(far[active].max()) + 1.0 if active.any() else 1.0
+        centre, half, near, far, reach = _spans_and_reach(shifted, active)
         area, in_fov, in_view, visible, occ_offsets, occ, fitted = convex_frame_areas(
             np.ascontiguousarray(shifted.coords), shifted.offsets.astype(np.int64), active, centre, half, near, far,
             reach, float(view.range), float(view.heading), min(float(view.fov), TWO_PI), MIN_HIDDEN,
@@ -165,6 +163,15 @@ class AreaEngine:
 def _shifted(objects: FrameObjects, origin: np.ndarray):
     """The objects' rings relative to ``origin``."""
     return type(objects.rings)(objects.rings.coords - origin, objects.rings.offsets)
+
+
+def _spans_and_reach(shifted, active: np.ndarray):
+    """The bodies' spans from the viewpoint (:func:`..geometry.spans.angular_spans` of rings relative to it) and
+    how far regions must reach (metres): beyond the farthest active body."""
+    n = len(shifted)
+    centre, half, near, far = angular_spans(np.zeros((n, 2)), shifted, np.arange(n))
+    reach = 1.01 * float(far[active].max()) + 1.0 if active.any() else 1.0
+    return centre, half, near, far, reach
 
 
 def _snapped(part: np.ndarray, whole: np.ndarray) -> np.ndarray:

@@ -138,25 +138,11 @@ def silhouettes(bodies: ConvexBodies, f: int) -> np.ndarray:
     return out
 
 
-def _clip(polygon: np.ndarray, c: np.ndarray) -> np.ndarray:
-    """Convex ``polygon`` (k, 2) clipped to ``c[0] + c[1] u + c[2] v >= 0``."""
-    out = []
-    k = len(polygon)
-    for i in range(k):
-        p, q = polygon[i], polygon[(i + 1) % k]
-        fp, fq = c[0] + c[1] * p[0] + c[2] * p[1], c[0] + c[1] * q[0] + c[2] * q[1]
-        if fp >= 0:
-            out.append(p)
-        if (fp >= 0) != (fq >= 0):
-            out.append(p + (q - p) * (fp / (fp - fq)))
-    return np.array(out).reshape(-1, 2)
-
-
 def _half_space(normal: np.ndarray, face: np.ndarray) -> shapely.Geometry:
     """Directions ``p`` with ``normal . p >= 0`` on a cube face."""
-    square = np.array([[-1.0, -1.0], [1, -1], [1, 1], [-1, 1]])
-    clipped = _clip(square, np.array([normal @ face[0], normal @ face[1], normal @ face[2]]))
-    return shapely.Polygon(clipped) if len(clipped) >= 3 else shapely.Polygon()
+    lifted = np.array([[1.0, -1.0, -1.0], [1, 1, -1], [1, 1, 1], [1, -1, 1]])  # (1, u, v): p = face . (1, u, v)
+    clipped = _clip_plane(lifted, np.array([normal @ face[0], normal @ face[1], normal @ face[2]]))
+    return shapely.Polygon(clipped[:, 1:]) if len(clipped) >= 3 else shapely.Polygon()
 
 
 def _elevation_above(limit: float, f: int) -> shapely.Geometry:
