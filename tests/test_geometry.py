@@ -47,6 +47,35 @@ def test_orient_makes_rings_counter_clockwise() -> None:
     assert signed_area(orient(cw))[0] == pytest.approx(1)
 
 
+def test_gather_oriented_against_shapely_on_random_rings() -> None:
+    # random star-shaped rings of 4 to 12 vertices, half of them clockwise, at small and map coordinates, gathered
+    # in shuffled order from a larger array: each comes out with the vertices shapely's orient gives it, in the
+    # orientation asked for, and a reversed ring lists its vertices from last to first
+    from omega_prime_visibility.geometry.rings import gather_oriented
+
+    rng = np.random.default_rng(7)
+    for shift in (0.0, 5e5):
+        sizes = rng.integers(4, 13, 60)
+        rings = []
+        for k in sizes:
+            angle = (np.arange(k) + rng.uniform(0.1, 0.9, k)) * 2 * np.pi / k  # gaps below pi: a simple star
+            ring = shift + rng.uniform(-50, 50, 2) + rng.uniform(0.5, 3.0, (k, 1)) * np.c_[np.cos(angle), np.sin(angle)]
+            rings.append(ring if rng.random() < 0.5 else ring[::-1])
+        coords = np.concatenate([rng.uniform(size=(3, 2)), *rings])
+        first = 3 + np.concatenate([[0], np.cumsum(sizes)[:-1]])
+        pick = rng.permutation(60)[:45]
+        want = rng.random(45) < 0.7
+        out = gather_oriented(coords, first[pick], sizes[pick], want)
+        assert out.sizes.tolist() == sizes[pick].tolist()
+        for i, (p, ccw) in enumerate(zip(pick, want, strict=True)):
+            given = rings[p]
+            assert shapely.Polygon(given).is_valid
+            expected = shapely.geometry.polygon.orient(shapely.Polygon(given), 1.0 if ccw else -1.0)
+            flipped = shapely.Polygon(given).exterior.is_ccw != ccw
+            assert np.array_equal(out.ring(i), given[::-1] if flipped else given)
+            assert shapely.Polygon(out.ring(i)).exterior.is_ccw == expected.exterior.is_ccw
+
+
 def test_covers_points_is_covers_point_for_each_point() -> None:
     rng = np.random.default_rng(3)
     centre = rng.uniform(-5, 5, (30, 2))

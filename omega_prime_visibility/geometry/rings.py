@@ -116,18 +116,52 @@ def orient(rings: Rings, counter_clockwise: np.ndarray | bool = True) -> Rings:
     rings : Rings
     counter_clockwise : bool or ndarray of bool, shape (n,)
         Wanted orientation of each ring.
+
+    Examples
+    --------
+    >>> clockwise = Rings(np.array([[0.0, 0.0], [0.0, 1.0], [1.0, 0.0]]), np.array([0, 3]))
+    >>> orient(clockwise).coords.tolist()
+    [[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]]
     """
     want = np.broadcast_to(np.asarray(counter_clockwise, dtype=bool), (len(rings),))
-    flip = (signed_area(rings) > 0) != want
-    if not flip.any():
-        return rings
-    # vertex j of a flipped ring [s, e) takes vertex s + e - 1 - j; all rings at once
-    sizes = rings.sizes
-    start = rings.offsets[:-1]
-    source = np.arange(rings.offsets[-1])
-    vertex_flip = np.repeat(flip, sizes)
-    source[vertex_flip] = np.repeat(2 * start + sizes - 1, sizes)[vertex_flip] - source[vertex_flip]
-    return Rings(rings.coords[source], rings.offsets)
+    return gather_oriented(rings.coords, rings.offsets[:-1], rings.sizes, want)
+
+
+def gather_oriented(coords: np.ndarray, first: np.ndarray, sizes: np.ndarray, counter_clockwise: Any = True) -> Rings:
+    """Rings gathered from ``coords`` (ring ``i`` is ``coords[first[i]:first[i] + sizes[i]]``, metres) and
+    reversed where their orientation differs from ``counter_clockwise`` (bool, or one per ring), in one pass.
+
+    The orientation is the sign of :func:`signed_area` (taken relative to each ring's first vertex); a reversed
+    ring lists its vertices from last to first.
+    """
+    sizes = np.asarray(sizes, dtype=np.int64)
+    want = np.broadcast_to(np.asarray(counter_clockwise, dtype=bool), (len(sizes),))
+    offsets = np.zeros(len(sizes) + 1, dtype=np.int64)
+    np.cumsum(sizes, out=offsets[1:])
+    out = _gather_oriented(np.asarray(coords, dtype=np.float64), np.asarray(first, dtype=np.int64), offsets, want)
+    return Rings(out, offsets)
+
+
+@numba.njit(cache=True)
+def _gather_oriented(coords, first, offsets, want):
+    out = np.empty((offsets[-1], 2))
+    for i in range(len(first)):
+        s, k = first[i], offsets[i + 1] - offsets[i]
+        x0, y0 = coords[s, 0], coords[s, 1]
+        twice_area = 0.0
+        for j in range(k):
+            jn = j + 1 if j + 1 < k else 0
+            ax, ay = coords[s + j, 0] - x0, coords[s + j, 1] - y0
+            bx, by = coords[s + jn, 0] - x0, coords[s + jn, 1] - y0
+            twice_area += ax * by - ay * bx
+        at = offsets[i]
+        if (twice_area > 0) == want[i]:
+            out[at : at + k] = coords[s : s + k]
+        else:
+            for j in range(k):
+                out[at + j, 0] = coords[s + k - 1 - j, 0]
+                out[at + j, 1] = coords[s + k - 1 - j, 1]
+    return out
 
 
 @numba.njit(cache=True)

@@ -16,7 +16,7 @@ import numpy as np
 import polars as pl
 import shapely
 
-from ..geometry.rings import Rings, box_rings, convex_quadrilaterals, orient
+from ..geometry.rings import Rings, box_rings, convex_quadrilaterals, gather_oriented
 from .objects import ObjectTable, OnInvalid, VisibilityInputWarning
 from .roles import RoleSpec, role_mask
 
@@ -195,12 +195,9 @@ def _polygon_rings(
     source_first[other] = len(coords) + np.concatenate([[0], np.cumsum(extra_sizes)[:-1]]).astype(np.int64)
     sizes[other] = extra_sizes
     rows = np.flatnonzero(good)
-    ring_sizes = sizes[rows] - 1  # the closing vertex is not repeated
-    offsets = np.zeros(len(rows) + 1, dtype=np.int64)
-    np.cumsum(ring_sizes, out=offsets[1:])
-    vertex = np.repeat(source_first[rows] - offsets[:-1], ring_sizes) + np.arange(offsets[-1])
-    rings = Rings(np.concatenate([coords, extra])[vertex], offsets)
-    return orient(rings, True), good, reasons, notes, broken[good[broken]]
+    source = np.concatenate([coords, extra]) if len(extra) else coords
+    rings = gather_oriented(source, source_first[rows], sizes[rows] - 1)  # the closing vertex is not repeated
+    return rings, good, reasons, notes, broken[good[broken]]
 
 
 def load_objects(

@@ -4,10 +4,11 @@ Each viewpoint becomes one or more *views* at the same place, each with its own 
 rows it is responsible for:
 
 - the **main view**, where every object that may not block is transparent: it gives the rows of the wanted
-  targets that may block (and of those that contain the viewpoint);
-- one view per **group** of wanted targets that may not block, the members of a group being chosen so that no two
-  share a direction from the viewpoint (so they cannot hide each other): each sees the blocking objects and its own
-  members only, and gives their rows.
+  targets that may block (and of those that contain the viewpoint), and of the wanted targets that may not block
+  but that can hide no row of the view (in front of none of its targets, and none of them in front of another);
+- one view per **group** of the other wanted targets that may not block, the members of a group being chosen so
+  that no two share a direction from the viewpoint (so they cannot hide each other): each sees the blocking
+  objects and its own members only, and gives their rows.
 
 Each view is handed to the engine as a scene of its own holding only the bodies it needs: its targets, the observer
 and the blocking bodies that may be in front of one of its targets (sharing a direction with it and not farther
@@ -78,7 +79,7 @@ def expand(
     own_slot = target_offsets[:-1] + own
     wanted[own_slot] = False
     centre, half, near, far = angular_spans(positions[slot_view], objects.rings, slot_row)
-    group, counts = _assign_groups(target_offsets, transparent, blocks, wanted, centre, half)
+    group, counts = _assign_groups(target_offsets, transparent, blocks, wanted, centre, half, near, far)
     base, offsets, clear, keep = _fill_views(
         target_offsets, transparent, blocks, group, counts, centre, half, near, far
     )
@@ -95,10 +96,14 @@ def expand(
 
 
 @numba.njit(cache=True)
-def _assign_groups(target_offsets, transparent, blocks, wanted, centre, half):
+def _assign_groups(target_offsets, transparent, blocks, wanted, centre, half, near, far):
     """Per slot, the view that gives its row: 0 the main view, ``k >= 1`` the ``k``-th group of wanted targets
     that may not block (greedily by direction, no two members of a group sharing a direction), -1 none; and per
-    viewpoint, its number of views (the main view counted when it gives rows)."""
+    viewpoint, its number of views (the main view counted when it gives rows).
+
+    A wanted target that may not block joins the main view, opaque, when it may be in front of none of the main
+    view's opaque targets and none of the main view's other non-blocking targets may be in front of it: there it
+    hides no row but its own, and only blocking bodies can hide it."""
     group = np.full(len(transparent), -1, dtype=np.int64)
     counts = np.zeros(len(target_offsets) - 1, dtype=np.int64)
     for v in range(len(target_offsets) - 1):
@@ -116,8 +121,25 @@ def _assign_groups(target_offsets, transparent, blocks, wanted, centre, half):
                 free[n_free] = s
                 n_free += 1
         order = free[:n_free][np.argsort(centre[free[:n_free]], kind="mergesort")]
+        n_left = 0
+        for m in order:  # first into the main view, where it hides no row
+            joins = True
+            for s in range(t0, t1):
+                if group[s] != 0 or transparent[s]:
+                    continue
+                if may_be_in_front(centre[m], half[m], near[m], centre[s], half[s], far[s]) or (
+                    not blocks[s] and may_be_in_front(centre[s], half[s], near[s], centre[m], half[m], far[m])
+                ):
+                    joins = False
+                    break
+            if joins:
+                group[m] = 0
+                has_main = True
+            else:
+                order[n_left] = m
+                n_left += 1
         n_groups = 0
-        for m in order:
+        for m in order[:n_left]:
             chosen = n_groups + 1
             for g in range(1, n_groups + 1):
                 fits = True
