@@ -76,6 +76,15 @@ def test_gather_oriented_against_shapely_on_random_rings() -> None:
             assert shapely.Polygon(out.ring(i)).exterior.is_ccw == expected.exterior.is_ccw
 
 
+def test_take_keeps_rings_as_they_are_in_the_order_asked() -> None:
+    # repeated, reversed and empty selections; clockwise rings stay clockwise (take never orients)
+    rings = Rings(np.arange(24, dtype=float).reshape(12, 2), np.array([0, 3, 7, 12]))
+    for positions in ([2, 0, 2], [1], [], [0, 1, 2]):
+        taken = rings.take(np.array(positions, dtype=np.int64))
+        assert len(taken) == len(positions)
+        assert [taken.ring(k).tolist() for k in range(len(positions))] == [rings.ring(p).tolist() for p in positions]
+
+
 def test_covers_points_is_covers_point_for_each_point() -> None:
     rng = np.random.default_rng(3)
     centre = rng.uniform(-5, 5, (30, 2))

@@ -53,11 +53,7 @@ class Rings:
     def take(self, positions: np.ndarray) -> Rings:
         """The rings at ``positions`` (in that order) as a new ``Rings``."""
         positions = np.asarray(positions, dtype=np.int64)
-        sizes = self.sizes[positions]
-        offsets = np.zeros(len(positions) + 1, dtype=np.int64)
-        np.cumsum(sizes, out=offsets[1:])
-        vertex = np.repeat(self.offsets[positions] - offsets[:-1], sizes) + np.arange(offsets[-1])
-        return Rings(self.coords[vertex], offsets)
+        return _gathered(self.coords, self.offsets[positions], self.sizes[positions], True, False)
 
     def slice(self, start: int, stop: int) -> Rings:
         """Rings ``start`` to ``stop - 1`` as a view-backed ``Rings``."""
@@ -134,33 +130,41 @@ def gather_oriented(coords: np.ndarray, first: np.ndarray, sizes: np.ndarray, co
     The orientation is the sign of :func:`signed_area` (taken relative to each ring's first vertex); a reversed
     ring lists its vertices from last to first.
     """
+    return _gathered(coords, first, sizes, counter_clockwise, True)
+
+
+def _gathered(coords: np.ndarray, first: np.ndarray, sizes: np.ndarray, counter_clockwise: Any, orient: bool) -> Rings:
     sizes = np.asarray(sizes, dtype=np.int64)
-    want = np.broadcast_to(np.asarray(counter_clockwise, dtype=bool), (len(sizes),))
+    want = np.ascontiguousarray(np.broadcast_to(np.asarray(counter_clockwise, dtype=bool), (len(sizes),)))
     offsets = np.zeros(len(sizes) + 1, dtype=np.int64)
     np.cumsum(sizes, out=offsets[1:])
-    out = _gather_oriented(np.asarray(coords, dtype=np.float64), np.asarray(first, dtype=np.int64), offsets, want)
+    coords = np.ascontiguousarray(coords, dtype=np.float64).reshape(-1, 2)
+    out = _gather_rings(coords, np.ascontiguousarray(first, dtype=np.int64), offsets, want, orient)
     return Rings(out, offsets)
 
 
 @numba.njit(cache=True)
-def _gather_oriented(coords, first, offsets, want):
+def _gather_rings(coords, first, offsets, want, orient):
+    """Ring ``i`` of the result is ``coords[first[i]:first[i] + k]`` (``k`` from ``offsets``), reversed where
+    ``orient`` and its orientation is not ``want[i]``."""
     out = np.empty((offsets[-1], 2))
     for i in range(len(first)):
         s, k = first[i], offsets[i + 1] - offsets[i]
-        x0, y0 = coords[s, 0], coords[s, 1]
-        twice_area = 0.0
-        for j in range(k):
-            jn = j + 1 if j + 1 < k else 0
-            ax, ay = coords[s + j, 0] - x0, coords[s + j, 1] - y0
-            bx, by = coords[s + jn, 0] - x0, coords[s + jn, 1] - y0
-            twice_area += ax * by - ay * bx
-        at = offsets[i]
-        if (twice_area > 0) == want[i]:
-            out[at : at + k] = coords[s : s + k]
-        else:
+        keep = True
+        if orient:
+            x0, y0 = coords[s, 0], coords[s, 1]
+            twice_area = 0.0
             for j in range(k):
-                out[at + j, 0] = coords[s + k - 1 - j, 0]
-                out[at + j, 1] = coords[s + k - 1 - j, 1]
+                jn = j + 1 if j + 1 < k else 0
+                ax, ay = coords[s + j, 0] - x0, coords[s + j, 1] - y0
+                bx, by = coords[s + jn, 0] - x0, coords[s + jn, 1] - y0
+                twice_area += ax * by - ay * bx
+            keep = (twice_area > 0) == want[i]
+        at = offsets[i]
+        for j in range(k):  # element by element: a slice assignment compiles numba's shape-error formatting
+            source = s + j if keep else s + k - 1 - j
+            out[at + j, 0] = coords[source, 0]
+            out[at + j, 1] = coords[source, 1]
     return out
 
 
