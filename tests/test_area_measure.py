@@ -94,6 +94,53 @@ def test_random_scenes_against_point_sampling(seed: int) -> None:
         assert {k for k in listed if hiders[i].get(k, 0.0) == 0.0} <= set(), (i, listed, hiders[i])
 
 
+@pytest.mark.parametrize(
+    "building",
+    [shapely.box(-50, 8, 50, 20), shapely.LineString([(-50, 8), (50, 8)]), shapely.box(-60, -30, -5, -12)],
+)
+def test_a_building_behind_the_target_hides_nothing(building) -> None:
+    # the buildings lie beyond the targets and reach far past them (past the farthest moving body): from the
+    # origin, every segment to a point of the targets stays on the near side, so both are fully seen (a shadow's
+    # arc drawn nearer than the building's far corners once closed it in front of the building: 0.0 and 0.44)
+    boxes = [(0, 0, 1, 1, 0), (15, 5, 4.5, 1.8, 0), (-10, -10, 4.5, 1.8, 0)]
+    for sensors in (None, [Sensor("camera", fov=2 * math.pi - 0.1, range=25.0)]):
+        out = get_visibility_df(boxes_table(boxes), 0, [building], measure="area", sensors=sensors)
+        assert out["visibility"].to_list() == [1.0, 1.0]
+        assert out["static_occluder_idxs"].to_list() == [[], []]
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_random_scenes_with_long_buildings_against_point_sampling(seed: int) -> None:
+    # cars within 30 m among buildings and walls 100 to 400 m long, which reach far beyond every car
+    rng = np.random.default_rng(100 + seed)
+    cars, statics = [], []
+    while len(cars) < 6:
+        x, y = rng.uniform(-30, 30, 2)
+        car = shapely.affinity.rotate(shapely.box(x - 2.2, y - 0.9, x + 2.2, y + 0.9), rng.uniform(0, 180))
+        if car.distance(shapely.Point(0, 0)) > 3 and all(car.distance(c) > 0.5 for c in cars):
+            cars.append(car)
+    while len(statics) < 3:
+        x, y = rng.uniform(-40, 40, 2)
+        length, angle = rng.uniform(100, 400), rng.uniform(0, math.pi)
+        end = (x + length * math.cos(angle), y + length * math.sin(angle))
+        body = shapely.LineString([(x, y), end])
+        body = body if len(statics) == 0 else body.buffer(rng.uniform(1, 6), cap_style="flat")
+        if body.distance(shapely.Point(0, 0)) > 2 and all(body.distance(c) > 0.3 for c in cars):
+            statics.append(body)
+    table = scene_table(np.zeros(2), cars, include_ego=False)
+    out = get_visibility_df(table, 0, statics, measure="area")
+    transparent = np.zeros(len(cars) + 1, dtype=bool)
+    transparent[0] = True
+    shares, hiders = reference_area_visibility(np.zeros(2), list(table["polygon"]), statics, transparent, n_side=300)
+    assert len(out) == 6
+    for row in out.iter_rows(named=True):
+        i = row["idx"]
+        assert row["visibility"] == pytest.approx(shares[i], abs=1e-3), i
+        listed = set(row["occluder_idxs"]) | {-1 - s for s in row["static_occluder_idxs"]}
+        assert {k for k, share in hiders[i].items() if share > 0.002} <= listed, (i, listed, hiders[i])
+        assert all(hiders[i].get(k, 0.0) > 0.0 for k in listed), (i, listed, hiders[i])
+
+
 def test_area_in_map_coordinates_is_the_same() -> None:
     boxes = [(0, 0, 1, 1, 0), (10.5, 0.9, 1, 2.2, 0), (26, 0, 12, 2.5, 0.1), (15, -3, 4, 2, -0.3)]
     near = get_visibility_df(boxes_table(boxes), 0, measure="area")

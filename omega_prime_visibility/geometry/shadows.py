@@ -3,7 +3,8 @@ the area of a polygon inside a range circle (shapely polygon clipping and a clos
 
 Coordinates here are relative to the viewpoint (the origin), metres; angles are radians counter-clockwise from +x.
 Regions reach out to a distance ``reach`` (metres) and are exact within it: a circle's arc is drawn as chords
-pushed out so that they never come nearer than ``reach``.
+pushed out so that they never come nearer than ``reach``. A shadow's arc lies beyond its body as well (a wall of a
+building that reaches past ``reach``): an arc nearer than part of the body would close the hull in front of it.
 """
 
 from __future__ import annotations
@@ -34,8 +35,13 @@ def _behind(points: np.ndarray, reach: float) -> shapely.Geometry:
     angles = np.arctan2(points[:, 1], points[:, 0])
     mid = angles[0]
     turned = (angles - mid + np.pi) % (2 * np.pi) - np.pi
-    arc = _arc(mid + turned.min(), mid + turned.max(), reach)
+    arc = _arc(mid + turned.min(), mid + turned.max(), _beyond(np.hypot(points[:, 0], points[:, 1]).max(), reach))
     return shapely.convex_hull(shapely.multipoints(np.concatenate([points, arc])))
+
+
+def _beyond(farthest: float | np.ndarray, reach: float) -> float | np.ndarray:
+    """The radius of a shadow's arc: ``reach``, or farther where the body reaches past it (``farthest``, metres)."""
+    return np.maximum(reach, 1.01 * farthest + 1.0)
 
 
 def shadow(ring: np.ndarray, reach: float, convex: bool | None = None) -> shapely.Geometry:
@@ -84,7 +90,8 @@ def shadows(rings: Rings, bodies: np.ndarray, centre: np.ndarray, half: np.ndarr
     convex = np.abs(hull_area - shapely.area(polygons)) <= 1e-9 * np.maximum(hull_area, 1e-12)
     step = 2.0 * half / (ARC_POINTS - 1)
     angles = (centre - half)[:, None] + step[:, None] * np.arange(ARC_POINTS)[None, :]
-    radius = (reach / np.cos(0.5 * step))[:, None]
+    farthest = np.maximum.reduceat(np.hypot(sub.coords[:, 0], sub.coords[:, 1]), sub.offsets[:-1])
+    radius = (_beyond(farthest, reach) / np.cos(0.5 * step))[:, None]
     arc = np.stack([radius * np.cos(angles), radius * np.sin(angles)], axis=-1).reshape(-1, 2)
     points = np.concatenate([sub.coords, arc])
     index = np.concatenate([owner, np.repeat(np.arange(len(bodies)), ARC_POINTS)])
