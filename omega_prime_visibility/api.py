@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import inspect
 import math
 import multiprocessing
 import numbers
@@ -19,7 +20,7 @@ from ._compiled import announce_compilation, mark_compiled
 from .engines import get_engine
 from .inputs.objects import ObjectTable, OnInvalid
 from .inputs.observers import EgoSpec, SensorSpec, describe_idx, resolve_egos  # noqa: F401 (public here too)
-from .inputs.roles import RoleSpec
+from .inputs.roles import RoleSpec, within_frames
 from .inputs.scene import as_lazy, load_objects, observer_sizes
 from .inputs.sensors import fitted_layout, is_layout, resolve_sensors
 from .table.output import PartWriter, atomic_directory, check_output_path
@@ -308,10 +309,18 @@ def get_visibility_df_for_frame(
     ValueError
         If the frame does not occur in the table.
     """
+    unknown = sorted(set(three_d) - set(inspect.signature(get_visibility_df).parameters))
+    if unknown:
+        raise TypeError(f"get_visibility_df_for_frame() got an unexpected keyword argument {unknown[0]!r}")
     check_epsilon(epsilon)
     lazy = as_lazy(df)
-    if "frame" not in lazy.collect_schema().names():
+    names = lazy.collect_schema().names()
+    if "frame" not in names:
         raise ValueError("the moving-object table lacks the column 'frame'")
+    for option in ("occluders", "targets"):  # idx are those of the recording, not only of this frame
+        if three_d.get(option) is not None and "idx" in names:
+            all_idx = lazy.select(pl.col("idx").unique()).collect()["idx"].to_numpy()
+            three_d[option] = within_frames(three_d[option], all_idx, option)
     one = lazy.filter(pl.col("frame") == frame).collect()
     if one.height == 0:
         raise ValueError(f"frame {frame} does not occur in the table")

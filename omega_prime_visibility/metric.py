@@ -17,6 +17,7 @@ import shapely
 from omega_prime.metrics import metric
 
 from .analysis.conflicts import occluded_conflicts
+from .analysis.intervals import NUPLAN_NOTICE
 from .api import get_visibility_df
 from .inputs.objects import OnInvalid
 from .inputs.observers import EgoSpec, SensorSpec
@@ -95,14 +96,14 @@ def occluded_conflicts_metric(
     look_back: float = 5.0,
     visibility_threshold: float = 0.0,
     reaction_time: float | None = None,
-    notice: tuple[float, float] | None = (1.0, 1.5),
+    notice: tuple[float, float] | None = NUPLAN_NOTICE,
 ) -> tuple[pl.LazyFrame, dict[str, pl.LazyFrame]]:
     """Road users whose path conflicts with the ego's, and whether the ego could see them in time.
 
     The property ``"occluded_conflicts"`` is :func:`omega_prime_visibility.occluded_conflicts` of omega-prime's
     ``timegaps`` property and this package's ``visibility`` property, so the manager orders it after both:
 
-    >>> from omega_prime.metrics import DEFAULT_METRICS  # doctest: +SKIP
+    >>> from omega_prime.metrics.metric_manager import DEFAULT_METRICS  # doctest: +SKIP
     >>> manager = MetricManager(metrics=[*DEFAULT_METRICS, visibility, occluded_conflicts_metric])  # doctest: +SKIP
     >>> df, properties = manager.compute(recording, ego_id=0, time_buffer=3e9)  # doctest: +SKIP
 

@@ -151,6 +151,9 @@ def test_choices_options(tmp_path) -> None:
     stored = pq.read_metadata(tmp_path / "highway_merge.mcap.parquet").metadata[OPTIONS_KEY]
     assert b'"targets": [2, 3]' in stored and b'"measure": "area"' in stored and b'"occluders": ["CAR"]' in stored
     assert run_batch(MCAP, tmp_path, ego=0, progress=False, **choices)["status"].to_list() == ["skipped"]
+    # the same choice spelt otherwise is the same table: skipped
+    again = choices | {"occluders": ["car", " Car", "CAR"], "targets": [2, 3, 3]}
+    assert run_batch(MCAP, tmp_path, ego=0, progress=False, **again)["status"].to_list() == ["skipped"]
     # other choices are another table: recomputed
     assert run_batch(MCAP, tmp_path, ego=0, progress=False, targets=[2, 3])["status"].to_list() == ["done"]
     for bad, message in (

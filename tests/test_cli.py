@@ -331,13 +331,15 @@ def test_cli_choices_give_the_api_table(tmp_path) -> None:
 @pytest.mark.parametrize(
     ("args", "fragments"),
     [
-        (["--occluders", "lorries"], ["--occluders: unknown object kind 'lorries'", "vehicles"]),
+        (["--occluders", "lorries"], ["--occluders: unknown object kind 'lorries'", "vehicles", "or idx, comma-sep"]),
         (["--targets", "1,CAR"], ["--targets takes comma-separated names", "'1,CAR'"]),
         (["--targets", "99"], ["--targets: idx [99] never occur"]),
         (["--measure", "area", "--mode", "3d"], ["--measure area measures footprints in 2D", "--mode 2d"]),
         (["--measure", "volume"], ["unknown measure 'volume'"]),
-        (["--measure", "area", "--engine", "sweep"], ["--measure area has its own exact engine"]),
+        (["--measure", "area", "--engine", "sweep"], ["--measure area has its own exact engine", "leave --engine"]),
     ],
 )
 def test_cli_bad_choices_are_one_line(args: list[str], fragments: list[str]) -> None:
-    assert_error(cli(MCAP, "--no-progress", *args), *fragments)
+    result = cli(MCAP, "--no-progress", *args)
+    assert_error(result, *fragments)
+    assert "polars" not in result.stderr  # a shell user cannot give an expression

@@ -107,6 +107,11 @@ def test_look_back_and_notice_models(van_scene) -> None:
     assert run["first_noticed_nanos"] == 17 * STEP and run["distance_at_sight"] is None
     bare = occluded_conflicts(vis, gaps, ego_idx=0, notice=None).row(0, named=True)
     assert bare["first_noticed_nanos"] == 12 * STEP
+    # a reaction time given alone replaces the default window; given with a window, it is refused
+    alone = occluded_conflicts(vis, gaps, ego_idx=0, reaction_time=0.5).row(0, named=True)
+    assert alone["first_noticed_nanos"] == 17 * STEP and alone["notice_model"] == run["notice_model"]
+    with pytest.raises(ValueError, match="not both"):
+        occluded_conflicts(vis, gaps, ego_idx=0, reaction_time=0.5, notice=(1.0, 1.5))
 
 
 def test_the_crossing_car_conflicts_only_with_a_larger_pet(van_scene) -> None:

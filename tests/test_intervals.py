@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import polars as pl
 import pytest
 from conftest import boxes_table
@@ -123,9 +124,13 @@ def test_windowed_notice_never_reached_and_at_another_frame_rate() -> None:
 
 def test_bad_notice() -> None:
     t = flicker_table(set(), frames=3)
-    for bad in [(2.0, 1.0), (0.0, 1.0), (1.0,), (1.0, float("inf")), "1s"]:
+    for bad in [(2.0, 1.0), (0.0, 1.0), (1.0,), (1.0, float("inf")), "1s", (True, 2.0), (1.0, False)]:
         with pytest.raises(ValueError, match="notice takes"):
             visible_intervals(t, notice=bad)
+    with pytest.raises(ValueError, match="below the tables' resolution of one nanosecond"):
+        visible_intervals(t, notice=(1e-12, 1e-12))
+    # numpy numbers are numbers
+    assert visible_intervals(t, notice=(np.int64(1), np.float64(1.5))).equals(visible_intervals(t, notice=(1, 1.5)))
     with pytest.raises(ValueError, match="not both"):
         visible_intervals(t, reaction_time=0.5, notice=(1.0, 1.5))
 

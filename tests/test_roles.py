@@ -195,3 +195,42 @@ def test_groups_on_paper() -> None:
     assert np.flatnonzero(role_mask(df, "vulnerable", "o")).tolist() == [2, 3, 4, 5]
     assert np.flatnonzero(role_mask(df, ["animals", "HEAVY_TRUCK"], "o")).tolist() == [1, 6]
     assert np.flatnonzero(role_mask(df, "Pedestrian", "o")).tolist() == [5]
+
+
+def test_null_types_and_subtypes() -> None:
+    # a vehicle of unknown (null) subtype is a vehicle and of no named subtype; a row of null type matches no name
+    df = pl.DataFrame({"idx": range(4), "type": [2, 2, None, 3], "subtype": [None, 11, None, None]})
+    assert np.flatnonzero(role_mask(df, "vehicles", "o")).tolist() == [0]
+    assert np.flatnonzero(role_mask(df, "two_wheelers", "o")).tolist() == [1]
+    assert np.flatnonzero(role_mask(df, "vulnerable", "o")).tolist() == [1, 3]
+    assert np.flatnonzero(role_mask(df, ["VEHICLE", "PEDESTRIAN"], "o")).tolist() == [0, 1, 3]
+    # on a street: the car of null subtype (idx 1) still hides the car behind it under occluders="vehicles"
+    base = {"frame": [0] * 3, "total_nanos": [0] * 3, "idx": [0, 1, 2], "x": [0.0, 10.0, 20.0], "y": [0.0] * 3}
+    base |= {"length": [4.0] * 3, "width": [2.0] * 3, "yaw": [0.0] * 3, "type": [2, 2, 2], "subtype": [4, None, 4]}
+    out = get_visibility_df(pl.DataFrame(base), 0, occluders="vehicles")
+    assert out.select("idx", "occluder_idxs", "visibility").rows() == [(1, [], 1.0), (2, [1], 0.0)]
+
+
+def test_type_columns_of_text_are_one_clear_error() -> None:
+    with pytest.raises(ValueError, match="reads the column 'type' as omega-prime's integer codes, but it holds String"):
+        get_visibility_df(street().with_columns(pl.col("type").cast(pl.String)), 0, occluders="vehicles")
+
+
+def test_idx_for_one_frame_are_those_of_the_recording() -> None:
+    # idx 2 is in frame 0 only: in frame 1 it selects nothing, it is not refused; an idx of no frame is
+    from omega_prime_visibility import get_visibility_df_for_frame
+
+    df = pl.DataFrame(
+        {"frame": [0, 0, 0, 1, 1], "total_nanos": [0, 0, 0, 1, 1], "idx": [0, 1, 2, 0, 1], "x": [0.0, 10, 20, 0, 10]}
+        | {"y": [0.0] * 5, "length": [4.0] * 5, "width": [2.0] * 5, "yaw": [0.0] * 5}
+    )
+    assert get_visibility_df_for_frame(df, 0, 1, targets=[2]).height == 0
+    assert get_visibility_df_for_frame(df, 0, 1, targets=np.array([1, 2])).select("idx").rows() == [(1,)]
+    assert get_visibility_df_for_frame(df, 0, 0, occluders=[2]).select("idx", "occluder_idxs").rows() == [
+        (1, []),
+        (2, []),
+    ]
+    with pytest.raises(ValueError, match=r"idx \[7\] never occur"):
+        get_visibility_df_for_frame(df, 0, 1, targets=[1, 7])
+    with pytest.raises(TypeError, match="get_visibility_df_for_frame.. got an unexpected keyword argument 'occluder'"):
+        get_visibility_df_for_frame(df, 0, 1, occluder=[1])

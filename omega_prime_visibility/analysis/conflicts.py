@@ -16,7 +16,7 @@ import math
 import polars as pl
 
 from .combine import every_listed
-from .intervals import NANOS, frame_period, visible_intervals
+from .intervals import NANOS, NUPLAN_NOTICE, frame_period, visible_intervals
 
 CONFLICT_COLUMNS = ("idx_ego", "idx", "timegap", "ego_nanos", "target_nanos", "conflict_nanos")
 
@@ -80,7 +80,7 @@ def occluded_conflicts(
     look_back: float = 5.0,
     threshold: float = 0.0,
     reaction_time: float | None = None,
-    notice: tuple[float, float] | None = (1.0, 1.5),
+    notice: tuple[float, float] | None = NUPLAN_NOTICE,
 ) -> pl.DataFrame:
     """For each conflict of :func:`path_conflicts`: could the ego see the target in time?
 
@@ -99,8 +99,9 @@ def occluded_conflicts(
         Post-encroachment time (s); the window before the conflict searched for hiding (s); visible means
         ``visibility > threshold``.
     reaction_time, notice
-        The notice model, as in :func:`~.intervals.visible_intervals`; default nuPlan's ``notice=(1.0, 1.5)``. Give
-        ``notice=None`` with a ``reaction_time`` for the unbroken-run model (both None: noticed when first seen).
+        The notice model, as in :func:`~.intervals.visible_intervals`; default nuPlan's ``notice=(1.0, 1.5)``. A
+        ``reaction_time`` given alone takes the unbroken-run model instead (``notice=None`` and no
+        ``reaction_time``: noticed when first seen).
 
     Returns
     -------
@@ -115,6 +116,8 @@ def occluded_conflicts(
     """
     if not (isinstance(look_back, int | float) and math.isfinite(look_back) and look_back >= 0):
         raise ValueError(f"look_back must be a non-negative number of seconds, not {look_back!r}")
+    if reaction_time is not None and notice is NUPLAN_NOTICE:  # a reaction time given alone replaces the default
+        notice = None
     if reaction_time is None and notice is None:
         reaction_time = 0.0  # no notice model: noticed when first visible
     conflicts = path_conflicts(timegaps, pet)

@@ -15,12 +15,16 @@ never bridged. A target counts as *noticed* under one of two models:
 from __future__ import annotations
 
 import math
+import numbers
 
 import polars as pl
 
 from .combine import KEYS
 
 NANOS = 1_000_000_000
+
+NUPLAN_NOTICE = (1.0, 1.5)
+"""nuPlan's notice model: visible at least 1.0 s within any 1.5 s window (the default of the conflict analysis)."""
 
 
 def visible_intervals(
@@ -76,9 +80,7 @@ def visible_intervals(
     """
     if not (isinstance(threshold, int | float) and math.isfinite(threshold)):
         raise ValueError(f"threshold must be a finite number, not {threshold!r}")
-    if reaction_time is not None and not (
-        isinstance(reaction_time, int | float) and math.isfinite(reaction_time) and reaction_time >= 0
-    ):
+    if reaction_time is not None and not (_seconds(reaction_time) and reaction_time >= 0):
         raise ValueError(f"reaction_time must be a non-negative number of seconds or None, not {reaction_time!r}")
     if notice is not None:
         if reaction_time is not None:
@@ -86,12 +88,15 @@ def visible_intervals(
         if not (
             isinstance(notice, tuple | list)
             and len(notice) == 2
-            and all(isinstance(v, int | float) and math.isfinite(v) for v in notice)
+            and all(_seconds(v) for v in notice)
             and 0 < notice[0] <= notice[1]
         ):
             raise ValueError(
                 f"notice takes (seconds visible, window in seconds) with 0 < seconds visible <= window, not {notice!r}"
             )
+        notice = (float(notice[0]), float(notice[1]))
+        if round(notice[0] * NANOS) < 1:
+            raise ValueError(f"notice: {notice[0]!r} s visible is below the tables' resolution of one nanosecond")
     lazy = table.lazy()
     names = lazy.collect_schema().names()
     missing = [c for c in ("frame", "total_nanos", "idx", "visibility") if c not in names]
@@ -146,6 +151,11 @@ def frame_period(table: pl.LazyFrame) -> int:
     will do then)."""
     steps = table.select(pl.col("total_nanos").unique().sort().diff().drop_nulls()).collect().to_series()
     return int(steps.median()) if len(steps) else NANOS
+
+
+def _seconds(value: object) -> bool:
+    """Whether ``value`` is a finite real number (a numpy number too; not a bool)."""
+    return isinstance(value, numbers.Real) and not isinstance(value, bool) and math.isfinite(value)
 
 
 def _windowed_notice(lazy: pl.LazyFrame, group: list[str], visible: pl.Expr, notice: tuple[float, float]) -> pl.Expr:

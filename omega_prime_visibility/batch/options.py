@@ -138,19 +138,21 @@ class FileOptions:
 
 
 def _choice(value: Any, option: str) -> str | tuple | None:
-    """``occluders``/``targets`` as stored: a name, or a sorted tuple of names or idx (checked)."""
-    from ..inputs.roles import check_names
+    """``occluders``/``targets`` as stored: a name, or a sorted tuple of names or idx (checked); names in one
+    spelling (groups in lower case, omega-prime types and subtypes in upper case), so that ``CAR`` and ``car``
+    are one choice and a rerun with either skips the files already done."""
+    from ..inputs.roles import canonical_name, check_names
 
     if value is None:
         return None
     if isinstance(value, str):
         check_names([value], option)
-        return value
+        return canonical_name(value)
     if isinstance(value, list | tuple) and value and all(is_int(v) for v in value):
         return tuple(sorted({int(v) for v in value}))
     if isinstance(value, list | tuple) and value and all(isinstance(v, str) for v in value):
         check_names(value, option)
-        return tuple(sorted(set(value)))
+        return tuple(sorted({canonical_name(v) for v in value}))
     raise ValueError(
         f"{option} in a batch takes a name, a list of names or a list of idx (a polars expression cannot be stored "
         f"with the results), not {value!r}"

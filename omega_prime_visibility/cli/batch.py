@@ -22,6 +22,7 @@ from .common import (
     fail,
     parse_choice,
     parse_ego,
+    shell_words,
 )
 
 
@@ -114,6 +115,7 @@ def print_summary(summary: pl.DataFrame, path: Path) -> None:
         typer.echo(shown)
     for recording, error in summary.filter(pl.col("status") == "failed").select("recording", "error").iter_rows():
         # each failed path named once: most messages name their file already
-        typer.echo(f"failed: {error}" if str(recording) in str(error) else f"failed: {recording}: {error}")
+        error = shell_words(str(error))
+        typer.echo(f"failed: {error}" if str(recording) in error else f"failed: {recording}: {error}")
     counts = ", ".join(f"{n} {status}" for status, n in summary["status"].value_counts(sort=True).iter_rows())
     typer.echo(f"{summary.height} recordings: {counts}; {summary['seconds'].sum():.1f} s of work; summary in {path}")

@@ -71,6 +71,8 @@ def shell_words(message: str) -> str:
     """An API message in a shell user's words: ``mode='3d'`` becomes ``--mode 3d``."""
     message = re.sub(r"\bmode='(2d|3d)'", r"--mode \1", message)
     message = re.sub(r"\bmeasure='(angle|area)'", r"--measure \1", message)
+    message = message.replace("leave engine unset", "leave --engine unset")
+    message = message.replace(", a list of idx, or a polars expression", ", or idx, comma-separated")
     return re.sub(r"^(occluders|targets)\b", r"--\1", message)
 
 
@@ -145,8 +147,8 @@ Sensors = Annotated[
     ),
 ]
 CHOICE_FORMS = (
-    "a group (vehicles, pedestrians, cyclists, two_wheelers, vulnerable, animals), omega-prime type or subtype names"
-    " (PEDESTRIAN, HEAVY_TRUCK) or idx, comma-separated"
+    "a group (vehicles, pedestrians, cyclists, motorcyclists, two_wheelers, vulnerable, animals, all), omega-prime"
+    " type or subtype names (PEDESTRIAN, HEAVY_TRUCK) or idx, comma-separated"
 )
 Occluders = Annotated[
     str | None,

@@ -5,7 +5,9 @@ A choice is given in the user's terms, in one of these forms:
 
 - ``None``: every object (the default);
 - a group name (:data:`GROUPS`, e.g. ``"vehicles"``) or an omega-prime (OSI) ``type`` or ``subtype`` name
-  (``"PEDESTRIAN"``, ``"HEAVY_TRUCK"``, case does not matter), or a list of such names (their union);
+  (``"PEDESTRIAN"``, ``"HEAVY_TRUCK"``, case does not matter), or a list of such names (their union); a row whose
+  ``type`` is null matches no name, a vehicle whose ``subtype`` is null is a vehicle of no named subtype (so it is
+  among ``"vehicles"``);
 - a list of object ``idx``;
 - a polars expression over the moving-object table giving one boolean per row (``pl.col("type") == 2``, or
   ``pl.col("length") > 6``); it may differ from frame to frame, a null counts as false.
@@ -37,7 +39,8 @@ TWO_WHEELERS = ("BICYCLE", "MOTORBIKE", "STANDUP_SCOOTER", "MICROMOBILITY_DEVICE
 
 
 def _subtype_in(names: Sequence[str]) -> pl.Expr:
-    return (pl.col("type") == TYPES["VEHICLE"]) & pl.col("subtype").is_in([SUBTYPES[n] for n in names])
+    """Vehicles of these subtypes; a vehicle whose subtype is null or NaN is of none of them."""
+    return (pl.col("type") == TYPES["VEHICLE"]) & pl.col("subtype").is_in([SUBTYPES[n] for n in names]).fill_null(False)
 
 
 GROUPS: dict[str, Any] = {
@@ -72,6 +75,18 @@ def _name_expression(name: str, option: str) -> tuple[pl.Expr, set[str]]:
         f"{option}: unknown object kind {name!r}; use a group ({', '.join(GROUPS)}), an omega-prime type "
         f"({', '.join(TYPES)}) or subtype (e.g. CAR, HEAVY_TRUCK, BICYCLE), a list of idx, or a polars expression"
     )
+
+
+def canonical_name(name: str) -> str:
+    """One spelling of a group, type or subtype name: groups in lower case, the others in upper case.
+
+    Examples
+    --------
+    >>> canonical_name(" Vehicles"), canonical_name("heavy_truck")
+    ('vehicles', 'HEAVY_TRUCK')
+    """
+    key = name.strip()
+    return key.lower() if key.lower() in GROUPS else key.upper()
 
 
 def check_names(names: Sequence[str], option: str) -> None:
@@ -141,7 +156,29 @@ def role_mask(df: pl.DataFrame, spec: RoleSpec, option: str) -> np.ndarray | Non
             f"{option}={list(spec)!r} needs the column(s) {missing_columns} of omega-prime's object table "
             "(a Recording has them); give a list of idx or a polars expression instead"
         )
+    for column in sorted(needed - {"idx"}):
+        if not (df.schema[column].is_integer() or df.schema[column].is_float() or df.schema[column] == pl.Null):
+            raise ValueError(
+                f"{option}={list(spec)!r} reads the column {column!r} as omega-prime's integer codes, but it holds "
+                f"{df.schema[column]} values"
+            )
     return _expression_mask(df, expression, option)
+
+
+def within_frames(spec: RoleSpec, all_idx: np.ndarray, option: str) -> RoleSpec:
+    """A choice for a part of the recording (some of its frames): a list of idx is checked against ``all_idx``
+    (every idx of the whole recording) and becomes an expression, so that an idx that does not occur in the part
+    selects nothing there rather than being refused; other forms are returned as they are."""
+    if isinstance(spec, np.ndarray):
+        spec = spec.tolist()
+    if isinstance(spec, pl.Expr | str) or not isinstance(spec, Sequence) or not len(spec):
+        return spec
+    if not all(_is_idx(v) for v in spec):
+        return spec
+    missing = sorted(set(int(v) for v in spec) - set(np.asarray(all_idx).tolist()))
+    if missing:
+        raise ValueError(f"{option}: idx {missing[:10]} never occur(s) in the recording")
+    return pl.col("idx").cast(pl.Int64).is_in([int(v) for v in spec])
 
 
 def _expression_mask(df: pl.DataFrame, expression: pl.Expr, option: str) -> np.ndarray:
