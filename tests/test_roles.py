@@ -232,5 +232,5 @@ def test_idx_for_one_frame_are_those_of_the_recording() -> None:
     ]
     with pytest.raises(ValueError, match=r"idx \[7\] never occur"):
         get_visibility_df_for_frame(df, 0, 1, targets=[1, 7])
-    with pytest.raises(TypeError, match="get_visibility_df_for_frame.. got an unexpected keyword argument 'occluder'"):
+    with pytest.raises(TypeError, match=r"for_frame\(\) got an unexpected keyword argument .occluder."):
         get_visibility_df_for_frame(df, 0, 1, occluder=[1])
