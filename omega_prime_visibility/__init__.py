@@ -18,6 +18,7 @@ from .batch.campaign import campaign_statistics
 from .engines import ENGINES, ENGINES_3D, Observation, Reason, Viewpoint
 from .inputs.objects import VisibilityInputWarning
 from .inputs.sensors import Sensor
+from .table.output import write_csv
 from .table.schema import SCHEMA
 
 try:
@@ -52,6 +53,7 @@ __all__ = [
     "visible_area",
     "visible_area_over_time",
     "visible_intervals",
+    "write_csv",
     "write_report",
 ]
 

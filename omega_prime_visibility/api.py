@@ -128,8 +128,9 @@ def get_visibility_df(
         parts, one per chunk, each written by the worker that computed it, which ``polars.scan_parquet`` (and
         pandas, pyarrow) read as one table. The path is checked before anything is computed (see
         :func:`check_output_path`; a file there, or a dataset from an earlier run, is replaced); other suffixes are
-        refused: for CSV, call ``write_csv`` on the returned table. The parts are written in a temporary
-        directory beside it, renamed when complete, so a failed or killed run leaves no partial result.
+        refused: for CSV, call :func:`~omega_prime_visibility.write_csv` on the returned table. The parts are
+        written in a temporary directory beside it, renamed when complete, so a failed or killed run leaves no
+        partial result.
     chunk_frames : int
         Frames per chunk of work, at most (fewer when frames yield many rows, see :func:`chunk_size`).
     hide_progress : bool, optional

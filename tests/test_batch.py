@@ -73,7 +73,7 @@ def test_end_to_end_folder_with_bad_files(tmp_path, expected) -> None:
     assert sorted(failed["result"]) == ["notes.mcap.parquet", "truncated.mcap.parquet"]
     for name, message in failed.select("result", "error").iter_rows():
         path = data / name.removesuffix(".parquet")
-        cause = "the file is truncated" if name.startswith("truncated") else "as an omega-prime recording"
+        cause = "the file is truncated" if name.startswith("truncated") else "it is not an MCAP file"
         assert f"cannot read {path}" in message and cause in message
         # one line per failure, naming the path once
         assert "\n" not in message and f"failed: {message}\n" in run.stdout
@@ -222,7 +222,8 @@ def test_map_list_for_traces(tmp_path) -> None:
     options = FileOptions(map=tmp_path / "maps.json")
     options.check()
     assert options.map_for(Path("/anywhere/a.osi")) == str((tmp_path / "maps" / "town.xodr").resolve())
-    assert options.map_for(Path("c.osi")) is None  # not listed: read without a map
+    with pytest.raises(ValueError, match=r"has no map for c\.osi"):  # not listed: refused, as run refuses it
+        options.map_for(Path("c.osi"))
     assert FileOptions(map=tmp_path / "maps" / "town.xodr").map_for(Path("run.mcap")) is None  # its own map
     (tmp_path / "maps.json").write_text('[["a.osi", "maps/gone.xodr"]]')
     with pytest.raises(ValueError, match=r"names maps that do not exist: .*gone\.xodr"):
@@ -483,3 +484,9 @@ def test_batch_result_and_summary_are_written_atomically(tmp_path, monkeypatch) 
         run_batch([a], out, ego=0, workers=1, progress=False)
     assert summary.read_bytes() == old_summary
     assert sorted(p.name for p in out.iterdir()) == sorted([result.name, objects.name, SUMMARY])
+
+
+def test_batch_does_not_grow_a_tree_of_folders(tmp_path) -> None:
+    # a mistyped output path: its parent does not exist, nothing is created; the folder itself may be new
+    assert_cli_error(batch_cli(MCAP, "-o", tmp_path / "typo" / "out"), f"the folder {tmp_path / 'typo'} does not exist")
+    assert not (tmp_path / "typo").exists()

@@ -343,3 +343,57 @@ def test_cli_bad_choices_are_one_line(args: list[str], fragments: list[str]) -> 
     result = cli(MCAP, "--no-progress", *args)
     assert_error(result, *fragments)
     assert "polars" not in result.stderr  # a shell user cannot give an expression
+
+
+@pytest.mark.parametrize(
+    ("content", "name", "fragments"),
+    [
+        (b"", "empty.mcap", ["the file is empty"]),
+        (b"", "empty.osi", ["the file is empty"]),
+        (b"hello", "notes.txt", ["omega-prime reads MCAP files (.mcap), OSI traces (.osi)", "not '.txt' files"]),
+        (b"some text", "text.mcap", ["it is not an MCAP file"]),
+        (b"x", "noext", ["not files without an extension"]),
+    ],
+)
+def test_cli_unreadable_recordings_say_why(tmp_path, content: bytes, name: str, fragments: list[str]) -> None:
+    (tmp_path / name).write_bytes(content)
+    out = cli(tmp_path / name, "--ego", "0", "--no-progress")
+    assert_error(out, str(tmp_path / name), *fragments)
+    assert "Error:" not in out.stderr and "NotImplementedError" not in out.stderr
+    (tmp_path / "folder.mcap").mkdir()
+    assert_error(cli(tmp_path / "folder.mcap", "--no-progress"), "is a folder, not a recording file")
+
+
+@pytest.mark.parametrize(
+    ("args", "fragments"),
+    [
+        (["--workers", "0"], ["--workers takes a number of processes, at least 1, not 0"]),
+        (["--workers", "-2"], ["--workers takes a number of processes, at least 1, not -2"]),
+        (["--rows", "-5"], ["--rows takes a number of rows to print, 0 or more, not -5"]),
+        (["--map-occluders"], ["--map-occluders needs a recording that carries an OpenDRIVE map", "--map FILE.xodr"]),
+    ],
+)
+def test_cli_bad_numbers_and_map_occluders_are_one_line(args: list[str], fragments: list[str]) -> None:
+    assert_error(cli(MCAP, "--ego", "0", "--no-progress", *args), *fragments)
+
+
+def test_cli_bad_map_lists_say_what_is_expected(tmp_path, shared_data) -> None:
+    for text in ('{"a": 1}', '[["a.osi"]]', "nope"):
+        (tmp_path / "maps.json").write_text(text)
+        out = cli(shared_data / "acc-test.osi", "--map", tmp_path / "maps.json", "--no-progress")
+        assert_error(out, "cannot read the map list", "expected a JSON list of [trace, map] pairs")
+
+
+def test_compile_refuses_jobs_below_one() -> None:
+    for jobs in ("0", "-3"):
+        assert_error(
+            cli_command("compile", "--jobs", jobs), f"--jobs takes a number of processes, at least 1, not {jobs}"
+        )
+
+
+def test_engines_lists_the_defaults() -> None:
+    out = cli_command("engines")
+    assert out.returncode == 0, out.stderr
+    lines = out.stdout.splitlines()
+    assert "visilibity (--mode 2d, the default)" in lines and "silhouette3d (--mode 3d, the default)" in lines
+    assert "raycast3d (--mode 3d, the default with static meshes)" in lines and lines[-1].startswith("area")

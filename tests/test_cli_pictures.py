@@ -44,6 +44,9 @@ def test_report_writes_one_html_file(tmp_path) -> None:
         (("animate", MCAP, "--frames", "30-40", "-o", "x.gif"), ("--frames", "'30-40'")),
         (("animate", MCAP, "--ego", "0,1", "-o", "x.gif"), ("one idx",)),
         (("animate", MCAP, "--engine", "nope", "-o", "x.gif"), ("unknown engine 'nope'",)),
+        (("report", MCAP, "--view-range", "-1", "-o", "x.html"), ("view_range must be a positive number", "-1.0")),
+        (("report", MCAP, "--view-range", "nan", "-o", "x.html"), ("view_range must be a positive number", "nan")),
+        (("animate", MCAP, "--view-range", "-1", "-o", "x.gif"), ("view_range must be a positive number",)),
     ],
 )
 def test_bad_arguments_fail_before_computing(tmp_path, args, fragments) -> None:
@@ -113,3 +116,11 @@ def test_animate_bad_target_mode_or_static_is_one_line(tmp_path, args, fragments
     out = cli("animate", MCAP, "--frames", "30:32", *args, "-o", tmp_path / "x.gif")
     assert_error(out, *fragments)
     assert files_under(tmp_path) == set()
+
+
+def test_a_view_range_of_a_thousand_kilometres_is_drawn(tmp_path) -> None:
+    # VisiLibity cannot draw a region in a box of thousands of km: the sweep's outline takes over
+    out = cli("report", MCAP, "--ego", "0", "--frames", "0:2", "--view-range", "1e6", "--no-progress",
+              "-o", tmp_path / "r.html")  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    assert files_under(tmp_path) == {Path("r.html")}

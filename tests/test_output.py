@@ -49,7 +49,7 @@ def engine_calls(monkeypatch) -> list[int]:
         ("missing/vis.parquet", "missing does not exist"),
         ("notes.txt/vis.parquet", "notes.txt is not a folder"),
         ("taken.parquet", "it is a directory (and not a parquet dataset written here)"),
-        ("vis.csv", "must end in .parquet; output= streams parquet: to write CSV, call write_csv"),
+        ("vis.csv", "must end in .parquet; output= streams parquet: to write CSV, call omega_prime_visibility.write_"),
         ("vis.txt", "must end in .parquet"),
         ("vis", "must end in .parquet"),
     ],
@@ -257,3 +257,23 @@ def test_atomic_write_keeps_the_previous_file_until_the_new_one_is_complete(tmp_
         temp.write_bytes(b"new")
         assert target.read_bytes() == b"old"
     assert [p.name for p in tmp_path.iterdir()] == ["t.csv"] and target.read_bytes() == b"new"
+
+
+def test_write_csv_as_the_advice_says(tmp_path) -> None:
+    # the advice given when output= ends in .csv works: one file, the occluder lists as idx joined by spaces, the
+    # numbers as in the table; a table with static occluders and statuses too
+    import shapely
+
+    from omega_prime_visibility import write_csv
+
+    boxes = [(0, 0, 1, 1, 0), (10, 0, 2, 2, 0), (20, 0.5, 2, 2, 0), (30, 0, 2, 2, 0)]
+    table = get_visibility_df(boxes_table(boxes), 0, [shapely.box(25, -3, 26, -0.5)])
+    assert write_csv(table, tmp_path / "vis.csv") == tmp_path / "vis.csv"
+    assert [p.name for p in tmp_path.iterdir()] == ["vis.csv"]
+    back = pl.read_csv(tmp_path / "vis.csv")
+    assert back["visibility"].to_list() == table["visibility"].to_list()
+    joined = [" ".join(map(str, row)) for row in table["occluder_idxs"].to_list()]
+    assert back["occluder_idxs"].fill_null("").cast(pl.String).to_list() == joined
+    assert any(" " in j for j in joined) and any(table["static_occluder_idxs"].list.len() > 0)
+    with pytest.raises(ValueError, match=r"must end in \.csv"):
+        write_csv(table, tmp_path / "vis.parquet")

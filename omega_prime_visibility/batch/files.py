@@ -104,18 +104,22 @@ def _walk(folder: Path) -> list[tuple[Path, Path]]:
 
 
 def prepare_output_dir(output_dir: str | os.PathLike) -> Path:
-    """``output_dir`` as a Path, created if missing, after checking that files can be written in it.
+    """``output_dir`` as a Path, created if missing (its parent must exist: a mistyped path does not grow a new
+    tree of folders), after checking that files can be written in it.
 
     Raises
     ------
     ValueError
-        If it is a file, cannot be created, or is not writable.
+        If it is a file, its parent folder does not exist, it cannot be created, or it is not writable.
     """
     output_dir = Path(output_dir)
     if output_dir.exists() and not output_dir.is_dir():
         raise ValueError(f"the output folder {output_dir} is a file")
+    parent = output_dir.absolute().parent
+    if not output_dir.exists() and not parent.is_dir():
+        raise ValueError(f"cannot write results to {output_dir}: the folder {parent} does not exist")
     try:
-        output_dir.mkdir(parents=True, exist_ok=True)
+        output_dir.mkdir(exist_ok=True)
         probe = output_dir / f".write-probe.{os.getpid()}.tmp"
         probe.touch()
         probe.unlink()

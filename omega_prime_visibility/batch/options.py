@@ -129,11 +129,18 @@ class FileOptions:
             raise ValueError(str(e)) from None
 
     def map_for(self, recording: Path) -> str | None:
-        """The map to read ``recording`` with: None for MCAP files (their map is inside) and unlisted traces."""
+        """The map to read ``recording`` with: None for MCAP files (their map is inside); ``ValueError`` for a trace
+        a map list does not name (as ``run --map LIST.json`` refuses it: a forgotten line would silently lose the
+        map's road objects)."""
         if self.map is None or recording.suffix == ".mcap":
             return None
         if Path(self.map).suffix == ".json":
-            return _map_table(self.map, Path(self.map).stat().st_mtime_ns).get(recording.name)
+            table = _map_table(self.map, Path(self.map).stat().st_mtime_ns)
+            if recording.name not in table:
+                raise ValueError(
+                    f"the map list {self.map} has no map for {recording.name} (it lists {', '.join(sorted(table))})"
+                )
+            return table[recording.name]
         return self.map
 
 
@@ -180,12 +187,20 @@ def _sha256(path: str) -> str:
 def _map_table(path: str, mtime_ns: int) -> dict[str, str]:
     """``{trace file name: absolute map path}`` from a JSON list of pairs or object (paths relative to the JSON);
     cached per file version."""
+    expected = f"cannot read the map list {path}: expected a JSON list of [trace, map] pairs of file names"
     try:
         pairs = json.loads(Path(path).read_text(encoding="utf-8"))
-        pairs = pairs.items() if isinstance(pairs, dict) else pairs
-        table = {str(trace): str((Path(path).parent / m).resolve()) for trace, m in pairs}
-    except (OSError, ValueError, TypeError) as e:
-        raise ValueError(f"cannot read the map list {path}: expected a JSON list of [trace, map] pairs ({e})") from None
+    except OSError as e:
+        raise ValueError(f"cannot read the map list {path} ({e.strerror or e})") from None
+    except ValueError as e:
+        raise ValueError(f"{expected} (not JSON: {e})") from None
+    pairs = list(pairs.items()) if isinstance(pairs, dict) else pairs
+    if not isinstance(pairs, list) or not all(
+        isinstance(pair, list | tuple) and len(pair) == 2 and all(isinstance(v, str) and v for v in pair)
+        for pair in pairs
+    ):
+        raise ValueError(f'{expected}, such as [["trace.osi", "map.xodr"]]; it holds {json.dumps(pairs)[:80]}')
+    table = {trace: str((Path(path).parent / m).resolve()) for trace, m in pairs}
     missing = sorted({m for m in table.values() if not Path(m).is_file()})
     if missing:
         raise ValueError(f"the map list {path} names maps that do not exist: {', '.join(missing[:5])}")

@@ -19,11 +19,16 @@ __all__ = ["HELP", "app", "fail", "main", "print_summary"]
 
 @app.command(short_help="list the available engines")
 def engines() -> None:
-    """List the available engines."""
+    """List the available engines, each mode's default marked, and the area measure's own."""
+    from ..threed.mode import DEFAULT_ENGINES, MESH_ENGINE
+
     for name in sorted(ENGINES):
-        typer.echo(name)
+        typer.echo(f"{name} (--mode 2d{', the default' if name == DEFAULT_ENGINES['2d'] else ''})")
     for name in sorted(ENGINES_3D):
-        typer.echo(f"{name} (--mode 3d)")
+        default = ", the default" if name == DEFAULT_ENGINES["3d"] else ""
+        meshes = ", the default with static meshes" if name == MESH_ENGINE else ""
+        typer.echo(f"{name} (--mode 3d{default}{meshes})")
+    typer.echo("area (--measure area: its own exact engine, chosen by itself)")
 
 
 def main() -> None:

@@ -115,7 +115,12 @@ def print_summary(summary: pl.DataFrame, path: Path) -> None:
         typer.echo(shown)
     for recording, error in summary.filter(pl.col("status") == "failed").select("recording", "error").iter_rows():
         # each failed path named once: most messages name their file already
-        error = shell_words(str(error))
-        typer.echo(f"failed: {error}" if str(recording) in error else f"failed: {recording}: {error}")
+        error, name = shell_words(str(error)), Path(recording).name
+        if str(recording) in error:
+            typer.echo(f"failed: {error}")
+        elif error.startswith(f"{name} "):  # a message that names the file by its name alone: the whole path
+            typer.echo(f"failed: {recording}{error[len(name) :]}")
+        else:
+            typer.echo(f"failed: {recording}: {error}")
     counts = ", ".join(f"{n} {status}" for status, n in summary["status"].value_counts(sort=True).iter_rows())
     typer.echo(f"{summary.height} recordings: {counts}; {summary['seconds'].sum():.1f} s of work; summary in {path}")

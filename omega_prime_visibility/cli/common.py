@@ -72,6 +72,10 @@ def shell_words(message: str) -> str:
     message = re.sub(r"\bmode='(2d|3d)'", r"--mode \1", message)
     message = re.sub(r"\bmeasure='(angle|area)'", r"--measure \1", message)
     message = message.replace("leave engine unset", "leave --engine unset")
+    message = message.replace(
+        "map_occluders=True needs a recording that carries an OpenDRIVE map; pass the .xodr path",
+        "--map-occluders needs a recording that carries an OpenDRIVE map; give one with --map FILE.xodr",
+    )
     message = message.replace(", a list of idx, or a polars expression", ", or idx, comma-separated")
     return re.sub(r"^(occluders|targets)\b", r"--\1", message)
 
@@ -131,7 +135,12 @@ Engine = Annotated[
     ),
 ]
 Mode = Annotated[
-    str, typer.Option(metavar="2d|3d", help="2d (bird's-eye view, exact) or 3d (boxes with heights, ray cast)")
+    str,
+    typer.Option(
+        metavar="2d|3d",
+        help="2d (bird's-eye view) or 3d (boxes with heights, solid angles from the eye); both exact, 3d sampled"
+        " only with static meshes",
+    ),
 ]
 MapOccluders = Annotated[
     bool, typer.Option("--map-occluders", help="road objects of the map (--map, or the recording's) as occluders")
@@ -166,7 +175,10 @@ Measure = Annotated[
     ),
 ]
 Recording = Annotated[
-    Path, typer.Argument(metavar="RECORDING", help="omega-prime MCAP file, or an OSI trace (.osi) with --map")
+    Path,
+    typer.Argument(
+        metavar="RECORDING", help="omega-prime MCAP file, or an OSI trace (.osi; its OpenDRIVE map with --map)"
+    ),
 ]
 Progress = Annotated[bool, typer.Option(help="show a progress bar")]
 

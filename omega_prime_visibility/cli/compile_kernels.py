@@ -109,9 +109,9 @@ def compile_kernels(
         ),
     ] = None,
     jobs: Annotated[
-        int,
+        int | None,
         typer.Option(metavar="N", help="engines compiled at once (default: 2, or 1 on one core)", show_default=False),
-    ] = 0,
+    ] = None,
 ) -> None:
     """Compile the engines' kernels into the cache now, so that the first real call starts at once.
 
@@ -122,6 +122,8 @@ def compile_kernels(
     unknown = [n for n in names if n not in ENGINES and n not in ENGINES_3D and n != AREA]
     if unknown:
         raise fail(f"unknown engine {unknown[0]!r}; available: {sorted(ENGINES) + sorted(ENGINES_3D) + [AREA]}")
+    if jobs is not None and jobs < 1:
+        raise fail(f"--jobs takes a number of processes, at least 1, not {jobs}")
     jobs = jobs or min(2, len(os.sched_getaffinity(0)))
     typer.echo(
         f"compiling the kernels of {', '.join(names)}, {jobs} at a time (once per version of the package;"

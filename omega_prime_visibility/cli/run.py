@@ -58,7 +58,7 @@ def run(
     from ..analysis.summary import target_summary
     from ..api import get_visibility_df
     from ..inputs.observers import describe_idx
-    from ..table.output import atomic_write, check_output_path
+    from ..table.output import check_output_path, write_csv
 
     # every check that needs no computing comes first, so a typo never costs a long run
     from ..threed.mode import check_mode, resolve_measure
@@ -68,6 +68,10 @@ def run(
         resolve_measure(measure, engine, mode)
     except ValueError as e:
         raise fail(str(e)) from None
+    if workers is not None and workers < 1:
+        raise fail(f"--workers takes a number of processes, at least 1, not {workers}")
+    if rows < 0:
+        raise fail(f"--rows takes a number of rows to print, 0 or more, not {rows}")
     if output is not None:
         try:
             output = check_output_path(output, (".parquet", ".csv"))
@@ -101,12 +105,7 @@ def run(
             **choices,
         )
         if output is not None and stream is None:
-            with atomic_write(output) as temp:
-                table.with_columns(
-                    pl.col("occluder_idxs", "static_occluder_idxs")
-                    .list.eval(pl.element().cast(pl.String))
-                    .list.join(" ")
-                ).write_csv(temp)
+            write_csv(table, output)
     except ValueError as e:
         raise fail(str(e)) from None
     except OSError as e:  # the disk filled up or the folder vanished while computing

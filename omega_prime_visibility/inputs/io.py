@@ -27,6 +27,7 @@ def read_recording(path: str | os.PathLike, map_path: str | os.PathLike | None =
     path = Path(path)
     if not path.exists():
         raise RecordingReadError(f"{path} does not exist")
+    _check_recording_file(path)
     kwargs = {}
     if map_path is not None:
         map_path = Path(map_path)
@@ -58,6 +59,32 @@ def read_recording(path: str | os.PathLike, map_path: str | os.PathLike | None =
 
 
 MCAP_MAGIC = b"\x89MCAP0\r\n"
+
+RECORDING_SUFFIXES = (".mcap", ".osi", ".parquet")
+"""What omega-prime reads: MCAP files, OSI traces and its own parquet files (the readers go by the suffix)."""
+
+
+def _check_recording_file(path: Path) -> None:
+    """Refuse, naming the cause, what no reader can take: a folder, another kind of file, an empty file, an
+    ``.mcap`` file that is no MCAP file (omega-prime's readers would answer with an empty or a raw message)."""
+    if path.is_dir():
+        raise RecordingReadError(f"{path} is a folder, not a recording file")
+    if path.suffix not in RECORDING_SUFFIXES:
+        kind = f"{path.suffix!r} files" if path.suffix else "files without an extension"
+        raise RecordingReadError(
+            f"cannot read {path}: omega-prime reads MCAP files (.mcap), OSI traces (.osi) and its own .parquet "
+            f"files, not {kind}"
+        )
+    try:
+        size = path.stat().st_size
+        with open(path, "rb") as f:
+            head = f.read(len(MCAP_MAGIC))
+    except OSError as e:
+        raise RecordingReadError(f"cannot read {path} ({e.strerror or e})") from None
+    if size == 0:
+        raise RecordingReadError(f"cannot read {path}: the file is empty")
+    if path.suffix == ".mcap" and head != MCAP_MAGIC:
+        raise RecordingReadError(f"cannot read {path}: it is not an MCAP file (not the bytes MCAP files start with)")
 
 
 def _truncated_mcap(path: Path) -> bool:

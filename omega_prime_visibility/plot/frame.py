@@ -9,6 +9,7 @@ the fact. What part of the scene is shown follows :mod:`.window`'s rule.
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Sequence
 from typing import Any
 
@@ -209,6 +210,8 @@ def picture_viewer(
     (where views cannot compute their numbers themselves) the table of the frames at ``positions`` computed first."""
     from ..threed.mode import check_mode, resolve_engine
 
+    if view_range is not None and not (isinstance(view_range, numbers.Real) and 0 < view_range < math.inf):
+        raise ValueError(f"view_range must be a positive number of metres, not {view_range!r}")
     mode = check_mode(mode)
     engine = resolve_engine(engine, mode)
     own = sensor_list(sensors, source, ego_idx)

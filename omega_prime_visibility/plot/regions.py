@@ -6,12 +6,15 @@ No plotting library is imported here. Metres, radians counter-clockwise from +x.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Sequence
 
 import numpy as np
 import shapely
 
+from ..engines import EngineFailure, Viewpoint
+from ..engines.sweep import SweepEngine
 from ..engines.visilibity import VisiLibityEngine
 from ..inputs.objects import FrameObjects
 from ..inputs.sensors import Sensor
@@ -37,6 +40,23 @@ def field_polygon(position, heading: float, fov: float, reach: float) -> shapely
     return shapely.Polygon(np.vstack([position, arc]))
 
 
+def _visible_region(engine: VisiLibityEngine, objects: FrameObjects, view: Viewpoint) -> shapely.Geometry:
+    """VisiLibity's visible region of ``view`` (all around), or, in a frame it cannot compute (a box of thousands
+    of kilometres drowns its tolerances), the sweep's outline out to the same box."""
+    try:
+        return engine.visible_region(objects, view)
+    except EngineFailure:
+        all_around = dataclasses.replace(view, fov=2 * math.pi, range=math.inf)
+        corners = np.concatenate([objects.rings.coords, *[g.reshape(-1, 2) for g in _static_points(engine.statics)]])
+        reach = float(np.hypot(*(corners - view.position).T).max()) + engine.box_margin
+        outline = SweepEngine(engine.statics).visible_outline(objects, all_around, reach, math.radians(1.0))
+        return shapely.Polygon(outline) if len(outline) >= 3 else shapely.Polygon()
+
+
+def _static_points(statics: StaticOccluders) -> list[np.ndarray]:
+    return [statics.rings.coords, statics.segments.reshape(-1, 2)]
+
+
 def seen_region(
     engine: VisiLibityEngine,
     objects: FrameObjects,
@@ -49,10 +69,10 @@ def seen_region(
     inside its field of view and range. Bounded by the engine's box around the scene."""
     if not sensors:
         (view,) = viewpoints(objects, np.array([row]), statics)
-        return engine.visible_region(objects, view)
+        return _visible_region(engine, objects, view)
     parts = []
     for s, view in zip(sensors, viewpoints(objects, np.array([row]), statics, tuple(sensors)), strict=True):
-        region = engine.visible_region(objects, view)
+        region = _visible_region(engine, objects, view)
         if s.fov >= FULL_TURN and math.isinf(s.range):
             parts.append(region)
             continue

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import polars as pl
 import pyarrow as pa
 import pyarrow.parquet as pq
 
@@ -39,7 +40,7 @@ def check_output_path(path: str | os.PathLike, suffixes: Sequence[str] = (".parq
     if path.suffix not in suffixes:
         hint = ""
         if path.suffix == ".csv":
-            hint = "; output= streams parquet: to write CSV, call write_csv on the returned table"
+            hint = "; output= streams parquet: to write CSV, call omega_prime_visibility.write_csv(table, path)"
         raise ValueError(f"cannot write {path}: the name must end in {' or '.join(suffixes)}{hint}")
     folder = path.parent
     if not folder.exists():
@@ -79,6 +80,35 @@ def atomic_write(path: str | os.PathLike) -> Iterator[Path]:
     except BaseException:
         temp.unlink(missing_ok=True)
         raise
+
+
+def write_csv(table: pl.DataFrame | pl.LazyFrame, path: str | os.PathLike) -> Path:
+    """Write a visibility table as one CSV file, under a temporary name renamed when complete; the list columns
+    (``occluder_idxs``, ``static_occluder_idxs``) become their idx joined by spaces (``"1 4"``), as CSV has no lists.
+
+    Raises
+    ------
+    ValueError
+        If ``path`` does not end in ``.csv`` or cannot be written (see :func:`check_output_path`).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> table = pl.DataFrame({"idx": [2, 3], "occluder_idxs": [[1, 4], []], "visibility": [0.5, 1.0]})
+    >>> path = write_csv(table, Path(tempfile.mkdtemp()) / "vis.csv")
+    >>> print(path.read_text().strip())
+    idx,occluder_idxs,visibility
+    2,1 4,0.5
+    3,"",1.0
+    """
+    path = check_output_path(path, (".csv",))
+    frame = table.collect() if isinstance(table, pl.LazyFrame) else table
+    lists = [name for name, dtype in frame.schema.items() if isinstance(dtype, pl.List)]
+    if lists:
+        frame = frame.with_columns(pl.col(lists).list.eval(pl.element().cast(pl.String)).list.join(" "))
+    with atomic_write(path) as temp:
+        frame.write_csv(temp)
+    return path
 
 
 def is_dataset(path: str | os.PathLike) -> bool:
