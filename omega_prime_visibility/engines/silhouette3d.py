@@ -1,9 +1,9 @@
 """The exact 3D engine for scenes of boxes and upright prisms: silhouettes in a central projection, measured as
 solid angle.
 
-Two disjoint convex bodies are met in the same order along every direction from an eye point that sees both (a
-plane separates them), so the directions along which a box target is the first thing hit are its silhouette
-minus the silhouettes of the bodies in front of it. The bodies are the objects' boxes and the static occluders
+The directions along which a box target is the first thing hit are its silhouette minus, for every other body,
+the directions along which that body is entered first: its whole silhouette when it lies wholly nearer, else a
+union of half-planes of it (:mod:`..threed.order`). The bodies are the objects' boxes and the static occluders
 raised to their heights, cut into convex prisms (:mod:`..threed.bodies`); directions over the full sphere are
 drawn on the six faces of a cube around the eye (:mod:`..threed.cube`), subtracted with shapely and measured
 exactly.
@@ -14,7 +14,9 @@ What is exact and what is not:
   point, so ``can_see`` and the occluder lists are exact: a strip or a slot of any width is found;
 - the vertical field of view's limits (cones) and the range (a sphere, where it cuts a box) are drawn as polygons
   of :data:`~..threed.cube.CURVE_POINTS` vertices (error below 1e-6 of the area near the curve);
-- overlapping bodies are ordered by one direction of their common silhouette (exact only for disjoint bodies).
+- bodies that overlap (a double detection, a railing through a car) are ordered direction by direction: where
+  their depths overlap, the directions along which one is entered first are half-planes on each face
+  (:mod:`..threed.order`), so they too are exact.
 
 An occluder of a target is a body in front of it along some direction of the target's silhouette that is in
 view and within range. Meshes (``static_meshes``) are not convex bodies: scenes with them need the ray engine
@@ -37,14 +39,18 @@ from ..threed.bodies import (
     bodies_from_boxes,
     concatenate,
     containing_origin,
-    entries,
     prisms_from_footprints,
 )
 from ..threed.boxes import nearest_distance
-from ..threed.cube import MIN_SOLID_ANGLE, face_direction, silhouettes, solid_angles, view_regions, within_range
+from ..threed.cube import MIN_SOLID_ANGLE, silhouettes, solid_angles, view_regions, within_range
+from ..threed.order import entered_before, nearest, nearest_bound
 from ..threed.statics import BASE, DEFAULT_HEIGHT
 from . import Observation, Viewpoint, group_pairs
 from .observe3d import eye_and_view, observation, own_body
+
+RESIDUE = 1e-9
+"""A visible share below this is rounding left by subtracting silhouettes with common edges (a target wholly
+behind a body whose outline shares its edge, on a seam between cube faces), not a gap: it counts as 0."""
 
 WHOLE_VIEW = (0.0, math.pi, -math.pi / 2, math.pi / 2)
 """``(heading, half horizontal fov, lowest, highest elevation)`` of an eye that looks all around."""
@@ -109,8 +115,8 @@ def convex_visibility(
     far = np.linalg.norm(bodies.vertices, axis=1)
     farthest = np.zeros(len(bodies))
     np.maximum.at(farthest, bodies.vertex_body, far)
-    near = _nearest(bodies, measured) if near is None else np.asarray(near, dtype=np.float64)
-    lower = _nearest_bound(bodies)
+    near = nearest(bodies, measured) if near is None else np.asarray(near, dtype=np.float64)
+    lower = nearest_bound(bodies)
     lower[measured] = near
     beyond = near > max_range
     cut = ~beyond & (farthest[measured] > max_range)
@@ -145,10 +151,10 @@ def convex_visibility(
         other = bj != measured[seen_t[ti]]
         ti, bj = ti[other], bj[other]
         if len(ti):
-            ti, bj = _blockers(bodies, measured[seen_t], shapes, sil, ti, bj, f, lower, farthest)
+            ti, bj, front = _blockers(bodies, measured[seen_t], shapes, sil, ti, bj, f, lower, farthest)
             overlap = np.full(len(ti), None, dtype=object)
             clip = ~shapely.is_missing(windows[ti])
-            overlap[clip] = shapely.intersection(shapes[ti[clip]], sil[bj[clip]])
+            overlap[clip] = shapely.intersection(shapes[ti[clip]], front[clip])
             listed = ~clip
             listed[clip] = solid_angles(_clipped(overlap[clip], windows[ti[clip]])) > MIN_SOLID_ANGLE
             pair_target.append(seen_t[ti[listed]])
@@ -156,10 +162,10 @@ def convex_visibility(
         pieces = shapes.copy()
         if len(ti):
             order = np.argsort(ti, kind="stable")
-            ti, bj = ti[order], bj[order]
+            ti, front = ti[order], front[order]
             starts = np.flatnonzero(np.r_[True, ti[1:] != ti[:-1]])
-            groups = np.split(bj, starts[1:])
-            blockers = np.array([shapely.union_all(sil[g]) for g in groups], dtype=object)
+            groups = np.split(front, starts[1:])
+            blockers = np.array([shapely.union_all(g) for g in groups], dtype=object)
             hit = ti[starts]
             pieces[hit] = shapely.difference(shapes[hit], blockers)
         seen_parts = _clipped(pieces, windows)
@@ -168,78 +174,29 @@ def convex_visibility(
             for k in np.flatnonzero(~shapely.is_empty(seen_parts)):
                 parts.append((int(seen_t[k]), f, seen_parts[k]))
     visible = np.minimum(visible, in_view)
+    visible[visible <= RESIDUE * extent] = 0.0  # what the differences of equal edges leave: rounding, not a gap
     pt = np.concatenate(pair_target) if pair_target else np.zeros(0, np.int64)
     pb = np.concatenate(pair_body) if pair_body else np.zeros(0, np.int64)
     return visible, extent, in_view, in_fov, pt.astype(np.int64), pb.astype(np.int64)
 
 
 def _blockers(bodies, targets, shapes, sil, ti, bj, f, lower, farthest):
-    """Of the pairs (``shapes[ti]``, body ``bj``) whose silhouettes intersect, those whose interiors meet and
-    whose body ``bj`` is in front of the target ``targets[ti]``: wholly nearer (its farthest point before the
-    target's nearest), else along one direction of their common silhouette."""
+    """Of the pairs (``shapes[ti]``, body ``bj``) whose silhouettes intersect, those whose interiors meet and where
+    body ``bj`` is in front of the target ``targets[ti]`` along some direction, with the directions where it is (on
+    face ``f``): its whole silhouette where it lies wholly nearer (its farthest point before the target's nearest),
+    else the region of :func:`..threed.order.entered_before` (exact also for bodies that overlap)."""
     meet = shapely.relate_pattern(shapes[ti], sil[bj], "T********")
     ti, bj = ti[meet], bj[meet]
     target = targets[ti]
-    front = farthest[bj] < lower[target]
-    unsure = ~front & ~(farthest[target] < lower[bj])
-    if unsure.any():
-        at = np.flatnonzero(unsure)
-        overlap = shapely.intersection(shapes[ti[at]], sil[bj[at]])
-        big = solid_angles(overlap) > MIN_SOLID_ANGLE
-        front[at[big]] = _in_front(bodies, target[at[big]], bj[at[big]], overlap[big], f)
-    return ti[front], bj[front]
-
-
-def _nearest_bound(bodies: ConvexBodies) -> np.ndarray:
-    """A lower bound (metres) of the distance from the origin to each body: its farthest face plane that the
-    origin lies outside of (exact where the nearest point lies inside that face)."""
-    return np.maximum(-bodies.offsets, 0.0).max(axis=1, initial=0.0)
-
-
-def _nearest(bodies: ConvexBodies, which: np.ndarray) -> np.ndarray:
-    """Distance (metres) from the origin to the nearest point of each body ``which`` (convex polytopes: the
-    nearest point lies on a face, an edge or at a vertex)."""
-    out = np.full(len(which), np.inf)
-    for k, b in enumerate(which):
-        ids = np.flatnonzero(bodies.vertex_body == b)
-        points = bodies.vertices[ids]
-        best = float(np.linalg.norm(points, axis=1).min())
-        edges = bodies.edges[bodies.edge_body == b]
-        if len(edges):
-            a, c = bodies.vertices[edges[:, 0]], bodies.vertices[edges[:, 1]]
-            d = c - a
-            t = np.clip(-(a * d).sum(1) / np.maximum((d * d).sum(1), 1e-300), 0.0, 1.0)
-            best = min(best, float(np.linalg.norm(a + t[:, None] * d, axis=1).min()))
-        for p in range(bodies.normals.shape[1]):
-            c = bodies.offsets[b, p]
-            normal = bodies.normals[b, p]
-            if c >= 0 or not normal.any():
-                continue
-            foot = c * normal  # the plane's nearest point: on the face if inside every other plane
-            if (bodies.normals[b] @ foot <= bodies.offsets[b] + 1e-9).all():
-                best = min(best, -c)
-        out[k] = best
-    return out
-
-
-def _in_front(bodies: ConvexBodies, target: np.ndarray, blocker: np.ndarray, overlap: np.ndarray, f: int):
-    """Whether each ``blocker`` is entered before its ``target`` along a direction of their common silhouette
-    (its centroid on face ``f``; the two bodies' nearest vertices where a sliver's centroid misses either)."""
-    uv = shapely.get_coordinates(shapely.centroid(overlap))
-    d = face_direction(f, uv)
-    t_target = entries(bodies, target, d)
-    t_blocker = entries(bodies, blocker, d)
-    bad = ~(np.isfinite(t_target) & np.isfinite(t_blocker))
-    if bad.any():
-        uv2 = shapely.get_coordinates(shapely.point_on_surface(overlap[bad]))
-        d2 = face_direction(f, uv2)
-        t_target[bad] = entries(bodies, target[bad], d2)
-        t_blocker[bad] = entries(bodies, blocker[bad], d2)
-        still = bad & ~(np.isfinite(t_target) & np.isfinite(t_blocker))
-        for k in np.flatnonzero(still):
-            t_target[k] = np.linalg.norm(bodies.vertices[bodies.vertex_body == target[k]], axis=1).min()
-            t_blocker[k] = np.linalg.norm(bodies.vertices[bodies.vertex_body == blocker[k]], axis=1).min()
-    return t_blocker < t_target
+    ahead = farthest[bj] < lower[target]
+    unsure = ~ahead & ~(farthest[target] < lower[bj])
+    front = np.full(len(ti), None, dtype=object)
+    front[ahead] = sil[bj[ahead]]
+    for k in np.flatnonzero(unsure):
+        front[k] = shapely.intersection(sil[bj[k]], entered_before(bodies, int(bj[k]), int(target[k]), f))
+    keep = ahead.copy()
+    keep[unsure] = solid_angles(shapely.intersection(shapes[ti[unsure]], front[unsure])) > MIN_SOLID_ANGLE
+    return ti[keep], bj[keep], front[keep]
 
 
 def box_visibility(
