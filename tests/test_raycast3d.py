@@ -340,3 +340,34 @@ def test_scenic_s_altitude_case_a_notch_at_the_top_of_a_wall() -> None:
         obs = observe(engine, boxes, statics=with_wall)
         assert obs.visible_angle[1] > 0, engine.setting
         assert obs.static_occluders.tolist() == [0]
+
+
+@pytest.mark.parametrize("engine", ["raycast3d", "raycast3d-fast", "raycast3d-high"])
+def test_a_mesh_found_only_by_the_probes_is_listed(engine: str) -> None:
+    # a pedestrian 26 m away, 6 % of it behind the corner of a 2 m wall given as a mesh (from z = -1): the first,
+    # coarse rays miss the corner, the probes find it; the wall is then its static occluder, as the exact engine
+    # lists the same wall given as a footprint
+    import polars as pl
+    import trimesh
+
+    from omega_prime_visibility import get_visibility_df
+
+    wall = shapely.Polygon([(-7.0133, -11.1682), (-8.2242, -10.7435), (-11.3816, -19.7462), (-10.1707, -20.1709)])
+    corners = np.asarray(wall.exterior.coords)[:4]
+    along, across = corners[2] - corners[1], corners[1] - corners[0]
+    placed = trimesh.transformations.rotation_matrix(math.atan2(along[1], along[0]), [0, 0, 1])
+    placed[:3, 3] = [*corners.mean(axis=0), 0.5]
+    extents = [float(np.linalg.norm(along)), float(np.linalg.norm(across)), 3.0]
+    mesh = trimesh.creation.box(extents=extents, transform=placed)
+    boxes = np.array(
+        [[0.0, 0.0, 0.75, 4.5, 1.8, 1.5, 0, 0, 1.164], [-15.998, -20.397, 0.9, 0.5, 0.5, 1.8, 0, 0, -0.014]]
+    )
+    columns = ["x", "y", "z", "length", "width", "height", "roll", "pitch", "yaw"]
+    table = pl.DataFrame(
+        {"frame": [0, 0], "total_nanos": [0, 0], "idx": [0, 1]} | dict(zip(columns, boxes.T, strict=True))
+    )
+    exact = get_visibility_df(table, 0, [wall], static_occluder_heights=[2.0], mode="3d", progress=False)
+    sampled = get_visibility_df(table, 0, static_meshes=[mesh], mode="3d", engine=engine, progress=False)
+    assert exact["static_occluder_idxs"].to_list() == [[0]] and 0.9 < exact["visibility"][0] < 0.95
+    assert sampled["static_occluder_idxs"].to_list() == [[0]]
+    assert sampled["visibility"][0] == pytest.approx(exact["visibility"][0], abs=0.03)

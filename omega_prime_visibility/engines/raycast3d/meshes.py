@@ -53,11 +53,15 @@ def with_exact_parts(engine: Any, objects: FrameObjects, view: Viewpoint, sample
     behind_mesh = _mesh_cones_overlap(engine, boxes, eye)
     behind_mesh[key[mesh]] = True
     differ = np.flatnonzero((behind_mesh | (share_rays < share_exact * (1 - 1e-9))) & (visible_c > 0) & ~skip)
+    probed_t, probed_mesh = np.zeros(0, np.int64), np.zeros(0, np.int64)
     if len(differ):
-        share[differ] = _probe(engine, boxes, eye, skip, view, differ, parts) / extent[differ]
+        seen, (probed_t, probed_mesh) = _probe(engine, boxes, eye, skip, view, differ, parts)
+        share[differ] = seen / extent[differ]
     offsets, occluders = group_pairs(bt, bb, n)
     st_offsets, st_occluders = group_pairs(
-        np.r_[st, key[mesh]].astype(np.int64), np.r_[ss, sampled.static_occluders[mesh]].astype(np.int64), n
+        np.r_[st, key[mesh], probed_t].astype(np.int64),
+        np.r_[ss, sampled.static_occluders[mesh], probed_mesh].astype(np.int64),
+        n,
     )
     return observation(view, share * extent, extent, offsets, occluders, st_offsets, st_occluders, skip, in_view,
                        in_fov)  # fmt: skip
@@ -92,13 +96,14 @@ def _mesh_cones_overlap(engine, boxes: np.ndarray, eye: np.ndarray) -> np.ndarra
     return overlap.any(axis=1)
 
 
-def _probe(engine, boxes, eye, skip, view, targets, parts) -> np.ndarray:
+def _probe(engine, boxes, eye, skip, view, targets, parts) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray]]:
     """Per target in ``targets``, the solid angle (steradians) of its exact visible pieces times the fraction of
-    each piece's probe rays that reach it first."""
+    each piece's probe rays that reach it first; and the pairs (target row, mesh number) of the meshes that probe
+    rays met first, which hide that target (its static occluders)."""
     wanted = {int(t): k for k, t in enumerate(targets)}
     mine = [(wanted[row], f, polygon) for row, f, polygon in parts if row in wanted]
     if not mine:
-        return np.zeros(len(targets))
+        return np.zeros(len(targets)), (np.zeros(0, np.int64), np.zeros(0, np.int64))
     directions, piece_of, points = [], [], []
     for k, (_, f, polygon) in enumerate(mine):
         u0, v0, u1, v1 = polygon.bounds
@@ -127,8 +132,12 @@ def _probe(engine, boxes, eye, skip, view, targets, parts) -> np.ndarray:
     tri_owner = np.r_[np.repeat(keep, 12), -1 - engine.static_source[keep_static]].astype(np.int64)
     prim, _ = FirstHit(triangles - eye).cast(np.zeros((len(dirs), 3)), dirs)
     first = np.where(prim >= 0, tri_owner[np.maximum(prim, 0)], -(10**9))
-    reached = first == np.asarray(targets)[owner[piece]]
+    target_of_ray = np.asarray(targets)[owner[piece]]
+    reached = first == target_of_ray
     uv = np.concatenate(points)
     weight = (1.0 + (uv * uv).sum(axis=1)) ** -1.5  # solid angle per unit area of the face at each point
     fraction = np.bincount(piece, weight * reached, len(mine)) / np.bincount(piece, weight, len(mine))
-    return np.bincount(owner, solid_angles(np.array([p for _, _, p in mine], dtype=object)) * fraction, len(targets))
+    seen = np.bincount(owner, solid_angles(np.array([p for _, _, p in mine], dtype=object)) * fraction, len(targets))
+    source = -1 - first  # the static source met first, where ``first`` is one
+    by_mesh = (first < 0) & (first > -(10**9)) & (source >= engine.n_footprints)
+    return seen, (target_of_ray[by_mesh].astype(np.int64), source[by_mesh].astype(np.int64))
