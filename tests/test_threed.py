@@ -344,3 +344,44 @@ def test_the_bundled_recording_has_real_heights_and_3d_uses_them() -> None:
     at30 = {row["idx"]: row for row in solid.filter(pl.col("frame") == 30).iter_rows(named=True)}
     assert (at30[2]["visibility"], at30[2]["can_see"], at30[2]["occluder_idxs"]) == (0.0, False, [1])
     assert at30[1]["visibility"] == 1.0 and at30[4]["visibility"] == 1.0
+
+
+def boxes3d_table(rows: list[list[float]]) -> pl.DataFrame:
+    """One frame of 3D boxes ``x, y, z, length, width, height, roll, pitch, yaw``; idx = position."""
+    columns = ["x", "y", "z", "length", "width", "height", "roll", "pitch", "yaw"]
+    arr = np.asarray(rows, dtype=float)
+    return pl.DataFrame(
+        {"frame": [0] * len(arr), "total_nanos": [0] * len(arr), "idx": list(range(len(arr)))}
+        | {c: arr[:, k] for k, c in enumerate(columns)}
+    )
+
+
+@pytest.mark.parametrize("engine", ["silhouette3d", "raycast3d"])
+def test_a_low_platform_under_the_eye_blocks_and_a_building_around_it_does_not(engine: str) -> None:
+    # a 1 m platform whose footprint covers the ego, the eye 1.25 m up above it: it hides the lower part of the car
+    # 20 m away exactly as the same platform beginning 3 m ahead does; a 10 m building around the eye is transparent
+    cars = boxes3d_table([[0, 0, 0.75, 4.5, 1.8, 1.5, 0, 0, 0], [20, 0, 0.75, 4.5, 1.8, 1.5, 0, 0, 0]])
+    under = get_visibility_df(cars, 0, [shapely.box(-5, -5, 12, 5)], static_occluder_heights=[1.0], mode="3d",
+                              engine=engine, progress=False)  # fmt: skip
+    ahead = get_visibility_df(cars, 0, [shapely.box(3, -5, 12, 5)], static_occluder_heights=[1.0], mode="3d",
+                              engine=engine, progress=False)  # fmt: skip
+    assert under["static_occluder_idxs"].to_list() == [[0]] and 0.3 < under["visibility"][0] < 0.5
+    assert under["visibility"][0] == pytest.approx(ahead["visibility"][0], abs=1e-12)
+    around = get_visibility_df(cars, 0, [shapely.box(-5, -5, 12, 5)], static_occluder_heights=[10.0], mode="3d",
+                               engine=engine, progress=False)  # fmt: skip
+    assert around.select("static_occluder_idxs", "visibility").rows() == [([], 1.0)]
+
+
+def test_a_box_over_the_eye_is_not_said_to_be_transparent() -> None:
+    # an overhead sign 5.5 to 6.5 m up over the ego blocks the box above it and draws no containment warning; a
+    # box that holds the eye still does
+    sign = boxes3d_table(
+        [[0, 0, 0.75, 4.5, 1.8, 1.5, 0, 0, 0], [0, 0, 6, 4, 4, 1, 0, 0, 0], [0, 0, 9, 1, 1, 1, 0, 0, 0]]
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        out = get_visibility_df(sign, 0, mode="3d", progress=False)
+    assert out.select("idx", "occluder_idxs", "visibility").rows() == [(1, [], 1.0), (2, [1], 0.0)]
+    around = boxes3d_table([[0, 0, 0.75, 4.5, 1.8, 1.5, 0, 0, 0], [0, 0, 1.5, 6, 6, 3, 0, 0, 0]])
+    with pytest.warns(VisibilityInputWarning, match="contain"):
+        get_visibility_df(around, 0, mode="3d", progress=False)

@@ -7,7 +7,7 @@ from dataclasses import fields
 
 import numpy as np
 
-from ..threed.boxes import eye_point, view_limits
+from ..threed.boxes import contains, eye_point, view_limits
 from . import Observation, Reason, Viewpoint
 
 _HAS_VIEW_FIELDS = "in_view_angle" in {f.name for f in fields(Observation)}
@@ -17,6 +17,24 @@ def eye_and_view(view: Viewpoint, boxes: np.ndarray) -> tuple[np.ndarray, tuple[
     """The 3D eye (metres) of ``view`` and its limits ``(heading, half fov, lowest, highest elevation)``."""
     eye = eye_point(view.position, view.height, boxes, view.own)
     return eye, view_limits(view.heading, min(view.fov, 2 * math.pi), view.pitch, view.vertical_fov)
+
+
+def statics_around_eye(view: Viewpoint, eye: np.ndarray, tops: np.ndarray, bases: np.ndarray) -> np.ndarray:
+    """Which static occluders hold the eye (metres): of those whose footprint contains the viewpoint
+    (``view.static_transparent``, told in the plane), the ones whose prism also spans the eye's height (``bases``
+    to ``tops``, metres, per footprint). They are transparent; a low platform under the eye, or a sign above it,
+    blocks as anywhere else."""
+    clear = np.asarray(view.static_transparent, dtype=bool).copy()
+    n = min(len(clear), len(tops))
+    clear[:n] &= (bases[:n] <= eye[2]) & (eye[2] <= tops[:n])
+    return clear
+
+
+def holding_eye(view: Viewpoint, boxes: np.ndarray) -> np.ndarray:
+    """Which boxes (shape (n, 9)) contain or touch the eye of ``view``: in 3D the only ones transparent to it
+    besides its own body."""
+    eye, _ = eye_and_view(view, boxes)
+    return contains(boxes, eye)
 
 
 def own_body(view: Viewpoint, n: int) -> np.ndarray:

@@ -46,7 +46,7 @@ from ..threed.cube import MIN_SOLID_ANGLE, silhouettes, solid_angles, view_regio
 from ..threed.order import entered_before, nearest, nearest_bound
 from ..threed.statics import BASE, DEFAULT_HEIGHT
 from . import Observation, Viewpoint, group_pairs
-from .observe3d import eye_and_view, observation, own_body
+from .observe3d import eye_and_view, observation, own_body, statics_around_eye
 
 RESIDUE = 1e-9
 """A visible share below this is rounding left by subtracting silhouettes with common edges (a target wholly
@@ -320,12 +320,13 @@ class SilhouetteEngine:
         n = statics.n_sources
         tops = np.full(n, DEFAULT_HEIGHT) if solids is None else np.asarray(solids.heights, dtype=np.float64)
         bases = np.full(n, BASE) if solids is None else np.asarray(solids.bases, dtype=np.float64)
-        self.statics = statics
+        self.statics, self.tops, self.bases = statics, tops, bases
         self.prisms = prisms_from_footprints(list(statics.geometries), tops, bases) if n else None
 
-    def prisms_for(self, view: Viewpoint) -> ConvexBodies | None:
-        """The static prisms that block for ``view`` (those of static occluders containing it left out)."""
-        clear = np.asarray(view.static_transparent, dtype=bool)
+    def prisms_for(self, view: Viewpoint, eye: np.ndarray) -> ConvexBodies | None:
+        """The static prisms that block for ``view`` from ``eye`` (those of static occluders holding the eye left
+        out: :func:`.observe3d.statics_around_eye`)."""
+        clear = statics_around_eye(view, eye, self.tops, self.bases)
         if self.prisms is None or not clear.any():
             return self.prisms
         return self.prisms.take(np.flatnonzero(~clear[self.prisms.source]))
@@ -339,7 +340,7 @@ class SilhouetteEngine:
         n = len(objects)
         for view in viewpoints:
             eye, limits = eye_and_view(view, boxes)
-            result = boxes_among(boxes, eye, own_body(view, n), limits, view.range, self.prisms_for(view))
+            result = boxes_among(boxes, eye, own_body(view, n), limits, view.range, self.prisms_for(view, eye))
             visible, extent, in_view, in_fov, (bt, bb), (st, ss), skip = result
             offsets, occluders = group_pairs(bt, bb, n)
             st_offsets, st_occluders = group_pairs(st, ss, n)

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from ..engines import FALLBACK_ENGINE, ChunkViewpoints, Engine, EngineFailure, Viewpoint, get_engine
+from ..engines.observe3d import holding_eye
 from ..inputs.containment import covers_points, covers_points_by_frame
 from ..inputs.objects import FrameObjects, ObjectTable, VisibilityInputWarning
 from ..inputs.sensors import TWO_PI, Sensor, sensor_poses
@@ -214,6 +215,8 @@ def observe_frame(
         if np.count_nonzero(view.transparent) > 1:  # more than its own body: it is inside some object
             inside = view.transparent.copy()
             inside[view.own] = False
+            if objects.boxes3d is not None:  # in 3D only the boxes that hold the eye are transparent
+                inside &= holding_eye(view, objects.boxes3d)
             inside_idx = objects.idx[inside]
             ego = np.full(len(inside_idx), objects.idx[view.own])
             containment.add_pairs(ego, inside_idx, np.full(len(inside_idx), objects.frame))

@@ -30,7 +30,7 @@ from ...inputs.statics import StaticOccluders
 from ...threed.boxes import _TRIANGLES, contains, corners, frames
 from ...threed.statics import static_solids
 from .. import Observation, Viewpoint, group_pairs
-from ..observe3d import eye_and_view, observation, own_body
+from ..observe3d import eye_and_view, observation, own_body, statics_around_eye
 from ..silhouette3d import SilhouetteEngine
 from . import sampling
 from .embree import FirstHit
@@ -122,7 +122,9 @@ class RaycastEngine:
             eye, lim = eye_and_view(view, boxes)
             skip = own_body(view, n) | contains(boxes, eye, frame=frame)
             static_skip = np.zeros(self.n_static, dtype=bool)
-            static_skip[: len(view.static_transparent)] = view.static_transparent
+            static_skip[: len(view.static_transparent)] = statics_around_eye(
+                view, eye, self.exact.tops, self.exact.bases
+            )
             eyes.append(eye)
             limits.append(lim)
             skips.append(skip)

@@ -28,7 +28,7 @@ from ...inputs.objects import FrameObjects
 from ...threed.boxes import _TRIANGLES, corners
 from ...threed.cube import face_direction, solid_angles
 from .. import Observation, Viewpoint, group_pairs
-from ..observe3d import eye_and_view, observation, own_body
+from ..observe3d import eye_and_view, observation, own_body, statics_around_eye
 from ..silhouette3d import boxes_among
 from .embree import FirstHit
 
@@ -42,7 +42,7 @@ def with_exact_parts(engine: Any, objects: FrameObjects, view: Viewpoint, sample
     eye, limits = eye_and_view(view, boxes)
     parts: list = []
     exact = engine.exact
-    result = boxes_among(boxes, eye, own_body(view, n), limits, view.range, exact.prisms_for(view), parts)
+    result = boxes_among(boxes, eye, own_body(view, n), limits, view.range, exact.prisms_for(view, eye), parts)
     visible_c, extent, in_view, in_fov, (bt, bb), (st, ss), skip = result
     with np.errstate(divide="ignore", invalid="ignore"):
         share_rays = np.where(sampled.angular_extent > 0, sampled.visible_angle / sampled.angular_extent, 0.0)
@@ -126,7 +126,7 @@ def _probe(engine, boxes, eye, skip, view, targets, parts) -> tuple[np.ndarray, 
     keep = np.flatnonzero(~skip)
     box_triangles = corners(boxes)[keep][:, _TRIANGLES].reshape(-1, 3, 3)
     static_skip = np.zeros(engine.n_static, dtype=bool)
-    static_skip[: len(view.static_transparent)] = view.static_transparent
+    static_skip[: len(view.static_transparent)] = statics_around_eye(view, eye, engine.exact.tops, engine.exact.bases)
     keep_static = ~static_skip[engine.static_source] if len(engine.static_source) else np.zeros(0, bool)
     triangles = np.concatenate([box_triangles, engine.static_triangles[keep_static]])
     tri_owner = np.r_[np.repeat(keep, 12), -1 - engine.static_source[keep_static]].astype(np.int64)
