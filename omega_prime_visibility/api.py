@@ -19,7 +19,13 @@ from tqdm.auto import tqdm
 from ._compiled import announce_compilation, mark_compiled
 from .engines import get_engine
 from .inputs.objects import ObjectTable, OnInvalid
-from .inputs.observers import EgoSpec, SensorSpec, describe_idx, resolve_egos  # noqa: F401 (public here too)
+from .inputs.observers import (  # noqa: F401 (describe_idx: public here too)
+    EgoSpec,
+    SensorSpec,
+    describe_idx,
+    observers_with_heading,
+    resolve_egos,
+)
 from .inputs.roles import RoleSpec, within_frames
 from .inputs.scene import as_lazy, load_objects, observer_sizes
 from .inputs.sensors import fitted_layout, is_layout, resolve_sensors
@@ -208,6 +214,8 @@ def get_visibility_df(
         static_occluder_polys, mode, static_occluder_heights, static_meshes, map_occluders, df
     )
     egos, with_ego = resolve_egos(ego_idx, objects)
+    if sensors is not None and objects.heading_known is not None:
+        objects = observers_with_heading(objects, egos, on_invalid)
     if is_layout(sensors):  # fitted to each observer's own size
         sensor_set = fitted_layout(sensors, observer_sizes(objects, egos))
     engine_class = get_engine(engine)  # unknown names fail here, not in a worker

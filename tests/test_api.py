@@ -11,7 +11,13 @@ import shapely
 from conftest import boxes_table
 
 from omega_prime_visibility import ENGINES as ALL_ENGINES
-from omega_prime_visibility import SCHEMA, VisibilityInputWarning, get_visibility_df, get_visibility_df_for_frame
+from omega_prime_visibility import (
+    SCHEMA,
+    Sensor,
+    VisibilityInputWarning,
+    get_visibility_df,
+    get_visibility_df_for_frame,
+)
 
 ENGINES = sorted(ALL_ENGINES)
 
@@ -232,3 +238,58 @@ def test_multipolygon_static_occluder_reported_once(engine: str) -> None:
     df = get_visibility_df(boxes_table([(0, 0, 1, 1, 0), (10, 0, 2, 2, 0)]), 0, statics, engine=engine)
     assert row(df, 1)["visibility"] == pytest.approx(0.5, abs=1e-9)
     assert row(df, 1)["static_occluder_idxs"] == [1]
+
+
+def _street(**columns) -> pl.DataFrame:
+    """The ego and two cars in a row, 10 m apart (the second hidden behind the first), with ``columns`` replaced."""
+    base = {"frame": [0, 0, 0], "total_nanos": [0, 0, 0], "idx": [0, 1, 2], "x": [0.0, 10.0, 20.0], "y": [0.0] * 3}
+    return pl.DataFrame(base | {"length": [4.0] * 3, "width": [2.0] * 3, "yaw": [0.0] * 3} | columns)
+
+
+@pytest.mark.parametrize(
+    ("columns", "message"),
+    [
+        ({"frame": [0.0, 0.5, 0.5]}, r"column 'frame' must hold whole numbers \(frame numbers\), not 0.5 \(row 1\)"),
+        ({"idx": [0.5, 1.5, 2.5]}, r"column 'idx' must hold whole numbers \(object ids\), not 0.5"),
+        ({"idx": ["a", "b", "c"]}, r"column 'idx' must hold whole numbers \(object ids\), not String values"),
+        ({"total_nanos": [0.0, float("nan"), 0.0]}, r"column 'total_nanos' must hold whole numbers"),
+        ({"x": ["a", "b", "c"]}, r"column 'x' must hold numbers \(metres, radians\), not String"),
+        ({"idx": pl.Series([0, 1, 2**64 - 1], dtype=pl.UInt64)}, r"beyond the largest int64"),
+    ],
+)
+def test_columns_that_are_no_numbers_are_refused_not_cut(columns: dict, message: str) -> None:
+    # frame 0.5 is not frame 0, idx 0.5 is not idx 0: a silent cut merged frames and renamed objects
+    with pytest.raises(ValueError, match=message):
+        get_visibility_df(_street(**columns), 0)
+
+
+def test_whole_floats_are_whole_numbers() -> None:
+    out = get_visibility_df(_street(idx=[0.0, 1.0, 2.0], frame=[3.0, 3.0, 3.0]), 0)
+    assert out.select("frame", "idx", "occluder_idxs", "visibility").rows() == [(3, 1, [], 1.0), (3, 2, [1], 0.0)]
+
+
+def test_positions_beyond_a_billion_metres_and_infinite_vertices_are_skipped() -> None:
+    with pytest.warns(VisibilityInputWarning, match=r"1 position\(s\) beyond 1e\+09 m.*\(frame 0, idx 2\)"):
+        out = get_visibility_df(_street(x=[0.0, 10.0, 1e15]), 0)
+    assert out.select("idx", "visibility").rows() == [(1, 1.0)]
+    polygons = [shapely.box(-2, -1, 2, 1), shapely.Polygon([(9, -1), (11, -1), (math.inf, 1), (9, 1)])]
+    polygons.append(shapely.box(19, -1, 21, 1))
+    table = _street().drop("length", "width").with_columns(polygon=pl.Series(polygons, dtype=pl.Object))
+    with pytest.warns(VisibilityInputWarning, match=r"skipping 1 of 3.*non-finite.*\(frame 0, idx 1\)"):
+        out = get_visibility_df(table, 0)
+    assert out.select("idx", "visibility").rows() == [(2, 1.0)]
+    with pytest.raises(ValueError, match="a NaN or infinite vertex"):
+        get_visibility_df(table, 0, on_invalid="raise")
+
+
+def test_an_observer_without_a_heading_cannot_turn_its_sensors() -> None:
+    # with a polygon column no yaw is needed for outlines, but sensors turn with their observer: a NaN yaw is not 0
+    polygons = [shapely.box(-2, -1, 2, 1), shapely.box(-12, -1, -8, 1), shapely.box(8, -1, 12, 1)]
+    table = _street(x=[0.0, -10.0, 10.0], yaw=[math.nan, 0.0, 0.0]).drop("length", "width")
+    table = table.with_columns(polygon=pl.Series(polygons, dtype=pl.Object))
+    assert get_visibility_df(table, 0)["visibility"].to_list() == [1.0, 1.0]  # no sensors: no heading needed
+    camera = Sensor("camera", fov=1.0)
+    with pytest.warns(VisibilityInputWarning, match=r"skipping 1 observer row\(s\) without a heading.*idx 0"):
+        assert get_visibility_df(table, 0, sensors=[camera]).height == 0
+    with pytest.raises(ValueError, match="without a heading"):
+        get_visibility_df(table, 0, sensors=[camera], on_invalid="raise")

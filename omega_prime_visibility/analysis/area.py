@@ -35,7 +35,7 @@ from ..engines.sweep import SweepEngine
 from ..geometry.star_union import star_union_area
 from ..geometry.union_rings import star_union
 from ..inputs.objects import FrameObjects, ObjectTable, OnInvalid
-from ..inputs.observers import SensorSpec, resolve_egos
+from ..inputs.observers import SensorSpec, observers_with_heading, resolve_egos
 from ..inputs.roles import RoleSpec
 from ..inputs.scene import load_objects, observer_sizes
 from ..inputs.sensors import Sensor, fitted_layout, is_layout, resolve_sensors
@@ -139,6 +139,8 @@ def _prepare(
     sensor_set = resolve_sensors(sensors)  # a bad layout name or file fails before the table is read
     objects = load_objects(df, on_invalid=on_invalid, occluders=occluders)
     egos, _ = resolve_egos(int(ego_idx), objects)
+    if sensors is not None and objects.heading_known is not None:
+        objects = observers_with_heading(objects, egos, on_invalid)
     statics = load_static_occluders(static_occluder_polys)
     if is_layout(sensors):  # fitted to the ego's own size, as get_visibility_df does
         sensor_set = fitted_layout(sensors, observer_sizes(objects, egos))[int(ego_idx)]

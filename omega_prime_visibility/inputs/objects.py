@@ -69,6 +69,7 @@ class ObjectTable:
     boxes3d: np.ndarray | None = None  # (rows, 9) with three_d=True
     blocks: np.ndarray | None = None  # (rows,) bool: may block the view (None: all), see .roles
     wanted: np.ndarray | None = None  # (rows,) bool: gets rows as a target (None: all)
+    heading_known: np.ndarray | None = None  # (rows,) bool: ``yaw`` was given (None: everywhere); else it reads 0
 
     @property
     def chosen(self) -> bool:
@@ -108,4 +109,23 @@ class ObjectTable:
             None if self.boxes3d is None else self.boxes3d[s:e],
             None if self.blocks is None else self.blocks[s:e],
             None if self.wanted is None else self.wanted[s:e],
+        )
+
+    def take_rows(self, rows: np.ndarray) -> ObjectTable:
+        """The rows ``rows`` (ascending positions) as a table of their own (frames left empty drop out)."""
+        rows = np.asarray(rows, dtype=np.int64)
+        frame = self.frame[rows]
+        frame_starts = np.concatenate([[0], np.flatnonzero(np.diff(frame)) + 1, [len(frame)]]).astype(np.int64)
+        if len(frame) == 0:
+            frame_starts = np.zeros(1, dtype=np.int64)
+        return ObjectTable(
+            frame,
+            self.total_nanos[rows],
+            self.idx[rows],
+            self.position[rows],
+            self.yaw[rows],
+            self.rings.take(rows),
+            frame_starts,
+            *(None if values is None else values[rows] for values in (self.boxes3d, self.blocks, self.wanted)),
+            None if self.heading_known is None else self.heading_known[rows],
         )

@@ -4,12 +4,13 @@ the table, and the forms a sensor specification takes."""
 from __future__ import annotations
 
 import os
+import warnings
 from collections.abc import Sequence
 from typing import Literal
 
 import numpy as np
 
-from .objects import ObjectTable
+from .objects import ObjectTable, OnInvalid, VisibilityInputWarning
 from .sensors import Sensor
 
 EgoSpec = int | Sequence[int] | Literal["all"]
@@ -40,3 +41,21 @@ def resolve_egos(ego_idx: EgoSpec, objects: ObjectTable) -> tuple[np.ndarray, bo
             f"(idx present: {describe_idx(present)})"
         )
     return egos.astype(np.int64), many
+
+
+def observers_with_heading(objects: ObjectTable, egos: np.ndarray, on_invalid: OnInvalid) -> ObjectTable:
+    """Sensors turn with their observer: rows of observers without a heading (``yaw`` NaN or null, with a polygon
+    column that needs none for outlines) are skipped with a warning, or raise with ``on_invalid="raise"``."""
+    unknown = np.isin(objects.idx, egos) & ~objects.heading_known
+    if not unknown.any():
+        return objects
+    rows = np.flatnonzero(unknown)
+    examples = ", ".join(f"(frame {objects.frame[i]}, idx {objects.idx[i]})" for i in rows[:5])
+    problem = (
+        f"{len(rows)} observer row(s) without a heading (yaw NaN or null), which sensors need to turn with it; "
+        f"e.g. {examples}"
+    )
+    if on_invalid == "raise":
+        raise ValueError(problem)
+    warnings.warn(f"skipping {problem}", VisibilityInputWarning, stacklevel=4)
+    return objects.take_rows(np.flatnonzero(~unknown))

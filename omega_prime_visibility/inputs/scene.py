@@ -75,6 +75,37 @@ def _check_columns(df: pl.DataFrame) -> bool:
     return use_polygon
 
 
+MAX_COORDINATE = 1e9
+"""Metres: positions and outline vertices beyond this are refused (UTM coordinates stay below 1e7 m; far beyond
+it, the engines' tolerances lose the cars)."""
+
+WHOLE = {"frame": "frame numbers", "idx": "object ids", "total_nanos": "times in nanoseconds"}
+
+
+def _whole_numbers(df: pl.DataFrame, name: str) -> np.ndarray:
+    """Column ``name`` (``frame``, ``idx`` or ``total_nanos``, no nulls) as int64, refusing what is no whole
+    number rather than cutting it (frame 0.5 is not frame 0)."""
+    column = df[name]
+    what = WHOLE[name]
+    if column.dtype.is_integer():
+        if column.dtype == pl.UInt64 and len(column) and column.max() > np.iinfo(np.int64).max:
+            raise ValueError(f"column {name!r} holds {column.max()}, beyond the largest int64 ({what})")
+        return column.cast(pl.Int64).to_numpy()
+    if column.dtype.is_float():
+        values = column.to_numpy()
+        bad = ~np.isfinite(values) | (np.abs(values) >= 2.0**63)
+        bad[~bad] = values[~bad] != np.round(values[~bad])
+        if bad.any():
+            k = int(np.flatnonzero(bad)[0])
+            raise ValueError(f"column {name!r} must hold whole numbers ({what}), not {float(values[k])!r} (row {k})")
+        return values.astype(np.int64)
+    example = column.drop_nulls().head(1).to_list()
+    raise ValueError(
+        f"column {name!r} must hold whole numbers ({what}), not {column.dtype} values"
+        + (f" such as {example[0]!r}" if example else "")
+    )
+
+
 def _floats(df: pl.DataFrame, names: tuple[str, ...]) -> dict[str, np.ndarray]:
     """The columns ``names`` that ``df`` has, as float64 arrays with NaN for nulls (float64 columns without
     nulls as they are: no polars call)."""
@@ -82,6 +113,8 @@ def _floats(df: pl.DataFrame, names: tuple[str, ...]) -> dict[str, np.ndarray]:
     for name in dict.fromkeys(names):
         if name in df.columns:
             column = df[name]
+            if not (column.dtype.is_numeric() or column.dtype == pl.Null):
+                raise ValueError(f"column {name!r} must hold numbers (metres, radians), not {column.dtype} values")
             if column.dtype != pl.Float64 or column.null_count():
                 column = column.cast(pl.Float64).fill_null(np.nan)
             out[name] = column.to_numpy()
@@ -146,14 +179,16 @@ def _polygon_rings(
     quad = np.flatnonzero(plain & (n_coords == 5))
     sure = np.zeros(len(polygons), dtype=bool)
     sure[quad] = convex_quadrilaterals(coords, first[quad], MIN_AREA)
+    finite = _finite_outlines(geoms, polygonal, single, coords, first, n_coords)
     simple = sure.copy()
-    check = np.flatnonzero(single & ~sure)
+    check = np.flatnonzero(single & ~sure & finite)
     simple[check] = shapely.is_valid(geoms[check])
     broken = np.flatnonzero(polygonal & ~simple)
     if len(broken) and on_invalid == "raise":
+        why = shapely.is_valid_reason(geoms[broken[0]]) if finite[broken[0]] else "a NaN or infinite vertex"
         raise ValueError(
             f"{len(broken)} invalid (e.g. self-intersecting) or multi-part polygon outline(s), first in row "
-            f"{int(broken[0])}: {shapely.is_valid_reason(geoms[broken[0]])}"
+            f"{int(broken[0])}: {why}"
         )
     outline = geoms.copy()
     from_box = []
@@ -166,7 +201,7 @@ def _polygon_rings(
     replaced_by_box = set(from_box)
     repaired = [i for i in broken if i not in replaced_by_box]
     for i in repaired:
-        outline[i] = _repaired_outline(geoms[i])
+        outline[i] = _repaired_outline(geoms[i]) if finite[i] else None  # GEOS cannot repair infinite vertices
     if from_box:
         notes.append(f"{len(from_box)} invalid or multi-part outline(s) replaced by their length/width/yaw box")
     fixed = [i for i in repaired if outline[i] is not None]
@@ -198,6 +233,22 @@ def _polygon_rings(
     source = np.concatenate([coords, extra]) if len(extra) else coords
     rings = gather_oriented(source, source_first[rows], sizes[rows] - 1)  # the closing vertex is not repeated
     return rings, good, reasons, notes, broken[good[broken]]
+
+
+def _finite_outlines(geoms, polygonal, single, coords, first, n_coords) -> np.ndarray:
+    """Per row, whether its outline's vertices are all finite (``coords``/``first``/``n_coords``: the plain
+    polygons' coordinates, as :func:`_polygon_rings` reads them; multi-part outlines read here)."""
+    finite = np.ones(len(geoms), dtype=bool)
+    rows = np.flatnonzero(single & (n_coords > 0))
+    if len(rows):
+        finite[rows] = np.logical_and.reduceat(np.isfinite(coords).all(axis=1), first[rows])
+    multi = np.flatnonzero(polygonal & ~single)
+    if len(multi):
+        points, which = shapely.get_coordinates(geoms[multi], return_index=True)
+        bad = np.zeros(len(multi), dtype=bool)
+        np.logical_or.at(bad, which, ~np.isfinite(points).all(axis=1))
+        finite[multi] = ~bad
+    return finite
 
 
 def load_objects(
@@ -236,13 +287,12 @@ def load_objects(
     for name in ("frame", "total_nanos", "idx"):
         if df[name].null_count():
             raise ValueError(f"column {name!r} has {df[name].null_count()} null value(s)")
-    frame = df["frame"].cast(pl.Int64).to_numpy()
-    idx = df["idx"].cast(pl.Int64).to_numpy()
+    frame, idx = _whole_numbers(df, "frame"), _whole_numbers(df, "idx")
     step, idx_step = np.diff(frame), np.diff(idx)
     if not ((step > 0) | ((step == 0) & (idx_step >= 0))).all():  # recordings usually come sorted already
-        df = df.sort("frame", "idx")
-        frame = df["frame"].cast(pl.Int64).to_numpy()
-        idx = df["idx"].cast(pl.Int64).to_numpy()
+        df = df.with_columns(pl.Series("_frame", frame), pl.Series("_idx", idx)).sort("_frame", "_idx")
+        frame, idx = df["_frame"].to_numpy(), df["_idx"].to_numpy()
+        df = df.drop("_frame", "_idx")
     dup = (np.diff(frame) == 0) & (np.diff(idx) == 0)
     if dup.any():
         k = int(np.flatnonzero(dup)[0])
@@ -255,6 +305,10 @@ def load_objects(
     problems = []
     if (~good).any():
         problems.append(f"{int((~good).sum())} NaN or infinite position(s) (x, y)")
+    far = good & ((np.abs(x) > MAX_COORDINATE) | (np.abs(y) > MAX_COORDINATE))
+    if far.any():
+        problems.append(f"{int(far.sum())} position(s) beyond {MAX_COORDINATE:g} m (no map coordinate is that large)")
+        good &= ~far
     notes: list[str] = []
     replaced = np.zeros(0, dtype=np.int64)
     if use_polygon:
@@ -296,16 +350,18 @@ def load_objects(
             on_invalid,
         )
     frame, idx = frame[ok], idx[ok]
-    total_nanos = df["total_nanos"].cast(pl.Int64).to_numpy()[ok]
+    total_nanos = _whole_numbers(df, "total_nanos")[ok]
     position = np.column_stack([x[ok], y[ok]])
-    yaw = np.where(np.isfinite(yaw[ok]), yaw[ok], 0.0)
+    heading_known = np.isfinite(yaw[ok])
+    yaw = np.where(heading_known, yaw[ok], 0.0)
     frame_starts = np.concatenate([[0], np.flatnonzero(np.diff(frame)) + 1, [len(frame)]]).astype(np.int64)
     if len(frame) == 0:
         frame_starts = np.zeros(1, dtype=np.int64)
     if boxes3d is not None:
         boxes3d = boxes3d[ok]
     blocks, wanted = (None if mask is None else mask[ok] for mask in (blocks, wanted))
-    return ObjectTable(frame, total_nanos, idx, position, yaw, rings, frame_starts, boxes3d, blocks, wanted)
+    known = None if heading_known.all() else heading_known
+    return ObjectTable(frame, total_nanos, idx, position, yaw, rings, frame_starts, boxes3d, blocks, wanted, known)
 
 
 def observer_sizes(objects: ObjectTable, egos: np.ndarray) -> dict[int, tuple[float, float]]:
