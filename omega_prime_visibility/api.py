@@ -201,6 +201,9 @@ def get_visibility_df(
     [(1, [], 1.0), (2, [1], 0.0)]
     """
     check_epsilon(epsilon)
+    check_counts(workers=workers, chunk_frames=chunk_frames)
+    if on_invalid not in ("warn", "raise"):
+        raise ValueError(f"on_invalid takes 'warn' (skip bad rows with a warning) or 'raise', not {on_invalid!r}")
     progress = resolve_progress(progress, hide_progress)
     if output is not None:
         output = check_output_path(output)
@@ -219,9 +222,7 @@ def get_visibility_df(
     if is_layout(sensors):  # fitted to each observer's own size
         sensor_set = fitted_layout(sensors, observer_sizes(objects, egos))
     engine_class = get_engine(engine)  # unknown names fail here, not in a worker
-    if chunk_frames < 1:
-        raise ValueError(f"chunk_frames must be at least 1, not {chunk_frames}")
-    n_workers = auto_workers(objects.n_frames * len(egos)) if workers is None else max(1, int(workers))
+    n_workers = auto_workers(objects.n_frames * len(egos)) if workers is None else int(workers)
     chunk_frames = chunk_size(objects, len(egos), chunk_frames, 1 if sensor_set is None else len(sensor_set))
     n_workers = min(n_workers, len(chunks(objects.n_frames, chunk_frames, n_workers)))
     path_key = engine if sensor_set is None else f"{engine}+sensors"  # the sensors' path compiles more kernels
@@ -298,6 +299,19 @@ def _executor(n_workers: int) -> Iterator[ProcessPoolExecutor | None]:
             raise
 
 
+def check_counts(**counts: Any) -> None:
+    """Each of ``counts`` None or a whole number of at least 1 (``workers``, ``chunk_frames``).
+
+    >>> check_counts(workers=0)
+    Traceback (most recent call last):
+    ...
+    ValueError: workers takes a whole number, at least 1, not 0
+    """
+    for name, value in counts.items():
+        if value is not None and (isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1):
+            raise ValueError(f"{name} takes a whole number, at least 1, not {value!r}")
+
+
 def get_visibility_df_for_frame(
     df: Any,
     ego_idx: EgoSpec,
@@ -326,6 +340,11 @@ def get_visibility_df_for_frame(
     names = lazy.collect_schema().names()
     if "frame" not in names:
         raise ValueError("the moving-object table lacks the column 'frame'")
+    if isinstance(frame, bool) or not isinstance(frame, numbers.Integral):
+        raise ValueError(f"frame takes a frame number (a whole number), not {frame!r}")
+    frame_type = lazy.collect_schema()["frame"]
+    if not frame_type.is_numeric():
+        raise ValueError(f"column 'frame' must hold whole numbers (frame numbers), not {frame_type} values")
     for option in ("occluders", "targets"):  # idx are those of the recording, not only of this frame
         if three_d.get(option) is not None and "idx" in names:
             all_idx = lazy.select(pl.col("idx").unique()).collect()["idx"].to_numpy()

@@ -73,6 +73,10 @@ def test_object_containing_observer_is_transparent(engine: str) -> None:
         df = get_visibility_df(boxes_table(boxes), 0, engine=engine)
     assert row(df, 1)["visibility"] == 1.0 and row(df, 1)["occluder_idxs"] == []
     assert row(df, 2)["visibility"] == 1.0 and row(df, 2)["occluder_idxs"] == []
+    # through two sensors both inside it, it still contains the observer in one frame, not two
+    sensors = [Sensor("front", fov=1.0, x=0.5), Sensor("rear", fov=1.0, x=-0.5, yaw=math.pi)]
+    with pytest.warns(VisibilityInputWarning, match=r"idx 1 contains observer 0 in 1 frame\(s\)"):
+        get_visibility_df(boxes_table(boxes), 0, engine=engine, sensors=sensors)
 
 
 @pytest.mark.parametrize("engine", ENGINES)
@@ -293,3 +297,33 @@ def test_an_observer_without_a_heading_cannot_turn_its_sensors() -> None:
         assert get_visibility_df(table, 0, sensors=[camera]).height == 0
     with pytest.raises(ValueError, match="without a heading"):
         get_visibility_df(table, 0, sensors=[camera], on_invalid="raise")
+
+
+def test_times_that_do_not_go_with_frames_are_told() -> None:
+    base = {"frame": [0, 0, 1, 1], "idx": [0, 1, 0, 1], "x": [0.0, 10.0, 0.0, 10.0], "y": [0.0] * 4}
+    base |= {"length": [4.0] * 4, "width": [2.0] * 4, "yaw": [0.0] * 4}
+    with pytest.warns(VisibilityInputWarning, match="total_nanos does not increase from frame 0 to frame 1"):
+        get_visibility_df(pl.DataFrame(base | {"total_nanos": [100, 100, 50, 50]}), 0)
+    with pytest.warns(VisibilityInputWarning, match=r"1 frame\(s\) hold rows of different total_nanos"):
+        get_visibility_df(pl.DataFrame(base | {"total_nanos": [100, 101, 200, 200]}), 0)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"workers": 0}, "workers takes a whole number, at least 1, not 0"),
+        ({"workers": 2.5}, "workers takes a whole number, at least 1, not 2.5"),
+        ({"chunk_frames": 1.5}, "chunk_frames takes a whole number, at least 1, not 1.5"),
+        ({"on_invalid": "ignore"}, "on_invalid takes 'warn'"),
+    ],
+)
+def test_bad_options_are_one_clear_error(kwargs: dict, message: str) -> None:
+    with pytest.raises(ValueError, match=message):
+        get_visibility_df(_street(), 0, **kwargs)
+
+
+def test_bad_frame_arguments_for_one_frame() -> None:
+    with pytest.raises(ValueError, match="frame takes a frame number"):
+        get_visibility_df_for_frame(_street(), 0, "0")
+    with pytest.raises(ValueError, match="column 'frame' must hold whole numbers"):
+        get_visibility_df_for_frame(_street(frame=["0", "0", "0"]), 0, 0)

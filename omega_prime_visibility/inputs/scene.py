@@ -235,6 +235,30 @@ def _polygon_rings(
     return rings, good, reasons, notes, broken[good[broken]]
 
 
+def _check_times(frame: np.ndarray, total_nanos: np.ndarray, frame_starts: np.ndarray) -> None:
+    """Warn when times do not go with frames (one time per frame, later frames later): durations and notice
+    times (``visible_intervals``) rest on them."""
+    if len(frame) == 0:
+        return
+    first = total_nanos[frame_starts[:-1]]
+    spread = np.maximum.reduceat(total_nanos, frame_starts[:-1]) - np.minimum.reduceat(total_nanos, frame_starts[:-1])
+    problems = []
+    if (spread > 0).any():
+        k = int(np.flatnonzero(spread > 0)[0])
+        problems.append(f"{int((spread > 0).sum())} frame(s) hold rows of different total_nanos (first: frame "
+                        f"{frame[frame_starts[k]]})")  # fmt: skip
+    late = np.flatnonzero(np.diff(first) <= 0)
+    if len(late):
+        a, b = frame[frame_starts[late[0]]], frame[frame_starts[late[0] + 1]]
+        problems.append(f"total_nanos does not increase from frame {a} to frame {b} ({len(late)} such step(s))")
+    if problems:
+        warnings.warn(
+            "; ".join(problems) + ": durations and notice times computed from them will be wrong",
+            VisibilityInputWarning,
+            stacklevel=4,
+        )
+
+
 def _finite_outlines(geoms, polygonal, single, coords, first, n_coords) -> np.ndarray:
     """Per row, whether its outline's vertices are all finite (``coords``/``first``/``n_coords``: the plain
     polygons' coordinates, as :func:`_polygon_rings` reads them; multi-part outlines read here)."""
@@ -357,6 +381,7 @@ def load_objects(
     frame_starts = np.concatenate([[0], np.flatnonzero(np.diff(frame)) + 1, [len(frame)]]).astype(np.int64)
     if len(frame) == 0:
         frame_starts = np.zeros(1, dtype=np.int64)
+    _check_times(frame, total_nanos, frame_starts)
     if boxes3d is not None:
         boxes3d = boxes3d[ok]
     blocks, wanted = (None if mask is None else mask[ok] for mask in (blocks, wanted))

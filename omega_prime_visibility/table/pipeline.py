@@ -50,13 +50,15 @@ class ContainmentLog:
             self.first_fallback = (int(frame), why)
 
     def add_pairs(self, ego: np.ndarray, idx: np.ndarray, frame: np.ndarray) -> None:
-        """Add many ``(observer idx, containing idx, frame)`` triples, in frame order."""
+        """Add many ``(observer idx, containing idx, frame)`` triples (a frame counts once, however many of the
+        observer's sensors are inside)."""
         if not len(ego):
             return
-        keys, first, counts = np.unique(np.stack([ego, idx]), axis=1, return_index=True, return_counts=True)
+        triples = np.unique(np.stack([ego, idx, frame]).astype(np.int64), axis=1)  # sorted: frames ascending
+        keys, first, counts = np.unique(triples[:2], axis=1, return_index=True, return_counts=True)
         for (e, i), at, c in zip(keys.T.tolist(), first.tolist(), counts.tolist(), strict=True):
             self.frames[(e, i)] += c
-            self.first.setdefault((e, i), int(frame[at]))
+            self.first.setdefault((e, i), int(triples[2, at]))
 
     def merge(self, other: ContainmentLog) -> None:
         self.frames.update(other.frames)
@@ -211,15 +213,17 @@ def observe_frame(
     if len(rows) == 0:
         return
     views = viewpoints(objects, rows, statics, sensors)
+    holders = []  # (observer idx, containing idx) of every view of the frame, logged once
     for view in views:
         if np.count_nonzero(view.transparent) > 1:  # more than its own body: it is inside some object
             inside = view.transparent.copy()
             inside[view.own] = False
             if objects.boxes3d is not None:  # in 3D only the boxes that hold the eye are transparent
                 inside &= holding_eye(view, objects.boxes3d)
-            inside_idx = objects.idx[inside]
-            ego = np.full(len(inside_idx), objects.idx[view.own])
-            containment.add_pairs(ego, inside_idx, np.full(len(inside_idx), objects.frame))
+            holders += [(objects.idx[view.own], i) for i in objects.idx[inside].tolist()]
+    if holders:
+        ego, inside_idx = np.array(holders, dtype=np.int64).T
+        containment.add_pairs(ego, inside_idx, np.full(len(ego), objects.frame))
     sensor_codes = None if sensors is None else np.tile(np.arange(sensors_per_observer(sensors)), len(rows))
     if objects.blocks is not None or objects.wanted is not None:  # occluders= or targets= (see .selection)
         scenes, expanded = frame_scenes(objects, views)
