@@ -227,3 +227,18 @@ def test_campaign_of_every_observer_uses_the_stored_objects(tmp_path) -> None:
     expected = occlusion_statistics(get_visibility_df(r, "all", progress=False), r._df)
     copy.unlink()  # every row names its observer (idx_ego): the stored objects are all that is needed
     assert campaign_statistics(tmp_path / "results")["by_band"].equals(expected["by_band"])
+
+
+def test_other_tables_and_unknown_observers_are_one_clear_error() -> None:
+    objects = pl.DataFrame({"total_nanos": [0, 0, 0], "idx": [0, 1, 2], "x": [0.0, 10.0, 60.0], "y": [0.0] * 3})
+    objects = objects.with_columns(type=pl.Series([2, 2, 3]))
+    table = pl.DataFrame(
+        {"frame": [0, 0], "total_nanos": [0, 0], "idx": [1, 2], "visibility": [1.0, 0.05], "occluder_idxs": [[], [1]]}
+    )
+    with pytest.raises(ValueError, match=r"observer idx \[9\] never occur"):
+        occlusion_statistics(table, objects, ego_idx=9)
+    with pytest.raises(TypeError, match=r"visibility must be a polars DataFrame or LazyFrame.*not pandas\.DataFrame"):
+        occlusion_statistics(table.to_pandas(), objects, ego_idx=0)
+    # float idx in the objects (as get_visibility_df takes them) are the same objects
+    floats = occlusion_statistics(table, objects.with_columns(pl.col("idx").cast(pl.Float64)), ego_idx=0)
+    assert floats["by_band"].equals(occlusion_statistics(table, objects, ego_idx=0)["by_band"])

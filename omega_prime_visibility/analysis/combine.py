@@ -13,6 +13,22 @@ KEYS = ("frame", "total_nanos", "idx_ego", "idx", "sensor")
 """Columns that identify a row of a visibility table (those present)."""
 
 
+def polars_table(value: object, name: str) -> pl.LazyFrame:
+    """``value`` (a polars DataFrame or LazyFrame) as a LazyFrame; anything else is refused naming ``name``.
+
+    >>> polars_table({"idx": [1]}, "table")
+    Traceback (most recent call last):
+    ...
+    TypeError: table must be a polars DataFrame or LazyFrame (as get_visibility_df returns), not dict
+    """
+    if isinstance(value, pl.DataFrame | pl.LazyFrame):
+        return value.lazy()
+    module = type(value).__module__.split(".")[0]
+    kind = type(value).__name__ if module == "builtins" else f"{module}.{type(value).__name__}"
+    hint = "; convert it with polars.from_pandas" if type(value).__module__.startswith("pandas") else ""
+    raise TypeError(f"{name} must be a polars DataFrame or LazyFrame (as get_visibility_df returns), not {kind}{hint}")
+
+
 def every_listed(column: str) -> pl.Expr:
     """In a ``group_by(...).agg``: every idx that a list column (``occluder_idxs``, ``static_occluder_idxs``) holds
     in the group's rows, once each, ascending.
@@ -51,7 +67,7 @@ def seen_by_any(table: pl.DataFrame | pl.LazyFrame, over: str = "sensor") -> pl.
     >>> seen_by_any(t).select("idx", "visibility", "best_sensor", "seen_by").rows()
     [(5, 0.5, 'lidar', ['camera', 'lidar'])]
     """
-    lazy = table.lazy()
+    lazy = polars_table(table, "table")
     names = lazy.collect_schema().names()
     if over not in ("sensor", "idx_ego"):
         raise ValueError(f"over must be 'sensor' or 'idx_ego', not {over!r}")

@@ -15,7 +15,7 @@ import math
 
 import polars as pl
 
-from .combine import every_listed
+from .combine import every_listed, polars_table
 from .intervals import NANOS, NUPLAN_NOTICE, frame_period, visible_intervals
 
 CONFLICT_COLUMNS = ("idx_ego", "idx", "timegap", "ego_nanos", "target_nanos", "conflict_nanos")
@@ -47,7 +47,7 @@ def path_conflicts(timegaps: pl.DataFrame | pl.LazyFrame, pet: float = 3.0) -> p
     """
     if not (isinstance(pet, int | float) and math.isfinite(pet) and pet >= 0):
         raise ValueError(f"pet must be a non-negative number of seconds, not {pet!r}")
-    lazy = timegaps.lazy()
+    lazy = polars_table(timegaps, "timegaps")
     missing = [
         c for c in ("idx_ego", "idx", "total_nanos_ego", "timegap", "total_nanos") if c not in lazy.collect_schema()
     ]
@@ -121,7 +121,7 @@ def occluded_conflicts(
     if reaction_time is None and notice is None:
         reaction_time = 0.0  # no notice model: noticed when first visible
     conflicts = path_conflicts(timegaps, pet)
-    table = _per_frame(visibility.lazy(), ego_idx)
+    table = _per_frame(polars_table(visibility, "visibility"), ego_idx)
     rows = table.join(conflicts.lazy(), on=["idx_ego", "idx"]).filter(pl.col("total_nanos") <= pl.col("conflict_nanos"))
     visible = pl.col("visibility") > threshold
     sight = (

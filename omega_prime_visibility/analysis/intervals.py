@@ -19,7 +19,7 @@ import numbers
 
 import polars as pl
 
-from .combine import KEYS
+from .combine import KEYS, polars_table
 
 NANOS = 1_000_000_000
 
@@ -97,7 +97,7 @@ def visible_intervals(
         notice = (float(notice[0]), float(notice[1]))
         if round(notice[0] * NANOS) < 1:
             raise ValueError(f"notice: {notice[0]!r} s visible is below the tables' resolution of one nanosecond")
-    lazy = table.lazy()
+    lazy = polars_table(table, "table")
     names = lazy.collect_schema().names()
     missing = [c for c in ("frame", "total_nanos", "idx", "visibility") if c not in names]
     if missing:

@@ -13,6 +13,8 @@ import math
 
 import polars as pl
 
+from .combine import polars_table
+
 TYPE_NAMES = {0: "unknown", 1: "other", 2: "vehicle", 3: "pedestrian", 4: "animal"}
 """omega-prime's (OSI's) ``type`` of a moving object, by value."""
 
@@ -65,7 +67,7 @@ def occlusion_statistics(
     [('vehicle', 1)]
     """
     _checked(bands, partly, bins)
-    rows = rows_with_distance(visibility.lazy(), objects.lazy(), ego_idx)
+    rows = rows_with_distance(polars_table(visibility, "visibility"), polars_table(objects, "objects"), ego_idx)
     return statistics_of_rows(rows, bands=bands, partly=partly, bins=bins)
 
 
@@ -167,7 +169,15 @@ def rows_with_distance(table: pl.LazyFrame, objects: pl.LazyFrame, ego_idx: int 
         if ego_idx is None:
             raise ValueError("the visibility table has no idx_ego column: pass ego_idx (the observer it was made for)")
         table = table.with_columns(idx_ego=pl.lit(ego_idx, dtype=pl.Int64))
-    where = objects.select("total_nanos", "idx", "x", "y", target_type=_type_name())
+    egos = table.select(pl.col("idx_ego").unique().cast(pl.Int64)).collect()["idx_ego"]
+    known = objects.select(pl.col("idx").cast(pl.Int64)).filter(pl.col("idx").is_in(egos.implode())).unique()
+    missing = sorted(set(egos.drop_nulls().to_list()) - set(known.collect()["idx"].to_list()))
+    if missing:
+        raise ValueError(f"observer idx {missing[:5]} never occur(s) in the object table: no distances to measure")
+    where = objects.select(
+        pl.col("total_nanos").cast(pl.Int64), pl.col("idx").cast(pl.Int64), "x", "y", target_type=_type_name()
+    )
+    table = table.with_columns(pl.col("idx", "idx_ego").cast(pl.Int64))
     table = table.with_row_index("_row")
     occluder_types = (
         table.select("_row", "total_nanos", pl.col("occluder_idxs").alias("idx"))

@@ -17,11 +17,10 @@ import polars as pl
 import shapely
 
 from ..geometry.rings import Rings, box_rings, convex_quadrilaterals, gather_oriented
+from .columns import BOX_COLUMNS, MAX_COORDINATE, check_columns, check_times, float_columns, whole_numbers
 from .objects import ObjectTable, OnInvalid, VisibilityInputWarning
 from .roles import RoleSpec, role_mask
 
-REQUIRED_COLUMNS = ("frame", "total_nanos", "idx", "x", "y")
-BOX_COLUMNS = ("length", "width", "yaw")
 MIN_AREA = 1e-6  # m²; smaller polygons are "zero-size"
 
 
@@ -56,69 +55,6 @@ def as_polars(data: Any) -> pl.DataFrame:
     if isinstance(data, pl.DataFrame):
         return data
     return as_lazy(data).collect()
-
-
-def _check_columns(df: pl.DataFrame) -> bool:
-    """Raise on missing columns; return whether outlines come from the ``polygon`` column."""
-    missing = [c for c in REQUIRED_COLUMNS if c not in df.columns]
-    if missing:
-        raise ValueError(
-            f"the moving-object table lacks the column(s) {missing}; it needs {list(REQUIRED_COLUMNS)} "
-            f"and either 'polygon' or {list(BOX_COLUMNS)} (columns present: {df.columns})"
-        )
-    use_polygon = "polygon" in df.columns and df["polygon"].dtype == pl.Object
-    if not use_polygon and any(c not in df.columns for c in BOX_COLUMNS):
-        raise ValueError(
-            f"the moving-object table has no 'polygon' column of shapely polygons and lacks "
-            f"{[c for c in BOX_COLUMNS if c not in df.columns]} to build box outlines"
-        )
-    return use_polygon
-
-
-MAX_COORDINATE = 1e9
-"""Metres: positions and outline vertices beyond this are refused (UTM coordinates stay below 1e7 m; far beyond
-it, the engines' tolerances lose the cars)."""
-
-WHOLE = {"frame": "frame numbers", "idx": "object ids", "total_nanos": "times in nanoseconds"}
-
-
-def _whole_numbers(df: pl.DataFrame, name: str) -> np.ndarray:
-    """Column ``name`` (``frame``, ``idx`` or ``total_nanos``, no nulls) as int64, refusing what is no whole
-    number rather than cutting it (frame 0.5 is not frame 0)."""
-    column = df[name]
-    what = WHOLE[name]
-    if column.dtype.is_integer():
-        if column.dtype == pl.UInt64 and len(column) and column.max() > np.iinfo(np.int64).max:
-            raise ValueError(f"column {name!r} holds {column.max()}, beyond the largest int64 ({what})")
-        return column.cast(pl.Int64).to_numpy()
-    if column.dtype.is_float():
-        values = column.to_numpy()
-        bad = ~np.isfinite(values) | (np.abs(values) >= 2.0**63)
-        bad[~bad] = values[~bad] != np.round(values[~bad])
-        if bad.any():
-            k = int(np.flatnonzero(bad)[0])
-            raise ValueError(f"column {name!r} must hold whole numbers ({what}), not {float(values[k])!r} (row {k})")
-        return values.astype(np.int64)
-    example = column.drop_nulls().head(1).to_list()
-    raise ValueError(
-        f"column {name!r} must hold whole numbers ({what}), not {column.dtype} values"
-        + (f" such as {example[0]!r}" if example else "")
-    )
-
-
-def _floats(df: pl.DataFrame, names: tuple[str, ...]) -> dict[str, np.ndarray]:
-    """The columns ``names`` that ``df`` has, as float64 arrays with NaN for nulls (float64 columns without
-    nulls as they are: no polars call)."""
-    out = {}
-    for name in dict.fromkeys(names):
-        if name in df.columns:
-            column = df[name]
-            if not (column.dtype.is_numeric() or column.dtype == pl.Null):
-                raise ValueError(f"column {name!r} must hold numbers (metres, radians), not {column.dtype} values")
-            if column.dtype != pl.Float64 or column.null_count():
-                column = column.cast(pl.Float64).fill_null(np.nan)
-            out[name] = column.to_numpy()
-    return out
 
 
 def _repaired_outline(geometry: Any) -> shapely.Polygon | None:
@@ -235,30 +171,6 @@ def _polygon_rings(
     return rings, good, reasons, notes, broken[good[broken]]
 
 
-def _check_times(frame: np.ndarray, total_nanos: np.ndarray, frame_starts: np.ndarray) -> None:
-    """Warn when times do not go with frames (one time per frame, later frames later): durations and notice
-    times (``visible_intervals``) rest on them."""
-    if len(frame) == 0:
-        return
-    first = total_nanos[frame_starts[:-1]]
-    spread = np.maximum.reduceat(total_nanos, frame_starts[:-1]) - np.minimum.reduceat(total_nanos, frame_starts[:-1])
-    problems = []
-    if (spread > 0).any():
-        k = int(np.flatnonzero(spread > 0)[0])
-        problems.append(f"{int((spread > 0).sum())} frame(s) hold rows of different total_nanos (first: frame "
-                        f"{frame[frame_starts[k]]})")  # fmt: skip
-    late = np.flatnonzero(np.diff(first) <= 0)
-    if len(late):
-        a, b = frame[frame_starts[late[0]]], frame[frame_starts[late[0] + 1]]
-        problems.append(f"total_nanos does not increase from frame {a} to frame {b} ({len(late)} such step(s))")
-    if problems:
-        warnings.warn(
-            "; ".join(problems) + ": durations and notice times computed from them will be wrong",
-            VisibilityInputWarning,
-            stacklevel=4,
-        )
-
-
 def _finite_outlines(geoms, polygonal, single, coords, first, n_coords) -> np.ndarray:
     """Per row, whether its outline's vertices are all finite (``coords``/``first``/``n_coords``: the plain
     polygons' coordinates, as :func:`_polygon_rings` reads them; multi-part outlines read here)."""
@@ -305,13 +217,13 @@ def load_objects(
         Missing columns, an empty table, duplicate ``(frame, idx)`` rows, or (with ``on_invalid="raise"``) a bad row.
     """
     df = as_polars(data)
-    use_polygon = _check_columns(df)
+    use_polygon = check_columns(df)
     if df.height == 0:
         raise ValueError("the moving-object table is empty: there is nothing to compute visibility for")
     for name in ("frame", "total_nanos", "idx"):
         if df[name].null_count():
             raise ValueError(f"column {name!r} has {df[name].null_count()} null value(s)")
-    frame, idx = _whole_numbers(df, "frame"), _whole_numbers(df, "idx")
+    frame, idx = whole_numbers(df, "frame"), whole_numbers(df, "idx")
     step, idx_step = np.diff(frame), np.diff(idx)
     if not ((step > 0) | ((step == 0) & (idx_step >= 0))).all():  # recordings usually come sorted already
         df = df.with_columns(pl.Series("_frame", frame), pl.Series("_idx", idx)).sort("_frame", "_idx")
@@ -322,7 +234,7 @@ def load_objects(
         k = int(np.flatnonzero(dup)[0])
         raise ValueError(f"object idx {idx[k]} appears more than once in frame {frame[k]}: (frame, idx) must be unique")
     blocks, wanted = role_mask(df, occluders, "occluders"), role_mask(df, targets, "targets")
-    floats = _floats(df, ("x", "y", "yaw", *BOX_COLUMNS))
+    floats = float_columns(df, ("x", "y", "yaw", *BOX_COLUMNS))
     x, y = floats["x"], floats["y"]
     yaw = floats.get("yaw", np.zeros(df.height))
     good = np.isfinite(x) & np.isfinite(y)
@@ -374,14 +286,14 @@ def load_objects(
             on_invalid,
         )
     frame, idx = frame[ok], idx[ok]
-    total_nanos = _whole_numbers(df, "total_nanos")[ok]
+    total_nanos = whole_numbers(df, "total_nanos")[ok]
     position = np.column_stack([x[ok], y[ok]])
     heading_known = np.isfinite(yaw[ok])
     yaw = np.where(heading_known, yaw[ok], 0.0)
     frame_starts = np.concatenate([[0], np.flatnonzero(np.diff(frame)) + 1, [len(frame)]]).astype(np.int64)
     if len(frame) == 0:
         frame_starts = np.zeros(1, dtype=np.int64)
-    _check_times(frame, total_nanos, frame_starts)
+    check_times(frame, total_nanos, frame_starts)
     if boxes3d is not None:
         boxes3d = boxes3d[ok]
     blocks, wanted = (None if mask is None else mask[ok] for mask in (blocks, wanted))
