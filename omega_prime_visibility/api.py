@@ -106,7 +106,7 @@ def get_visibility_df(
 
     Parameters
     ----------
-    df : omega_prime.Recording, polars.DataFrame or polars.LazyFrame
+    df : omega_prime.Recording, polars.DataFrame or polars.LazyFrame (or a pandas DataFrame, a pyarrow Table)
         The moving-object table: ``frame, total_nanos, idx, x, y`` and either a ``polygon`` column (shapely
         polygons) or ``length, width, yaw`` (metres, radians counter-clockwise from +x).
     ego_idx : int, list of int or "all"

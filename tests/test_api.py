@@ -327,3 +327,16 @@ def test_bad_frame_arguments_for_one_frame() -> None:
         get_visibility_df_for_frame(_street(), 0, "0")
     with pytest.raises(ValueError, match="column 'frame' must hold whole numbers"):
         get_visibility_df_for_frame(_street(frame=["0", "0", "0"]), 0, 0)
+
+
+def test_pandas_and_pyarrow_tables_are_read_as_polars_would_be() -> None:
+    pd = pytest.importorskip("pandas")
+    pa = pytest.importorskip("pyarrow")
+    boxes = _street()
+    polygons = [shapely.box(-2, -1, 2, 1), shapely.box(8, -1, 12, 1), shapely.box(18, -1, 22, 1)]
+    outlines = pd.DataFrame(boxes.drop("length", "width").to_dict(as_series=False) | {"polygon": polygons})
+    expected = get_visibility_df(boxes, 0)
+    for table in (boxes.to_pandas(), pa.Table.from_pandas(boxes.to_pandas()), outlines):
+        assert get_visibility_df(table, 0).equals(expected)
+    with pytest.raises(TypeError, match="a polars, pandas or pyarrow table of moving objects"):
+        get_visibility_df([1, 2], 0)

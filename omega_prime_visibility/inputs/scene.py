@@ -31,8 +31,9 @@ def _report(problem: str, on_invalid: OnInvalid) -> None:
 
 
 def as_lazy(data: Any) -> pl.LazyFrame:
-    """Accept an ``omega_prime.Recording``, a polars ``DataFrame`` or ``LazyFrame``, or the path of an MCAP file;
-    return a LazyFrame (nothing is collected, so a caller can read just the frames it needs)."""
+    """Accept an ``omega_prime.Recording``, a polars ``DataFrame`` or ``LazyFrame``, a pandas ``DataFrame`` or a
+    pyarrow ``Table`` (converted; shapely objects kept as they are), or the path of a recording; return a LazyFrame
+    (nothing is collected, so a caller can read just the frames it needs)."""
     if isinstance(data, str | os.PathLike):
         from .io import read_recording
 
@@ -44,10 +45,28 @@ def as_lazy(data: Any) -> pl.LazyFrame:
     inner = getattr(data, "_df", None)
     if isinstance(inner, pl.DataFrame | pl.LazyFrame):
         return inner.lazy()
+    module = type(data).__module__
+    if module.startswith(("pandas", "geopandas")) and hasattr(data, "columns") and hasattr(data, "dtypes"):
+        return _from_pandas(data).lazy()
+    if module.startswith("pyarrow") and type(data).__name__ == "Table":
+        return pl.from_arrow(data).lazy()
     raise TypeError(
-        "expected an omega_prime.Recording, a polars DataFrame/LazyFrame of moving objects or an MCAP path, "
-        f"got {type(data)!r}"
+        "expected an omega_prime.Recording, a polars, pandas or pyarrow table of moving objects or a recording's "
+        f"path, got {type(data)!r}"
     )
+
+
+def _from_pandas(frame: Any) -> pl.DataFrame:
+    """A pandas (or geopandas) DataFrame as polars: columns of Python objects (shapely outlines) become object
+    columns, the others convert as polars converts them."""
+    columns = []
+    for name in frame.columns:
+        values = frame[name]
+        if values.dtype == object or str(values.dtype) == "geometry":
+            columns.append(pl.Series(str(name), np.asarray(values, dtype=object), dtype=pl.Object))
+        else:
+            columns.append(pl.from_pandas(values).alias(str(name)))
+    return pl.DataFrame(columns)
 
 
 def as_polars(data: Any) -> pl.DataFrame:
