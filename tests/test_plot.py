@@ -224,3 +224,22 @@ def test_labels_never_overlap_even_on_a_crowded_frame() -> None:
     for i, a in enumerate(extents):
         for b in extents[i + 1 :]:
             assert not a.overlaps(b), "two labels overlap"
+
+
+def test_a_table_of_several_observers_gives_each_its_own_numbers() -> None:
+    # three cars in a row, every one an observer: seen from idx 0, car 2 is hidden; seen from idx 2, car 0 is
+    import polars as pl
+
+    from omega_prime_visibility import get_visibility_df
+    from omega_prime_visibility.plot.data import FrameViewer, load_source
+
+    cars = boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 2, 0), (20, 0, 4, 2, 0)])
+    table = get_visibility_df(cars, "all")
+    assert "idx_ego" in table.columns
+    source = load_source(cars, lanes=False)
+    for ego in (0, 2):
+        view = FrameViewer(source, ego, table=table).view(0)
+        own = table.filter(pl.col("idx_ego") == ego)
+        expected = dict(zip(own["idx"].to_list(), own["visibility"].to_list(), strict=True))
+        got = {i: v for i, v in zip(view.idx.tolist(), view.visibility.tolist(), strict=True) if i != ego}
+        assert got == expected and set(got.values()) == {0.0, 1.0}

@@ -154,3 +154,33 @@ def test_an_interrupted_report_keeps_the_previous_one(recording, tmp_path, monke
     with pytest.raises(OSError, match="disk full"):
         write_report(recording, 0, target, frames=slice(0, 4), progress=False)
     assert [p.name for p in tmp_path.iterdir()] == ["r.html"] and target.read_bytes() == old
+
+
+def strict(text: str):
+    """JSON as a browser's JSON.parse reads it: NaN and Infinity are no JSON."""
+    return json.loads(text, parse_constant=lambda name: (_ for _ in ()).throw(ValueError(f"{name} is no JSON")))
+
+
+def test_a_table_of_some_targets_makes_a_page_the_browser_can_read(recording, tmp_path) -> None:
+    # objects without a row (targets=[3]) have no number: null, not NaN, which would stop the page's script
+    table = get_visibility_df(recording, 0, targets=[3], progress=False)
+    page = write_report(recording, 0, tmp_path / "t.html", frames=slice(0, 3), table=table, progress=False).read_text()
+    scene = strict(re.search(r'<script id="scene-data" type="application/json">(.*?)</script>', page, re.S).group(1))
+    objects = {o["idx"]: o for o in scene["frames"][0]["objects"]}
+    assert objects[3]["vis"] == pytest.approx(table.filter(pl.col("frame") == 0)["visibility"][0], abs=1e-4)
+    assert all(o["vis"] is None for i, o in objects.items() if i != 3)
+
+
+def test_static_occluders_are_named_in_the_report(tmp_path) -> None:
+    # the ego at x = 0, a wall at x = 10, a car at x = 20 wholly behind it: hidden by static occluder 0
+    import shapely
+    from conftest import boxes_table
+
+    boxes = pl.concat([boxes_table([(0, 0, 4, 2, 0), (20, 0, 4, 2, 0)], frame=k) for k in range(3)])
+    wall = [shapely.box(10, -5, 10.5, 5)]
+    page = write_report(boxes, 0, tmp_path / "w.html", wall, progress=False).read_text()
+    scene = strict(re.search(r'<script id="scene-data" type="application/json">(.*?)</script>', page, re.S).group(1))
+    car = next(o for o in scene["frames"][0]["objects"] if o["idx"] == 1)
+    assert (car["vis"], car["occluders"], car["statics"]) == (0.0, [], [0])
+    summary = re.search(r'<table id="summary">(.*?)</table>', page, re.S).group(1)
+    assert "<th>hidden by static occluders</th>" in summary and "<td>0</td>" in summary

@@ -205,6 +205,8 @@ class FrameViewer:
         self.source, self.ego_idx = source, int(ego_idx)
         self.sensors = tuple(sensors)
         self.margin = margin
+        if table is not None and "idx_ego" in table.columns:  # a table of several observers: this ego's rows
+            table = table.filter(pl.col("idx_ego") == self.ego_idx).drop("idx_ego")
         self.tables = None if table is None else {k[0]: t for k, t in table.partition_by("frame", as_dict=True).items()}
         self.engine = None if table is not None else get_engine(engine)(source.statics)
         self.region_engine = self.engine if isinstance(self.engine, VisiLibityEngine) else None

@@ -93,14 +93,15 @@
         "stroke-width": 0.12, "data-idx": o.idx }, frameLayer);
       p.classList.add(o.ego ? "ego" : "object");
       const t = el("title", {}, p);
-      t.textContent = o.ego ? `ego idx ${o.idx}` :
-        `idx ${o.idx}: visibility ${o.vis.toFixed(3)}; hidden by ${o.occluders.length ? o.occluders.join(", ") : "nothing"}`;
+      const hiders = o.occluders.map(String).concat(o.statics.map((k) => `static ${k}`));
+      t.textContent = o.ego ? `ego idx ${o.idx}` : o.vis === null ? `idx ${o.idx}: no row in the table` :
+        `idx ${o.idx}: visibility ${o.vis.toFixed(3)}; hidden by ${hiders.length ? hiders.join(", ") : "nothing"}`;
       let top = -Infinity, bottom = Infinity, left = Infinity, right = -Infinity;
       for (let j = 0; j < o.ring.length; j += 2) {
         top = Math.max(top, o.ring[j + 1]); bottom = Math.min(bottom, o.ring[j + 1]);
         left = Math.min(left, o.ring[j]); right = Math.max(right, o.ring[j]);
       }
-      const text = o.ego ? `ego ${o.idx}` : `${o.idx}: ${Math.round(o.vis * 100)}%`;
+      const text = o.ego ? `ego ${o.idx}` : o.vis === null ? `${o.idx}: –` : `${o.idx}: ${Math.round(o.vis * 100)}%`;
       const w = 0.6 * size * text.length, cx = (left + right) / 2;
       // above the object, else below it; a label that would overlap one already placed is left out
       const choices = [[cx - w / 2, top + 0.3 * size, cx + w / 2, top + 1.3 * size],

@@ -165,7 +165,7 @@ def _script_safe(code: str) -> str:
 
 def _json_for_script(value: Any) -> str:
     """``value`` as JSON with every ``<`` escaped (``\\u003c``), so it cannot end or open anything in HTML."""
-    return json.dumps(value, separators=(",", ":")).replace("<", "\\u003c")
+    return json.dumps(value, separators=(",", ":"), allow_nan=False).replace("<", "\\u003c")
 
 
 def _own_rows(table: pl.DataFrame, ego_idx: int, frames: pl.Series) -> pl.DataFrame:
@@ -258,10 +258,12 @@ def scene_data(views: list[FrameView], source, ego_idx: int, window: Window, sen
             {
                 "idx": idx,
                 "ego": i == v.ego_row,
-                "vis": None if i == v.ego_row else round(float(v.visibility[i]), 4),
+                # no number (None, JSON's null) for the ego and for objects the table has no row of
+                "vis": None if i == v.ego_row or not np.isfinite(v.visibility[i]) else round(float(v.visibility[i]), 4),
                 "fill": EGO_FACE if i == v.ego_row else visibility_colour(v.visibility[i]),
                 "ring": _coords(v.rings[i]),
                 "occluders": v.occluders.get(idx, []),
+                "statics": v.static_occluders.get(idx, []),
             }
             for i, idx in enumerate(v.idx.tolist())
         ]
@@ -319,6 +321,9 @@ def summary_html(table: pl.DataFrame) -> str:
         aggregations.append(((pl.col("visibility") > 0) & (pl.col("visibility") < 1)).mean().alias("partly hidden"))
     if "occluder_idxs" in table.columns:
         aggregations.append(pl.col("occluder_idxs").flatten().drop_nulls().unique().sort().alias("hidden by (idx)"))
+    if "static_occluder_idxs" in table.columns:
+        statics = pl.col("static_occluder_idxs").flatten().drop_nulls().unique().sort()
+        aggregations.append(statics.alias("hidden by static occluders"))
     summary = table.group_by(by).agg(aggregations).sort(by)
     head = "".join(f"<th>{html.escape(c)}</th>" for c in summary.columns)
     body = []
