@@ -29,10 +29,9 @@ CIVIDIS = (
 )  # fmt: skip
 """matplotlib's cividis at 0, 0.1, ..., 1: the same scale in the HTML report (linear between these)."""
 
-SENSOR_COLOURS = tuple(
-    OKABE_ITO[c] for c in ("orange", "blue", "bluish green", "reddish purple", "sky blue", "black", "yellow")
-)
-"""Outline colour of the k-th sensor's field of view (cycled beyond seven); vermillion is the ego's."""
+SENSOR_COLOURS = tuple(OKABE_ITO[c] for c in ("orange", "blue", "bluish green", "reddish purple", "yellow", "sky blue"))
+"""Outline colour of the k-th sensor's field of view (cycled beyond six): Okabe-Ito's colours but vermillion (the
+ego's) and black (the outlines of a target and what hides it)."""
 
 STATUS_COLOURS = {
     "visible": OKABE_ITO["blue"],
@@ -70,7 +69,7 @@ def visibility_colour(v: float) -> str:
 def sensor_colour(k: int) -> str:
     """Outline colour of the ``k``-th sensor (0-based).
 
-    >>> sensor_colour(0), sensor_colour(7)
+    >>> sensor_colour(0), sensor_colour(6)
     ('#E69F00', '#E69F00')
     """
     return SENSOR_COLOURS[k % len(SENSOR_COLOURS)]
