@@ -330,7 +330,7 @@ def get_visibility_df_for_frame(
     Raises
     ------
     ValueError
-        If the frame does not occur in the table.
+        If the frame does not occur in the table, or an observer is not in it.
     """
     unknown = sorted(set(three_d) - set(inspect.signature(get_visibility_df).parameters))
     if unknown:
@@ -352,6 +352,11 @@ def get_visibility_df_for_frame(
     one = lazy.filter(pl.col("frame") == frame).collect()
     if one.height == 0:
         raise ValueError(f"frame {frame} does not occur in the table")
+    egos = [ego_idx] if isinstance(ego_idx, numbers.Integral) else ego_idx if isinstance(ego_idx, list | tuple) else []
+    present = set(one["idx"].cast(pl.Int64, strict=False).to_list()) if "idx" in names else set()
+    absent = sorted({int(e) for e in egos if isinstance(e, numbers.Integral)} - present) if present else []
+    if absent:  # (an ego that occurs nowhere is told by get_visibility_df)
+        raise ValueError(f"ego idx {absent} not present in frame {frame} (idx there: {sorted(present)[:20]})")
     return get_visibility_df(
         one,
         ego_idx,

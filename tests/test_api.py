@@ -340,3 +340,17 @@ def test_pandas_and_pyarrow_tables_are_read_as_polars_would_be() -> None:
         assert get_visibility_df(table, 0).equals(expected)
     with pytest.raises(TypeError, match="a polars, pandas or pyarrow table of moving objects"):
         get_visibility_df([1, 2], 0)
+
+
+def test_an_ego_absent_from_the_frame_asked_for_is_named() -> None:
+    table = pl.concat([_street(), _street(frame=[1, 1, 1]).filter(pl.col("idx") != 0)])
+    with pytest.raises(ValueError, match=r"ego idx \[0\] not present in frame 1 \(idx there: \[1, 2\]\)"):
+        get_visibility_df_for_frame(table, 0, 1)
+    assert get_visibility_df_for_frame(table, 1, 1).select("idx", "visibility").rows() == [(2, 1.0)]
+
+
+def test_visible_area_refuses_a_frame_that_is_no_number() -> None:
+    from omega_prime_visibility import visible_area
+
+    with pytest.raises(ValueError, match="frame takes a frame number"):
+        visible_area(_street(), 0, None)

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import numbers
 from collections import Counter
 from collections.abc import Sequence
 from typing import Any
@@ -191,6 +192,8 @@ def visible_area(
     1.0
     """
     objects, statics, sensor_set = _prepare(df, ego_idx, sensors, static_occluder_polys, on_invalid, occluders)
+    if isinstance(frame, bool) or not isinstance(frame, numbers.Integral):
+        raise ValueError(f"frame takes a frame number (a whole number), not {frame!r}")
     k = np.searchsorted(objects.frame[objects.frame_starts[:-1]], frame)
     if k >= objects.n_frames or objects.frame[objects.frame_starts[k]] != frame:
         raise ValueError(f"frame {frame} does not occur in the table")
