@@ -217,7 +217,7 @@ def get_visibility_df(
         static_occluder_polys, mode, static_occluder_heights, static_meshes, map_occluders, df
     )
     egos, with_ego = resolve_egos(ego_idx, objects)
-    if sensors is not None and objects.heading_known is not None:
+    if sensors is not None:  # sensors turn with their observer
         objects = observers_with_heading(objects, egos, on_invalid)
     if is_layout(sensors):  # fitted to each observer's own size
         sensor_set = fitted_layout(sensors, observer_sizes(objects, egos))

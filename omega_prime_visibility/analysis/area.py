@@ -140,7 +140,7 @@ def _prepare(
     sensor_set = resolve_sensors(sensors)  # a bad layout name or file fails before the table is read
     objects = load_objects(df, on_invalid=on_invalid, occluders=occluders)
     egos, _ = resolve_egos(int(ego_idx), objects)
-    if sensors is not None and objects.heading_known is not None:
+    if sensors is not None:  # sensors turn with their observer
         objects = observers_with_heading(objects, egos, on_invalid)
     statics = load_static_occluders(static_occluder_polys)
     if is_layout(sensors):  # fitted to the ego's own size, as get_visibility_df does

@@ -46,6 +46,8 @@ def resolve_egos(ego_idx: EgoSpec, objects: ObjectTable) -> tuple[np.ndarray, bo
 def observers_with_heading(objects: ObjectTable, egos: np.ndarray, on_invalid: OnInvalid) -> ObjectTable:
     """Sensors turn with their observer: rows of observers without a heading (``yaw`` NaN or null, with a polygon
     column that needs none for outlines) are skipped with a warning, or raise with ``on_invalid="raise"``."""
+    if objects.heading_known is None:
+        return objects
     unknown = np.isin(objects.idx, egos) & ~objects.heading_known
     if not unknown.any():
         return objects

@@ -141,7 +141,7 @@ def silhouettes(bodies: ConvexBodies, f: int) -> np.ndarray:
 def _half_space(normal: np.ndarray, face: np.ndarray) -> shapely.Geometry:
     """Directions ``p`` with ``normal . p >= 0`` on a cube face."""
     lifted = np.array([[1.0, -1.0, -1.0], [1, 1, -1], [1, 1, 1], [1, -1, 1]])  # (1, u, v): p = face . (1, u, v)
-    clipped = _clip_plane(lifted, np.array([normal @ face[0], normal @ face[1], normal @ face[2]]))
+    clipped = clip_plane(lifted, np.array([normal @ face[0], normal @ face[1], normal @ face[2]]))
     return shapely.Polygon(clipped[:, 1:]) if len(clipped) >= 3 else shapely.Polygon()
 
 
@@ -227,7 +227,7 @@ def within_range(bodies: ConvexBodies, b: int, max_range: float) -> list[shapely
         drawn = []
         for piece in pieces:
             for m in (forward - eu, forward + eu, forward - ev, forward + ev):
-                piece = _clip_plane(piece, m)
+                piece = clip_plane(piece, m)
                 if len(piece) < 3:
                     break
             else:
@@ -239,7 +239,7 @@ def within_range(bodies: ConvexBodies, b: int, max_range: float) -> list[shapely
     return out
 
 
-def _clip_plane(polygon: np.ndarray, m: np.ndarray) -> np.ndarray:
+def clip_plane(polygon: np.ndarray, m: np.ndarray) -> np.ndarray:
     """Convex 3D ``polygon`` (k, 3) clipped to ``m . x >= 0``."""
     g = polygon @ m
     out = []

@@ -17,7 +17,7 @@ import numpy as np
 import shapely
 
 from .bodies import ConvexBodies
-from .cube import FACES
+from .cube import FACES, clip_plane
 
 SQUARE = 1.5
 """Half the side of the square drawn for a whole half-plane: beyond the cube face's own square [-1, 1]²."""
@@ -62,21 +62,6 @@ def facing_planes(bodies: ConvexBodies, body: int) -> tuple[np.ndarray, np.ndarr
     return normals[facing], offsets[facing]
 
 
-def _clip(polygon: np.ndarray, a: float, b: float, c: float) -> np.ndarray:
-    """The part of the convex ``polygon`` (k, 2) where ``a u + b v + c < 0`` (Sutherland-Hodgman, one line)."""
-    if not len(polygon):
-        return polygon
-    value = polygon @ np.array([a, b]) + c
-    out = []
-    for k in range(len(polygon)):
-        p, q, vp, vq = polygon[k], polygon[(k + 1) % len(polygon)], value[k], value[(k + 1) % len(polygon)]
-        if vp < 0:
-            out.append(p)
-        if (vp < 0) != (vq < 0) and vp != vq:
-            out.append(p + (vp / (vp - vq)) * (q - p))
-    return np.array(out).reshape(-1, 2)
-
-
 def entered_before(bodies: ConvexBodies, blocker: int, target: int, face: int) -> shapely.Geometry:
     """The directions on cube face ``face`` (its ``(u, v)`` coordinates) along which ``blocker`` is entered before
     ``target``, wherever both are met (intersect it with both silhouettes); see the module docstring.
@@ -93,18 +78,18 @@ def entered_before(bodies: ConvexBodies, blocker: int, target: int, face: int) -
     >>> [round(v, 6) for v in region.bounds]
     [0.0, -0.2, 0.2, 0.2]
     """
-    forward, eu, ev = FACES[face]
     normals_a, offsets_a = facing_planes(bodies, target)
     normals_b, offsets_b = facing_planes(bodies, blocker)
-    square = SQUARE * np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
+    # the square lifted to (1, u, v): its direction is FACES[face].T @ (1, u, v)
+    square = np.array([[1.0, -SQUARE, -SQUARE], [1.0, SQUARE, -SQUARE], [1.0, SQUARE, SQUARE], [1.0, -SQUARE, SQUARE]])
     pieces = []
     for normal_a, offset_a in zip(normals_a, offsets_a, strict=True):
         polygon = square
         for normal_b, offset_b in zip(normals_b, offsets_b, strict=True):
-            w = offset_b * normal_a - offset_a * normal_b  # w . d < 0: entered through b before through a
-            polygon = _clip(polygon, float(w @ eu), float(w @ ev), float(w @ forward))
+            w = offset_a * normal_b - offset_b * normal_a  # w . d > 0: entered through b before through a
+            polygon = clip_plane(polygon, FACES[face] @ w)
             if len(polygon) < 3:
                 break
         if len(polygon) >= 3:
-            pieces.append(shapely.Polygon(polygon))
+            pieces.append(shapely.Polygon(polygon[:, 1:]))
     return shapely.union_all(pieces) if pieces else shapely.Polygon()
