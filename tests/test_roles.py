@@ -234,3 +234,57 @@ def test_idx_for_one_frame_are_those_of_the_recording() -> None:
         get_visibility_df_for_frame(df, 0, 1, targets=[1, 7])
     with pytest.raises(TypeError, match=r"for_frame\(\) got an unexpected keyword argument .occluder."):
         get_visibility_df_for_frame(df, 0, 1, occluder=[1])
+
+
+@pytest.mark.parametrize("offset", [(0.0, 0.0), (5.0e5, 5.4e6)], ids=["small", "map"])
+@pytest.mark.parametrize("seed", range(6))
+def test_passive_targets_of_the_sweep_agree_with_views_of_their_own(seed: int, offset: tuple) -> None:
+    """The sweep measures the targets that may not block itself (engines/sweep/passive.py); VisiLibity gives each
+    group of them a view of its own (table/selection.py): two independent routes to the same numbers, on crowded
+    random scenes with overlapping bodies and static occluders, every object an observer, at small and at map
+    coordinates (and through sensors, the frame-by-frame path)."""
+    import shapely
+
+    rng = np.random.default_rng(100 + seed)
+    scene = random_scene(rng, 16, overlap=True, with_statics=seed % 2 == 0, include_ego=False)
+    moved = [shapely.affinity.translate(p, *offset) for p in scene.objects]
+    statics = [shapely.affinity.translate(s, *offset) for s in scene.statics]
+    table = scene_table(np.asarray(scene.observer) + offset, moved, include_ego=False)
+    kinds = np.where(rng.random(table.height) < 0.4, 3, 2)
+    table = table.with_columns(
+        type=pl.Series(kinds),
+        subtype=pl.Series(np.where(kinds == 2, 4, 0)),
+        yaw=pl.Series(rng.uniform(-3, 3, len(kinds))),
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for sensors in (None, "typical") if seed < 2 else (None,):
+            ego = "all" if sensors is None else 0
+            got = get_visibility_df(table, ego, statics, engine="sweep", occluders="vehicles", sensors=sensors)
+            want = get_visibility_df(table, ego, statics, engine="visilibity", occluders="vehicles", sensors=sensors)
+            keys = [c for c in ("idx_ego", "sensor", "idx", "status") if c in got.columns]
+            assert got.select(keys).rows() == want.select(keys).rows()
+            assert np.abs(got["visibility"].to_numpy() - want["visibility"].to_numpy()).max() < 2e-6
+            pedestrians = set(np.flatnonzero(kinds == 3).tolist())
+            for a, b in zip(got["occluder_idxs"].to_list(), want["occluder_idxs"].to_list(), strict=True):
+                assert not set(a) & pedestrians
+                assert set(a) == set(b)
+
+
+def test_a_passive_target_of_two_arms_is_counted_once() -> None:
+    """A U-shaped object that may not block, its base towards the ego and its arms behind it (the arms' inner
+    edges face the ego behind the base: its own edges share bearings), behind a car that covers its lower half:
+    on paper half of it is seen, each bearing counted once."""
+    import shapely
+
+    u_shape = shapely.Polygon([(10, -2), (14, -2), (14, -1), (11, -1), (11, 1), (14, 1), (14, 2), (10, 2)])
+    car = shapely.box(5, -3, 6, 0)  # covers the bearings below the +x axis, in front of the U
+    table = scene_table((0.0, 0.0), [u_shape, car], include_ego=False)
+    table = table.with_columns(type=pl.Series([2, 3, 2]), subtype=pl.Series([4, 0, 4]))
+    for engine in sorted(ENGINES):
+        out = get_visibility_df(table, 0, engine=engine, occluders="vehicles").sort("idx")
+        u = out.filter(pl.col("idx") == 1).row(0, named=True)
+        assert u["visibility"] == pytest.approx(0.5, abs=1e-12), engine  # symmetric about the axis: half hidden
+        assert u["occluder_idxs"] == [2]
+        car_row = out.filter(pl.col("idx") == 2).row(0, named=True)
+        assert car_row["visibility"] == pytest.approx(1.0) and car_row["occluder_idxs"] == []

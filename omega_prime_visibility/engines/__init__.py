@@ -5,6 +5,7 @@ Every engine has the same contract, so the front end never asks which one it run
 - ``Engine(statics)`` is built once per chunk of frames from the validated :class:`~..scene.StaticOccluders`;
 - ``engine.observe(objects, viewpoints)`` returns one :class:`Observation` per :class:`Viewpoint` of the frame
   (engines may share work between the viewpoints of a frame);
+- ``Engine.passive_targets`` says whether it measures targets that may not block (``occluders=``) itself;
 - ``Engine.measure`` says what its angles are: ``"radians"`` for the 2D engines (a 3D engine measures solid
   angles, ``"steradians"``, with the same occluder layout);
 - optionally, ``engine.observe_chunk(objects, viewpoints)`` observes a whole chunk of frames at once from
@@ -85,6 +86,9 @@ class Viewpoint:
         Radians in (0, π], centred on ``pitch`` (3D engines only).
     pitch : float
         Radians, positive looking down (3D engines only).
+    passive : ndarray of bool, shape (n,), or None
+        Targets that neither block nor occlude (``occluders=``), each measured against the others that may; only
+        for engines with :attr:`Engine.passive_targets` (None: none).
     """
 
     position: np.ndarray
@@ -97,6 +101,7 @@ class Viewpoint:
     height: float = DRIVER_EYE_HEIGHT
     vertical_fov: float = math.pi
     pitch: float = 0.0
+    passive: np.ndarray | None = None
 
     @property
     def limited(self) -> bool:
@@ -216,6 +221,8 @@ class ChunkViewpoints:
     static_offsets : ndarray, shape (v + 1,), int64
     static_inside : ndarray, int64
         Static occluder sources containing viewpoint ``v``: ``static_inside[static_offsets[v]:static_offsets[v + 1]]``.
+    passive : ndarray, shape (t,), bool, or None
+        Per target: measured against the others but neither blocks nor occludes (:attr:`Viewpoint.passive`).
     """
 
     frame_starts: np.ndarray
@@ -225,6 +232,7 @@ class ChunkViewpoints:
     transparent: np.ndarray
     static_offsets: np.ndarray
     static_inside: np.ndarray
+    passive: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.own)
@@ -262,6 +270,9 @@ class Engine(Protocol):
 
     name: ClassVar[str]
     measure: ClassVar[str]
+    passive_targets: ClassVar[bool]
+    """Whether the engine measures :attr:`Viewpoint.passive` targets itself (else the front end gives each group
+    of them a view of its own, see :mod:`..table.selection`)."""
 
     def __init__(self, statics: StaticOccluders) -> None: ...
 

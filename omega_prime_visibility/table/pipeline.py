@@ -27,7 +27,7 @@ from ..inputs.sensors import TWO_PI, Sensor, sensor_poses
 from ..inputs.statics import StaticOccluders
 from .rows import chunk_rows, frame_rows
 from .schema import Columns, TableBuilder
-from .selection import chunk_scenes, frame_scenes, kept_rows
+from .selection import chunk_scenes, frame_scenes, frame_with_passive_targets, kept_rows, with_passive_targets
 
 SensorSet = Sequence[Sensor] | dict[int, Sequence[Sensor]]
 """Sensors for every observer, or per observer idx (same names, same order)."""
@@ -225,8 +225,10 @@ def observe_frame(
         ego, inside_idx = np.array(holders, dtype=np.int64).T
         containment.add_pairs(ego, inside_idx, np.full(len(ego), objects.frame))
     sensor_codes = None if sensors is None else np.tile(np.arange(sensors_per_observer(sensors)), len(rows))
-    if objects.blocks is not None or objects.wanted is not None:  # occluders= or targets= (see .selection)
-        scenes, expanded = frame_scenes(objects, views)
+    if objects.wanted is None and objects.blocks is not None and engine.passive_targets:  # occluders= alone
+        views = frame_with_passive_targets(objects, views)
+    elif objects.blocks is not None or objects.wanted is not None:  # occluders= or targets= (see .selection)
+        scenes, expanded = frame_scenes(objects, views, engine.passive_targets)
         codes = None if sensor_codes is None else sensor_codes[expanded.base]
         parts = [
             frame_rows(
@@ -291,8 +293,10 @@ def run_chunk(
         per_observer = sensors_per_observer(sensors)
         sensor_codes = None if sensors is None else np.tile(np.arange(per_observer), len(views) // per_observer)
         scenes, seen, expanded = objects, views, None
-        if objects.chosen:  # occluders= or targets= (see .selection)
-            scenes, seen, expanded = chunk_scenes(views, owners, objects)
+        if objects.wanted is None and objects.blocks is not None and eng.passive_targets:  # occluders= alone
+            seen = with_passive_targets(views, owners, objects)
+        elif objects.chosen:  # occluders= or targets= (see .selection)
+            scenes, seen, expanded = chunk_scenes(views, owners, objects, eng.passive_targets)
             sensor_codes = None if sensor_codes is None else sensor_codes[expanded.base]
         try:
             observation = eng.observe_chunk(scenes, seen)

@@ -10,6 +10,9 @@ rows it is responsible for:
   that no two share a direction from the viewpoint (so they cannot hide each other): each sees the blocking
   objects and its own members only, and gives their rows.
 
+An engine that measures such targets itself (:attr:`..engines.Engine.passive_targets`, the sweep) gets the main
+view alone, every wanted target in it, those that may not block marked *passive* (:attr:`..engines.Viewpoint.passive`).
+
 Each view is handed to the engine as a scene of its own holding only the bodies it needs: its targets, the observer
 and the blocking bodies that may be in front of one of its targets (sharing a direction with it and not farther
 than all of it: :mod:`..geometry.spans`). A body that cannot be in front of a target changes neither its visibility
@@ -19,7 +22,7 @@ not computed and dropped.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numba
 import numpy as np
@@ -48,6 +51,9 @@ class Views:
         Per object of a scene: this view gives its row.
     own : ndarray, shape (e,), int64
         Position of the observer within each view's scene.
+    passive : ndarray, shape (t,), bool, or None
+        Per object of a scene: a target that may not block, measured by the engine itself (None: the engine
+        does not measure such targets, they have views of their own).
     """
 
     base: np.ndarray
@@ -56,6 +62,7 @@ class Views:
     transparent: np.ndarray
     keep: np.ndarray
     own: np.ndarray
+    passive: np.ndarray | None
 
 
 def expand(
@@ -65,11 +72,12 @@ def expand(
     transparent: np.ndarray,
     first_row: np.ndarray,
     objects: ObjectTable | FrameObjects,
+    passive_targets: bool = False,
 ) -> Views:
     """The views of viewpoints ``v`` at ``positions[v]`` (metres) whose targets are the objects ``first_row[v]``
     onwards of ``objects`` (their frame's, one slot each, ``target_offsets`` as in
     :class:`..engines.ChunkViewpoints`), with base transparency ``transparent`` per slot and observer ``own[v]``
-    (position within its frame)."""
+    (position within its frame); with ``passive_targets``, a single view per viewpoint with passive targets."""
     n_views = len(own)
     sizes = np.diff(target_offsets)
     slot_view = np.repeat(np.arange(n_views), sizes)
@@ -79,7 +87,9 @@ def expand(
     own_slot = target_offsets[:-1] + own
     wanted[own_slot] = False
     centre, half, near, far = angular_spans(positions[slot_view], objects.rings, slot_row)
-    group, counts = _assign_groups(target_offsets, transparent, blocks, wanted, centre, half, near, far)
+    group, counts = _assign_groups(
+        target_offsets, transparent, blocks, wanted, centre, half, near, far, passive_targets
+    )
     base, offsets, clear, keep = _fill_views(
         target_offsets, transparent, blocks, group, counts, centre, half, near, far
     )
@@ -92,14 +102,16 @@ def expand(
     np.cumsum(np.add.reduceat(inside.astype(np.int64), offsets[:-1]) if len(base) else [], out=object_offsets[1:])
     own_in_scene = np.cumsum(inside)[offsets[:-1] + own[base]] - 1 - object_offsets[:-1]
     kept = full_slot[inside]
-    return Views(base, object_offsets, slot_row[kept], clear[inside], keep[inside], own_in_scene)
+    passive = ~blocks[kept] & ~clear[inside] if passive_targets and objects.blocks is not None else None
+    return Views(base, object_offsets, slot_row[kept], clear[inside], keep[inside], own_in_scene, passive)
 
 
 @numba.njit(cache=True)
-def _assign_groups(target_offsets, transparent, blocks, wanted, centre, half, near, far):
+def _assign_groups(target_offsets, transparent, blocks, wanted, centre, half, near, far, all_main):
     """Per slot, the view that gives its row: 0 the main view, ``k >= 1`` the ``k``-th group of wanted targets
     that may not block (greedily by direction, no two members of a group sharing a direction), -1 none; and per
-    viewpoint, its number of views (the main view counted when it gives rows).
+    viewpoint, its number of views (the main view counted when it gives rows). With ``all_main``, every wanted
+    target is in the main view (the engine measures those that may not block as passive targets).
 
     A wanted target that may not block joins the main view, opaque, when it may be in front of none of the main
     view's opaque targets and none of the main view's other non-blocking targets may be in front of it: there it
@@ -114,7 +126,7 @@ def _assign_groups(target_offsets, transparent, blocks, wanted, centre, half, ne
         for s in range(t0, t1):
             if not wanted[s]:
                 continue
-            if blocks[s] or transparent[s]:
+            if blocks[s] or transparent[s] or all_main:
                 group[s] = 0
                 has_main = True
             else:
@@ -197,13 +209,32 @@ def _fill_views(target_offsets, transparent, blocks, group, counts, centre, half
     return base, offsets, clear, keep
 
 
+def with_passive_targets(views: ChunkViewpoints, owners: np.ndarray, objects: ObjectTable) -> ChunkViewpoints:
+    """A chunk's viewpoints as they are, the targets that may not block marked passive: for ``occluders=``
+    alone (every target wanted) through an engine that measures passive targets itself."""
+    sizes = np.diff(views.target_offsets)
+    slot_row = np.repeat(owners - views.own, sizes) + _ranks(sizes)
+    passive = ~objects.blocks[slot_row] & ~views.transparent
+    return ChunkViewpoints(
+        views.frame_starts, views.position, views.own, views.target_offsets, views.transparent,
+        views.static_offsets, views.static_inside, passive,
+    )  # fmt: skip
+
+
+def frame_with_passive_targets(objects: FrameObjects, viewpoints: list[Viewpoint]) -> list[Viewpoint]:
+    """:func:`with_passive_targets` for one frame's viewpoints."""
+    return [replace(v, passive=~objects.blocks & ~np.asarray(v.transparent, dtype=bool)) for v in viewpoints]
+
+
 def chunk_scenes(
-    views: ChunkViewpoints, owners: np.ndarray, objects: ObjectTable
+    views: ChunkViewpoints, owners: np.ndarray, objects: ObjectTable, passive_targets: bool = False
 ) -> tuple[ObjectTable, ChunkViewpoints, Views]:
     """A chunk's viewpoints expanded into views, each view's scene one frame of a new table (the views as
-    viewpoints the engines take, one per frame)."""
+    viewpoints the engines take, one per frame); ``passive_targets`` as for :func:`expand`."""
     first_row = owners - views.own
-    expanded = expand(views.position, views.own, views.target_offsets, views.transparent, first_row, objects)
+    expanded = expand(
+        views.position, views.own, views.target_offsets, views.transparent, first_row, objects, passive_targets
+    )
     b, rows = expanded.base, expanded.rows
     scenes = ObjectTable(
         objects.frame[rows],
@@ -227,6 +258,7 @@ def chunk_scenes(
         expanded.transparent,
         static_offsets,
         static_inside,
+        expanded.passive,
     )
     return scenes, chunk, expanded
 
@@ -239,15 +271,17 @@ def _ranks(sizes: np.ndarray) -> np.ndarray:
 
 
 def frame_scenes(
-    objects: FrameObjects, viewpoints: list[Viewpoint]
+    objects: FrameObjects, viewpoints: list[Viewpoint], passive_targets: bool = False
 ) -> tuple[list[tuple[FrameObjects, Viewpoint]], Views]:
-    """One frame's viewpoints expanded into views: each view's scene and its viewpoint in that scene."""
+    """One frame's viewpoints expanded into views: each view's scene and its viewpoint in that scene
+    (``passive_targets`` as for :func:`expand`)."""
     n = len(objects)
     own = np.array([v.own for v in viewpoints], dtype=np.int64)
     offsets = np.arange(len(viewpoints) + 1, dtype=np.int64) * n
     positions = np.array([v.position for v in viewpoints], dtype=np.float64).reshape(-1, 2)
     transparent = np.concatenate([v.transparent for v in viewpoints]) if viewpoints else np.zeros(0, dtype=bool)
-    expanded = expand(positions, own, offsets, transparent, np.zeros(len(viewpoints), dtype=np.int64), objects)
+    first_row = np.zeros(len(viewpoints), dtype=np.int64)
+    expanded = expand(positions, own, offsets, transparent, first_row, objects, passive_targets)
     out = []
     for e, b in enumerate(expanded.base.tolist()):
         at = slice(expanded.object_offsets[e], expanded.object_offsets[e + 1])
@@ -264,7 +298,7 @@ def frame_scenes(
         v = viewpoints[b]
         view = Viewpoint(
             v.position, v.heading, int(expanded.own[e]), expanded.transparent[at], v.static_transparent, v.fov,
-            v.range, v.height, v.vertical_fov, v.pitch,
+            v.range, v.height, v.vertical_fov, v.pitch, None if expanded.passive is None else expanded.passive[at],
         )  # fmt: skip
         out.append((scene, view))
     return out, expanded

@@ -94,6 +94,7 @@ def observe_frames(
     positions,
     target_offsets,
     transparent,
+    passive,
     static_offsets,
     static_inside,
     n_sources,
@@ -107,8 +108,8 @@ def observe_frames(
     static_grid,
 ):
     """:func:`.observe.observe_one` for every viewpoint of a chunk (arguments as :func:`bearing_arguments` takes
-    and returns them, ``ang`` the bearings of ``y, x``; ``transparent`` per target, ``static_inside`` CSR per
-    viewpoint by ``static_offsets``), every viewpoint seeing all around without range; what
+    and returns them, ``ang`` the bearings of ``y, x``; ``transparent`` and ``passive`` per target,
+    ``static_inside`` CSR per viewpoint by ``static_offsets``), every viewpoint seeing all around without range; what
     :func:`.observe.observe_frame` and :func:`.observe.reason_codes` give frame by frame, written straight into
     the chunk's arrays.
 
@@ -165,7 +166,7 @@ def observe_frames(
             object_transparent = transparent[t0 : t0 + n]
             one_visible, one_width, one_occ_offsets, one_occ, one_st_offsets, one_st = observe_one(
                 positions[o, 0], positions[o, 1], frame, statics, static_grid, ang[arg_offsets[o] : arg_offsets[o + 1]],
-                object_transparent, static_transparent, 0.0, TWO_PI, np.inf,
+                object_transparent, passive[t0 : t0 + n], static_transparent, 0.0, TWO_PI, np.inf,
             )  # fmt: skip
             for q in range(static_offsets[o], static_offsets[o + 1]):
                 static_transparent[static_inside[q]] = False

@@ -24,6 +24,7 @@ class SweepEngine:
 
     name = "sweep"
     measure = "radians"
+    passive_targets = True  # measured against the blocking bodies' sweep (see .passive)
 
     def __init__(self, statics: StaticOccluders) -> None:
         self.statics = statics
@@ -65,6 +66,7 @@ class SweepEngine:
             swept,
             np.array([v.static_transparent for v in viewpoints], dtype=bool).reshape(len(viewpoints), -1),
             limits,
+            np.array([_passive(v.passive, len(objects)) for v in viewpoints]).reshape(swept.shape),
         )
         for k, one in seen.items():
             view = viewpoints[k]
@@ -90,6 +92,7 @@ class SweepEngine:
             positions,
             np.ascontiguousarray(viewpoints.target_offsets, dtype=np.int64),
             np.ascontiguousarray(viewpoints.transparent, dtype=np.bool_),
+            _passive(viewpoints.passive, len(viewpoints.transparent)),
             np.ascontiguousarray(viewpoints.static_offsets, dtype=np.int64),
             np.ascontiguousarray(viewpoints.static_inside, dtype=np.int64),
             self.statics.n_sources,
@@ -122,8 +125,11 @@ class SweepEngine:
         transparent: np.ndarray,
         static_transparent: np.ndarray,
         limits: np.ndarray | None = None,
+        passive: np.ndarray | None = None,
     ) -> list[Observation]:
         observers = np.ascontiguousarray(observers, dtype=np.float64).reshape(-1, 2)
+        if passive is None:
+            passive = np.zeros(np.shape(transparent), dtype=np.bool_)
         if limits is None:  # every observer sees all around, without limit
             limits = np.empty((len(observers), 3))
             limits[:] = (0.0, TWO_PI, np.inf)
@@ -135,6 +141,7 @@ class SweepEngine:
             self._grid,
             ang,
             np.ascontiguousarray(transparent, dtype=bool).reshape(len(observers), -1),
+            np.ascontiguousarray(passive, dtype=bool).reshape(len(observers), -1),
             np.ascontiguousarray(static_transparent, dtype=bool).reshape(len(observers), -1),
             np.ascontiguousarray(limits, dtype=np.float64).reshape(len(observers), 3),
         )
@@ -177,3 +184,8 @@ class SweepEngine:
             float(arc_step),
         )
         return outline + position
+
+
+def _passive(passive: np.ndarray | None, n: int) -> np.ndarray:
+    """The passive targets' flags as the kernels take them (None: none of the ``n``)."""
+    return np.zeros(n, dtype=np.bool_) if passive is None else np.ascontiguousarray(passive, dtype=np.bool_)

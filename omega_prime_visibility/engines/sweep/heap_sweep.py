@@ -200,9 +200,15 @@ def visible_angles(pieces, body, n_bodies, wedge_start, fov, max_range):
     wedge_start, fov, max_range : float
         Radians, radians (``>= 2π``: all around), metres (``inf``: no limit).
     """
+    lo, hi, top, tie_offsets, ties = nearest_intervals(pieces, True)
+    return credited_angles(pieces, body, n_bodies, wedge_start, fov, max_range, lo, hi, top, tie_offsets, ties)
+
+
+@numba.njit(cache=True)
+def credited_angles(pieces, body, n_bodies, wedge_start, fov, max_range, lo, hi, top, tie_offsets, ties):
+    """:func:`visible_angles` from the sweep's intervals (what :func:`nearest_intervals` gives with ties)."""
     limited = fov < TWO_PI or max_range < np.inf
     visible = np.zeros(n_bodies)
-    lo, hi, top, tie_offsets, ties = nearest_intervals(pieces, True)
     credited = np.full(n_bodies, -1, dtype=np.int64)  # the last interval each body was credited
     for q in range(len(lo)):
         if hi[q] - lo[q] < MIN_PIECE:  # (rounding between events at one bearing, such as collinear corners)

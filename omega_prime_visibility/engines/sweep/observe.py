@@ -16,6 +16,7 @@ from .crossings import statics_near
 from .heap_sweep import visible_angles
 from .occluders import ObjectsSeen, occluders
 from .outline import visible_outline
+from .passive import passive_angles
 from .pieces import (
     FrameEdges,
     StaticEdges,
@@ -30,8 +31,9 @@ from .pieces import (
 
 @numba.njit(cache=True)
 def observe_one(
-    ox, oy, frame, statics, static_grid, ang, object_transparent, static_transparent, wedge_start, fov, max_range
-):
+    ox, oy, frame, statics, static_grid, ang, object_transparent, object_passive, static_transparent, wedge_start, fov,
+    max_range,
+):  # fmt: skip
     """What the observer at ``(ox, oy)`` (metres) sees of every object of the frame.
 
     Parameters
@@ -43,6 +45,8 @@ def observe_one(
     ang : ndarray, shape (2 m,)
         This observer's bearings (see :func:`.pieces.object_extents`), radians.
     object_transparent : ndarray of bool, shape (n,)
+    object_passive : ndarray of bool, shape (n,)
+        Targets that neither block nor occlude, each measured against the others that may (see :mod:`.passive`).
     static_transparent : ndarray of bool, shape (n_sources,)
     wedge_start, fov, max_range : float
         The field of view ``[wedge_start, wedge_start + fov]`` (radians) and the range (metres).
@@ -73,22 +77,28 @@ def observe_one(
     pieces, body = cut_pieces(kept, record_edge, records, cut_offsets, cuts)
 
     # 3. the sweep
-    visible = visible_angles(pieces, body, n + n_src, wedge_start, fov, max_range)[:n].copy()
+    if object_passive.any():
+        visible = passive_angles(pieces, body, object_passive, n + n_src, wedge_start, fov, max_range)[:n].copy()
+    else:
+        visible = visible_angles(pieces, body, n + n_src, wedge_start, fov, max_range)[:n].copy()
 
     # 4. occluders
-    objects = ObjectsSeen(seg, offsets, object_transparent, start, width, near, far)
+    objects = ObjectsSeen(seg, offsets, object_transparent, object_passive, start, width, near, far)
     occ_offsets, occ, st_offsets, st = occluders(objects, n_src, kept, record_edge, records, statics, ox, oy)
     return visible, width, occ_offsets, occ, st_offsets, st
 
 
 @numba.njit(cache=True)
-def observe_frame(observers, frame_arrays, static_arrays, static_grid, ang, transparent, static_transparent, limits):
+def observe_frame(
+    observers, frame_arrays, static_arrays, static_grid, ang, transparent, passive, static_transparent, limits
+):
     """:func:`observe_one` for each of the ``k`` observers (shape (k, 2), metres) of one frame.
 
     ``frame_arrays`` and ``static_arrays`` are plain tuples of the :class:`FrameEdges` and :class:`StaticEdges`
     fields (the named tuples are built here: handing named tuples in from Python costs a type inference per
-    call). ``ang`` (k, 2 m), ``transparent`` (k, n) and ``static_transparent`` (k, n_sources) hold one row per
-    observer; ``limits`` (k, 3) each observer's wedge start and field of view (radians) and range (metres).
+    call). ``ang`` (k, 2 m), ``transparent`` and ``passive`` (k, n) and ``static_transparent`` (k, n_sources)
+    hold one row per observer; ``limits`` (k, 3) each observer's wedge start and field of view (radians) and range
+    (metres).
 
     Returns
     -------
@@ -121,6 +131,7 @@ def observe_frame(observers, frame_arrays, static_arrays, static_grid, ang, tran
             static_grid,
             ang[o],
             transparent[o],
+            passive[o],
             static_transparent[o],
             limits[o, 0],
             limits[o, 1],

@@ -34,9 +34,9 @@ STATIC_ACCEPT_RELATIVE = 1e-7  # ... and it must lie nearer than (1 - this) time
 
 #: The objects as one observer sees them: ``seg`` (m, 2, 2) their edges relative to the observer (metres),
 #: ``offsets`` (n + 1,) object ``i``'s edges are ``seg[offsets[i]:offsets[i + 1]]``, ``transparent`` (n,) bool,
-#: ``start`` and ``width`` (n,) their angular extents (radians), ``near`` and ``far`` (n,) their nearest and
-#: farthest distance (metres).
-ObjectsSeen = namedtuple("ObjectsSeen", "seg offsets transparent start width near far")
+#: ``passive`` (n,) bool (targets that occlude nothing, see :mod:`.passive`), ``start`` and ``width`` (n,) their
+#: angular extents (radians), ``near`` and ``far`` (n,) their nearest and farthest distance (metres).
+ObjectsSeen = namedtuple("ObjectsSeen", "seg offsets transparent passive start width near far")
 
 
 @numba.njit(cache=True)
@@ -71,8 +71,8 @@ def _candidate_intervals(objects, kept, record_edge, records):
     Returns
     -------
     items : tuple of ndarray, each shape (k,)
-        ``(lo, hi, body, near, far)`` sorted by ``lo``: object extents (split at the -pi/pi direction) and the
-        records of kept static edges, radians and metres.
+        ``(lo, hi, body, near, far)`` sorted by ``lo``: extents of the objects that may occlude (split at the
+        -pi/pi direction; not the passive ones) and the records of kept static edges, radians and metres.
     queries : tuple of ndarray, each shape (q,)
         ``(lo, hi, target)`` of the targets' extents (split likewise), in their order of ``lo``.
     """
@@ -80,7 +80,7 @@ def _candidate_intervals(objects, kept, record_edge, records):
     n_rec = len(records)
     n_items = 0
     for i in range(n):
-        if not objects.transparent[i]:
+        if not objects.transparent[i] and not objects.passive[i]:
             n_items += 2
     for r in range(n_rec):
         if kept.body[record_edge[r]] >= n:
@@ -107,9 +107,10 @@ def _candidate_intervals(objects, kept, record_edge, records):
                 if e <= PI:
                     break
                 lo, hi = -PI, e - TWO_PI
-            item_lo[k], item_hi[k], item_body[k] = lo, hi, i
-            item_near[k], item_far[k] = objects.near[i], objects.far[i]
-            k += 1
+            if not objects.passive[i]:
+                item_lo[k], item_hi[k], item_body[k] = lo, hi, i
+                item_near[k], item_far[k] = objects.near[i], objects.far[i]
+                k += 1
             query_lo[n_queries], query_hi[n_queries], query_target[n_queries] = lo, hi, i
             n_queries += 1
     for r in range(n_rec):

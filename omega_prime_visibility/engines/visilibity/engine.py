@@ -54,6 +54,7 @@ class VisiLibityEngine:
 
     name = "visilibity"
     measure = "radians"
+    passive_targets = False
 
     def __init__(
         self,
