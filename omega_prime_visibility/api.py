@@ -226,7 +226,8 @@ def get_visibility_df(
     chunk_frames = chunk_size(objects, len(egos), chunk_frames, 1 if sensor_set is None else len(sensor_set))
     n_workers = min(n_workers, len(chunks(objects.n_frames, chunk_frames, n_workers)))
     path_key = engine if sensor_set is None else f"{engine}+sensors"  # the sensors' path compiles more kernels
-    if objects.blocks is not None or objects.wanted is not None:  # so do the views of occluders= and targets=
+    views = objects.wanted is not None or (objects.blocks is not None and not engine_class.passive_targets)
+    if views:  # so do the views of targets= and (where the engine takes no passive targets) of occluders=
         path_key += "+views"
     announce_compilation(engine, engine_class, path_key)  # (the checks are done: work starts here)
     show = objects.n_frames >= PROGRESS_MIN_FRAMES if progress is None else progress

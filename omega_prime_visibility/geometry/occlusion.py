@@ -15,7 +15,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .kernels import TWO_PI, nearest_offset, ray_line_distance, reserve, wrap_positive
+from .kernels import TWO_PI, nearest_offset, ray_line_distance, reserve, sorted_values, wrap_positive
 
 RELATIVE_TOLERANCE = 1e-9  # J must be nearer by this fraction of T's distance to count as in front
 MIN_PIECE = 1e-12  # radians; thinner pieces are ignored
@@ -168,7 +168,7 @@ def occludes_within(ox, oy, seg, j_start, j_stop, t_start, t_stop, extent_start,
                 if rel < extent_width:
                     cuts[k] = rel
                     k += 1
-    cuts = np.sort(cuts[:k])
+    cuts = sorted_values(cuts[:k])
     interval = 0
     for i in range(k - 1):
         u0, u1 = cuts[i], cuts[i + 1]

@@ -31,6 +31,7 @@ import numba
 import numpy as np
 import shapely
 
+from .kernels import argsort_stable
 from .star_union import union_pieces
 
 MATCH = 1e3
@@ -55,7 +56,7 @@ def _successors(pieces, tol):
     start there (the lowest of their numbers; -1 elsewhere)."""
     m = len(pieces)
     match = MATCH * tol
-    order = np.argsort(pieces[:, 0])
+    order = argsort_stable(pieces[:, 0].copy())
     xs = pieces[order, 0]
     following = np.full(m, -1)
     junction = np.full(m, -1)

@@ -23,7 +23,7 @@ import math
 import numba
 import numpy as np
 
-from .kernels import TWO_PI, reserve, segment_distance2, wrap_positive
+from .kernels import TWO_PI, argsort_stable, reserve, segment_distance2, sorted_values, wrap_positive
 
 SNAP = 1e-12
 """Radians: in-view intervals this close to the ends of a target's extent are taken to reach them."""
@@ -148,7 +148,7 @@ def _in_range_intervals(coords, first, last, start, width, max_range):
             crossings[c] = u1
             c += 1
     # arcs of the range circle inside the target, between consecutive crossings
-    crossings = np.sort(crossings[:c])
+    crossings = sorted_values(crossings[:c])
     extra_lo = np.empty(c)
     extra_hi = np.empty(c)
     q = 0
@@ -169,7 +169,7 @@ def _in_range_intervals(coords, first, last, start, width, max_range):
 @numba.njit(cache=True)
 def _union(lo, hi, width):
     """Sorted union of intervals within ``[0, width]``; ends within :data:`SNAP` of 0 or ``width`` snap to them."""
-    order = np.argsort(lo)
+    order = argsort_stable(lo)
     out_lo = np.empty(len(lo))
     out_hi = np.empty(len(lo))
     k = 0

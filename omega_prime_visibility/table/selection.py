@@ -28,6 +28,7 @@ import numba
 import numpy as np
 
 from ..engines import ChunkViewpoints, Viewpoint
+from ..geometry.kernels import argsort_stable
 from ..geometry.spans import angular_spans, may_be_in_front, spans_share
 from ..inputs.objects import FrameObjects, ObjectTable
 from .schema import LIST_COLUMNS, Columns
@@ -132,7 +133,7 @@ def _assign_groups(target_offsets, transparent, blocks, wanted, centre, half, ne
             else:
                 free[n_free] = s
                 n_free += 1
-        order = free[:n_free][np.argsort(centre[free[:n_free]], kind="mergesort")]
+        order = free[:n_free][argsort_stable(centre[free[:n_free]])]
         n_left = 0
         for m in order:  # first into the main view, where it hides no row
             joins = True

@@ -12,7 +12,15 @@ import math
 import numba
 import numpy as np
 
-from ...geometry.kernels import MIN_CAPACITY, next_vertex_index, prefix_sum, push_pair, reserve
+from ...geometry.kernels import (
+    MIN_CAPACITY,
+    argsort_stable,
+    next_vertex_index,
+    prefix_sum,
+    push_pair,
+    reserve,
+    unique_values,
+)
 
 GRID_CELLS = 256  # cells along the longer side of the static edges' grid
 
@@ -111,7 +119,7 @@ def statics_near(grid_f, grid_i, cell_off, items, ox, oy, radius, n_static):
         a, b = cell_off[cy * nx + cx0], cell_off[cy * nx + cx1 + 1]
         found[k : k + b - a] = items[a:b]
         k += b - a
-    return np.unique(found)
+    return unique_values(found)
 
 
 @numba.njit(cache=True)
@@ -262,7 +270,7 @@ def frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off, 
         spread_x = bbox[:, 2].max() - bbox[:, 0].min()
         spread_y = bbox[:, 3].max() - bbox[:, 1].min()
         axis = 0 if spread_x >= spread_y else 1
-        order = np.argsort(bbox[:, axis].copy())
+        order = argsort_stable(bbox[:, axis].copy())
         state = np.array([0, -1, 0], dtype=np.int64)
         # the buffers grow between calls, not inside the sweep: arrays rebound in a loop cost reference counting on
         # every pass

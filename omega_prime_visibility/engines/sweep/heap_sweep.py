@@ -15,7 +15,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...geometry.kernels import reserve
+from ...geometry.kernels import argsort_stable, reserve
 from ...geometry.occlusion import MIN_PIECE, hidden_span
 from ...geometry.view import limited_angle
 from .pieces import EX, EY, HI, LO, NUM, TWO_PI, UHX, UHY, ULX, ULY
@@ -101,8 +101,8 @@ def nearest_intervals(pieces, with_ties=False):
     q = 0
     if k == 0:
         return out_lo, out_hi, out_top, tie_offsets, ties
-    by_lo = np.argsort(pieces[:, LO].copy())
-    by_hi = np.argsort(pieces[:, HI].copy())
+    by_lo = argsort_stable(pieces[:, LO].copy())
+    by_hi = argsort_stable(pieces[:, HI].copy())
     heap = np.empty(k, dtype=np.int64)
     position = np.full(k, -1, dtype=np.int64)
     stack = np.empty(k if with_ties else 0, dtype=np.int64)

@@ -22,7 +22,7 @@ from collections import namedtuple
 import numba
 import numpy as np
 
-from ...geometry.kernels import counting_sort, group_by_key, prefix_sum, reserve
+from ...geometry.kernels import argsort_stable, counting_sort, group_by_key, prefix_sum, reserve
 from ...geometry.occlusion import MIN_PIECE
 from .decide import CANDIDATE_EPS, decided_pairs
 from .pieces import R_HI, R_LO
@@ -119,9 +119,9 @@ def _candidate_intervals(objects, kept, record_edge, records):
             item_lo[k], item_hi[k], item_body[k] = records[r, R_LO], records[r, R_HI], kept.body[e]
             item_near[k], item_far[k] = kept.distance[e, 0], kept.distance[e, 1]
             k += 1
-    order = np.argsort(item_lo[:k])
+    order = argsort_stable(item_lo[:k])
     items = (item_lo[order], item_hi[order], item_body[order], item_near[order], item_far[order])
-    query_order = np.argsort(query_lo[:n_queries])
+    query_order = argsort_stable(query_lo[:n_queries])
     queries = (query_lo[query_order], query_hi[query_order], query_target[query_order])
     return items, queries
 

@@ -14,7 +14,7 @@ import math
 import numba
 import numpy as np
 
-from ...geometry.kernels import reserve_rows, wrap_positive
+from ...geometry.kernels import argsort_stable, reserve_rows, wrap_positive
 from ...geometry.view import clip_circular
 from .heap_sweep import nearest_intervals
 from .pieces import EX, EY, NUM, PI, TWO_PI
@@ -101,7 +101,7 @@ def visible_outline(pieces, wedge_start, fov, radius, arc_step):
             middle = 0.5 * (sub_lo[m] + sub_hi[m])  # the start may round to just before the wedge's start
             sub_key[m] = wrap_positive(middle - base) if fov < TWO_PI else middle - base
             m += 1
-    order = np.argsort(sub_key[:m], kind="mergesort")
+    order = argsort_stable(sub_key[:m])
     out = np.empty((4 * m + 8, 2))
     k = 0
     if fov < TWO_PI:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...geometry.kernels import TWO_PI, reserve_rows
+from ...geometry.kernels import TWO_PI, argsort_stable, reserve_rows
 from ...geometry.occlusion import MIN_PIECE, hidden_span
 from ...geometry.view import limited_angle
 from .polygon_check import on_edge
@@ -69,7 +69,7 @@ def attribute_visible_angles(
         bx, by = pts[(i + 1) % m, 0], pts[(i + 1) % m, 1]
         bearing[i] = np.arctan2(ay, ax)
         span[i] = np.arctan2(ax * by - ay * bx, ax * bx + ay * by)
-    order = np.argsort(bearing)
+    order = argsort_stable(bearing)
     sorted_bearing = bearing[order]
     most_edges = 0
     for t in targets:
@@ -160,7 +160,7 @@ def _unhidden(px, py, start, lo, hi, ax, ay, bx, by, seg, seg_offsets, occluders
     pieces = np.empty((n_hidden + 1, 2))
     n_pieces = 0
     reached = lo
-    for q in np.argsort(hidden[:n_hidden, 0]):
+    for q in argsort_stable(hidden[:n_hidden, 0].copy()):
         if hidden[q, 0] - reached >= MIN_PIECE:
             pieces[n_pieces, 0], pieces[n_pieces, 1] = reached, hidden[q, 0]
             n_pieces += 1

@@ -25,7 +25,7 @@ from typing import Any
 import numba
 import numpy as np
 
-from ...geometry.kernels import reserve
+from ...geometry.kernels import reserve, unique_values
 from ...geometry.occlusion import _candidate_pairs, _occludes_pairs
 from ...geometry.rings import Rings
 from ...inputs.objects import ObjectTable
@@ -131,7 +131,7 @@ def occlusion_by_view(
                     ox, oy, seg, seg_offsets, body[check], target[check], start[t0 : t0 + n], width[t0 : t0 + n]
                 )
                 # grouped by target, ascending within: objects first (body < n), static sources after
-                codes = np.unique(target[certain] * (n + n_sources) + body[certain])
+                codes = unique_values(target[certain] * (n + n_sources) + body[certain])
             occ = reserve(occ, n_occ, n_occ + len(codes))
             st = reserve(st, n_st, n_st + len(codes))
             q = 0

@@ -11,7 +11,7 @@ import numpy as np
 import shapely
 import visilibity as vis
 
-from ...geometry.kernels import MIN_CAPACITY, push_pair
+from ...geometry.kernels import MIN_CAPACITY, argsort_stable, push_pair
 
 # SWIG's flat functions, called directly: the proxy classes' Python wrappers cost more than the C++ calls (a
 # vis.Point(x, y) is three Python calls); the vector typemaps take the flat functions' objects as they are
@@ -49,7 +49,7 @@ def grid_origin(points: np.ndarray) -> np.ndarray:
 @numba.njit(cache=True)
 def box_overlaps(lo, hi):
     """Pairs (i, j), i < j, of axis-aligned boxes ``[lo, hi]`` that overlap (sort and sweep on x)."""
-    order = np.argsort(lo[:, 0])
+    order = argsort_stable(lo[:, 0].copy())
     first = np.empty(MIN_CAPACITY, dtype=np.int64)
     second = np.empty(MIN_CAPACITY, dtype=np.int64)
     k = 0

@@ -23,7 +23,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...geometry.kernels import ray_line_distance, reserve_rows
+from ...geometry.kernels import argsort_stable, ray_line_distance, reserve_rows
 
 TWO_PI = 2.0 * np.pi
 MIN_SPAN = 1e-12  # radians; edges subtending less point at the observer and bound nothing
@@ -153,8 +153,8 @@ def _uncovered(pts, start, covered):
     x0, y0 = pts[:, 0].min(), pts[:, 1].min()
     x1, y1 = pts[:, 0].max(), pts[:, 1].max()
     scale = max(1.0, abs(x0), abs(y0), abs(x1), abs(y1))
-    order = np.argsort(covered[:, 1], kind="mergesort")
-    order = order[np.argsort(covered[order, 0], kind="mergesort")]  # by edge, then by bearing
+    order = argsort_stable(covered[:, 1].copy())
+    order = order[argsort_stable(covered[order, 0])]  # by edge, then by bearing
     q = 0
     for k in range(m):
         reached = start[k]
