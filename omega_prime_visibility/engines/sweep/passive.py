@@ -143,7 +143,7 @@ def _own_nearest(pieces, mine):
         order[b + 1] = x
     for a in range(1, k):
         if pieces[mine[order[a]], LO] < pieces[mine[order[a - 1]], HI]:  # overlapping pieces: the sweep decides
-            lo, hi, top, _, _ = nearest_intervals(pieces[mine], False)
+            lo, hi, top, _, _ = nearest_intervals(pieces[mine], True)  # (ties unused: one compiled signature)
             return lo, hi, top
     lo = np.empty(k)
     hi = np.empty(k)
