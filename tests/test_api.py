@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import polars as pl
@@ -77,6 +78,25 @@ def test_object_containing_observer_is_transparent(engine: str) -> None:
     sensors = [Sensor("front", fov=1.0, x=0.5), Sensor("rear", fov=1.0, x=-0.5, yaw=math.pi)]
     with pytest.warns(VisibilityInputWarning, match=r"idx 1 contains observer 0 in 1 frame\(s\)"):
         get_visibility_df(boxes_table(boxes), 0, engine=engine, sensors=sensors)
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_static_occluder_containing_observer_is_transparent_and_told(engine: str) -> None:
+    # the ego drives out of a building (static occluder 1, x in [-5, 3]) behind a wall (static occluder 0, x = 10):
+    # inside it in frames 0 and 1 (centre x = 0, 2), outside in frame 2 (x = 4); the target at x = 20 is behind the
+    # wall in every frame, never behind the building
+    df = pl.concat([boxes_table([(2.0 * f, 0, 4, 2, 0), (20, 0, 4, 2, 0)], frame=f) for f in range(3)])
+    statics = [shapely.LineString([(10, -10), (10, 10)]), shapely.box(-5, -5, 3, 5)]
+    message = r"static occluder 1 contains observer 0 in 2 frame\(s\) \(first frame 0\)"
+    for sensors in (None, [Sensor("front", fov=1.0, x=0.5), Sensor("rear", fov=1.0, x=-0.5, yaw=math.pi)]):
+        with pytest.warns(VisibilityInputWarning, match=message):
+            out = get_visibility_df(df, 0, statics, engine=engine, sensors=sensors)
+        assert out["visibility"].max() == 0.0  # (behind the rear sensor, out of view: 0 as well)
+        listed = out["static_occluder_idxs"].to_list()
+        assert all(s == [0] for s in listed) if sensors is None else all(s in ([0], []) for s in listed)
+    with warnings.catch_warnings():  # outside the building: nothing to tell
+        warnings.simplefilter("error")
+        get_visibility_df(df.filter(pl.col("frame") == 2), 0, statics, engine=engine)
 
 
 @pytest.mark.parametrize("engine", ENGINES)

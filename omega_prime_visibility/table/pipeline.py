@@ -11,8 +11,6 @@ dask client's executor, or none). Workers return plain numpy arrays and never to
 
 from __future__ import annotations
 
-import warnings
-from collections import Counter
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Executor
 from typing import Any
@@ -22,74 +20,16 @@ import numpy as np
 from ..engines import FALLBACK_ENGINE, ChunkViewpoints, Engine, EngineFailure, Viewpoint, get_engine
 from ..engines.observe3d import holding_eye
 from ..inputs.containment import covers_points, covers_points_by_frame
-from ..inputs.objects import FrameObjects, ObjectTable, VisibilityInputWarning
+from ..inputs.objects import FrameObjects, ObjectTable
 from ..inputs.sensors import TWO_PI, Sensor, sensor_poses
 from ..inputs.statics import StaticOccluders
+from .notices import ContainmentLog
 from .rows import chunk_rows, frame_rows
 from .schema import Columns, TableBuilder
 from .selection import chunk_scenes, frame_scenes, frame_with_passive_targets, kept_rows, with_passive_targets
 
 SensorSet = Sequence[Sensor] | dict[int, Sequence[Sensor]]
 """Sensors for every observer, or per observer idx (same names, same order)."""
-
-
-class ContainmentLog:
-    """Counts objects that contain an observer, and frames computed by the fallback engine, for one summarising
-    warning each."""
-
-    def __init__(self) -> None:
-        self.frames: Counter[tuple[int, int]] = Counter()
-        self.first: dict[tuple[int, int], int] = {}
-        self.fallback_frames = 0
-        self.first_fallback: tuple[int, str] | None = None  # (frame, why)
-
-    def add_fallback(self, frame: int, why: str) -> None:
-        """A frame the engine failed on (:class:`..engines.EngineFailure` saying ``why``), computed by the fallback."""
-        self.fallback_frames += 1
-        if self.first_fallback is None:
-            self.first_fallback = (int(frame), why)
-
-    def add_pairs(self, ego: np.ndarray, idx: np.ndarray, frame: np.ndarray) -> None:
-        """Add many ``(observer idx, containing idx, frame)`` triples (a frame counts once, however many of the
-        observer's sensors are inside)."""
-        if not len(ego):
-            return
-        triples = np.unique(np.stack([ego, idx, frame]).astype(np.int64), axis=1)  # sorted: frames ascending
-        keys, first, counts = np.unique(triples[:2], axis=1, return_index=True, return_counts=True)
-        for (e, i), at, c in zip(keys.T.tolist(), first.tolist(), counts.tolist(), strict=True):
-            self.frames[(e, i)] += c
-            self.first.setdefault((e, i), int(triples[2, at]))
-
-    def merge(self, other: ContainmentLog) -> None:
-        self.frames.update(other.frames)
-        for key, frame in other.first.items():
-            self.first.setdefault(key, frame)
-        self.fallback_frames += other.fallback_frames
-        self.first_fallback = self.first_fallback or other.first_fallback
-
-    def warn(self, stacklevel: int = 3) -> None:
-        if self.first_fallback is not None:
-            frame, why = self.first_fallback
-            warnings.warn(
-                f"{self.fallback_frames} frame(s) computed with engine={FALLBACK_ENGINE!r} (exact too; the engines "
-                f"agree within 1e-6) because the chosen engine could not compute them exactly; first frame {frame}: "
-                f"{why}",
-                VisibilityInputWarning,
-                stacklevel=stacklevel,
-            )
-        if not self.frames:
-            return
-        parts = [
-            f"idx {i} contains observer {e} in {c} frame(s) (first frame {self.first[(e, i)]})"
-            for (e, i), c in sorted(self.frames.items())[:10]
-        ]
-        more = len(self.frames) - 10
-        warnings.warn(
-            "objects containing the observer are treated as transparent (never occluders) and reported with "
-            f"visibility 1.0: {'; '.join(parts)}{f'; and {more} more' if more > 0 else ''}",
-            VisibilityInputWarning,
-            stacklevel=stacklevel,
-        )
 
 
 def _check_covered(sensors: dict[int, Sequence[Sensor]], observers: np.ndarray) -> None:
@@ -224,6 +164,11 @@ def observe_frame(
     if holders:
         ego, inside_idx = np.array(holders, dtype=np.int64).T
         containment.add_pairs(ego, inside_idx, np.full(len(ego), objects.frame))
+    if objects.boxes3d is None:  # (in 3D a static occluder is transparent only where its prism holds the eye)
+        sources = [np.flatnonzero(view.static_transparent) for view in views]
+        ego = np.repeat([objects.idx[view.own] for view in views], [len(k) for k in sources]).astype(np.int64)
+        if len(ego):
+            containment.add_static_pairs(ego, np.concatenate(sources), np.full(len(ego), objects.frame))
     sensor_codes = None if sensors is None else np.tile(np.arange(sensors_per_observer(sensors)), len(rows))
     if objects.wanted is None and objects.blocks is not None and engine.passive_targets:  # occluders= alone
         views = frame_with_passive_targets(objects, views)
@@ -318,13 +263,15 @@ def run_chunk(
 
 
 def _log_containment(log: ContainmentLog, objects: ObjectTable, views: ChunkViewpoints, owners: np.ndarray) -> None:
-    """Log the objects that contain a viewpoint other than its own body."""
+    """Log the objects that contain a viewpoint other than its own body, and the static occluders containing one."""
     hits = np.flatnonzero(views.transparent)
     view = np.searchsorted(views.target_offsets, hits, side="right") - 1
     first_row = owners[view] - views.own[view]  # chunk row of the first object of the viewpoint's frame
     row = first_row + hits - views.target_offsets[view]
     other = row != owners[view]
     log.add_pairs(objects.idx[owners[view[other]]], objects.idx[row[other]], objects.frame[row[other]])
+    holder = np.repeat(owners, np.diff(views.static_offsets))  # the observer row of each (viewpoint, source) pair
+    log.add_static_pairs(objects.idx[holder], views.static_inside, objects.frame[holder])
 
 
 def _run_chunk_star(args: tuple) -> tuple[Any, ContainmentLog]:
