@@ -66,7 +66,9 @@ class SweepEngine:
             swept,
             np.array([v.static_transparent for v in viewpoints], dtype=bool).reshape(len(viewpoints), -1),
             limits,
-            np.array([_passive(v.passive, len(objects)) for v in viewpoints]).reshape(swept.shape),
+            None
+            if all(v.passive is None for v in viewpoints)
+            else np.array([_passive(v.passive, len(objects)) for v in viewpoints]).reshape(swept.shape),
         )
         for k, one in seen.items():
             view = viewpoints[k]
