@@ -124,3 +124,34 @@ def test_a_view_range_of_a_thousand_kilometres_is_drawn(tmp_path) -> None:
               "-o", tmp_path / "r.html")  # fmt: skip
     assert out.returncode == 0, out.stderr
     assert files_under(tmp_path) == {Path("r.html")}
+
+
+def test_pictures_take_who_may_block(tmp_path) -> None:
+    # only idx 1 may block: the report's scene shows the numbers of that choice, not the default's
+    import json
+    import re
+    import warnings
+
+    import polars as pl
+
+    from omega_prime_visibility import get_visibility_df
+    from omega_prime_visibility.inputs.io import read_recording
+
+    out = cli("report", MCAP, "--frames", "0:201:20", "--occluders", "1", "--no-progress", "-o", tmp_path / "r.html")
+    assert out.returncode == 0, out.stderr
+    page = (tmp_path / "r.html").read_text()
+    scene = json.loads(re.search(r'<script id="scene-data" type="application/json">(.*?)</script>', page, re.S)[1])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = read_recording(MCAP)
+        want = get_visibility_df(r, 0, occluders=[1], progress=False)
+        default = get_visibility_df(r, 0, progress=False)
+    frames = [f["frame"] for f in scene["frames"]]
+    got = {(f["frame"], o["idx"]): o["vis"] for f in scene["frames"] for o in f["objects"] if not o["ego"]}
+    rows = want.filter(pl.col("frame").is_in(frames)).select("frame", "idx", "visibility").rows()
+    assert got == pytest.approx({(f, i): v for f, i, v in rows}, abs=1e-4)
+    rows = default.filter(pl.col("frame").is_in(frames)).select("frame", "idx", "visibility").rows()
+    assert got != pytest.approx({(f, i): v for f, i, v in rows}, abs=1e-4)
+    out = cli("animate", MCAP, "--frames", "30:32", "--occluders", "walkers", "-o", tmp_path / "x.gif")
+    assert_error(out, "--occluders", "unknown object kind 'walkers'")
+    assert not (tmp_path / "x.gif").exists()

@@ -243,3 +243,40 @@ def test_a_table_of_several_observers_gives_each_its_own_numbers() -> None:
         expected = dict(zip(own["idx"].to_list(), own["visibility"].to_list(), strict=True))
         got = {i: v for i, v in zip(view.idx.tolist(), view.visibility.tolist(), strict=True) if i != ego}
         assert got == expected and set(got.values()) == {0.0, 1.0}
+
+
+@pytest.mark.parametrize("mode", ["2d", "3d"])
+def test_objects_that_may_not_block_hide_nothing_in_the_picture(mode: str) -> None:
+    # ego, a pedestrian (idx 1, 0.5 m) 5 m ahead, a car (idx 2) at 15 m: with only vehicles blocking, the region
+    # just behind the pedestrian is seen and the car is fully visible, as in the table of that choice; by default
+    # the pedestrian hides both
+    import polars as pl
+
+    from omega_prime_visibility import get_visibility_df
+    from omega_prime_visibility.plot.data import load_source
+    from omega_prime_visibility.plot.frame import picture_viewer
+
+    df = boxes_table([(0, 0, 4, 2, 0), (5, 0, 0.5, 0.5, 0), (15, 0, 4, 2, 0)]).with_columns(
+        type=pl.Series([2, 3, 2]),
+        subtype=pl.Series([4, 0, 4]),
+        z=pl.lit(0.75),
+        height=pl.lit(1.5),
+        roll=pl.lit(0.0),
+        pitch=pl.lit(0.0),
+    )
+    behind = shapely.Point(6.0, 0.0)
+    for occluders, car in ((None, None), ("vehicles", 1.0)):
+        source = load_source(df, lanes=False, occluders=occluders)
+        viewer = picture_viewer(df, source, 0, None, np.array([0]), 80.0, mode=mode, occluders=occluders)
+        view = viewer.view(0)
+        assert view.region.contains(behind) == (occluders is not None)
+        table = get_visibility_df(df, 0, mode=mode, occluders=occluders)
+        want = dict(zip(table["idx"].to_list(), table["visibility"].to_list(), strict=True))
+        got = dict(zip(view.idx.tolist()[1:], view.visibility.tolist()[1:], strict=True))
+        assert got == pytest.approx(want, abs=1e-12)
+        assert car is None or got[2] == pytest.approx(car)
+    ax = plot_frame(df, 0, 0, occluders="vehicles", lanes=False)
+    assert ax is not None
+    plt.close("all")
+    with pytest.raises(ValueError, match="occluders"):
+        load_source(df, lanes=False, occluders="walkers")

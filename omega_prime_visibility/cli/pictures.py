@@ -10,7 +10,19 @@ import typer
 
 from ..engines import ENGINES, ENGINES_3D
 from .app import app
-from .common import Mode, Progress, Recording, Static, fail, load_recording, load_static, parse_ego, parse_sensors
+from .common import (
+    Mode,
+    Occluders,
+    Progress,
+    Recording,
+    Static,
+    fail,
+    load_recording,
+    load_static,
+    parse_choice,
+    parse_ego,
+    parse_sensors,
+)
 
 
 def parse_frames(frames: str) -> slice | None:
@@ -109,12 +121,14 @@ def animate(
     map_path: MapOption = None,
     static: Static = None,
     mode: Mode = "2d",
+    occluders: Occluders = None,
     progress: Progress = True,
 ) -> None:
     """Render the scene seen from the ego, frame by frame, to an animated GIF or an MP4 video."""
     from ..plot import animate as render
 
     parse_sensors(sensors)  # a bad layout or file fails here; a layout name is fitted to the ego later
+    blocking = parse_choice(occluders, "occluders")
     statics = load_static(static)
     r, ego_idx, span, engine = picture_inputs(recording, output, (".gif", ".mp4"), engine, frames, ego, map_path, mode)
     if target is not None:
@@ -125,7 +139,8 @@ def animate(
             raise fail(f"target idx {target} never occurs in the recording (idx present: {describe_idx(present)})")
     try:
         render(r, ego_idx, output, statics, frames=span, fps=fps, follow=follow, view_range=view_range,
-               target=target, sensors=sensors, engine=engine, mode=mode, progress=progress)  # fmt: skip
+               target=target, sensors=sensors, engine=engine, mode=mode, progress=progress,
+               occluders=blocking)  # fmt: skip
     except (ValueError, ImportError) as e:
         raise fail(str(e)) from None
     typer.echo(f"wrote {output}")
@@ -154,6 +169,7 @@ def report(
     map_path: MapOption = None,
     static: Static = None,
     mode: Mode = "2d",
+    occluders: Occluders = None,
     progress: Progress = True,
 ) -> None:
     """Write an interactive HTML report (frame slider, timeline, per-target summary) that works offline; for a batch
@@ -162,18 +178,19 @@ def report(
 
     if recording.is_dir():
         given = {"--ego": ego, "--frames": frames, "--sensors": sensors, "--engine": engine, "--map": map_path,
-                 "--static": static, "--mode": mode != "2d"}  # fmt: skip
+                 "--static": static, "--mode": mode != "2d", "--occluders": occluders}  # fmt: skip
         used = [flag for flag, value in given.items() if value]
         if used:
             raise fail(f"{' and '.join(used)} apply to one recording; {recording} is a folder (a campaign page)")
         return _campaign_page(recording, output)
 
     parse_sensors(sensors)  # a bad layout or file fails here; a layout name is fitted to the ego later
+    blocking = parse_choice(occluders, "occluders")
     statics = load_static(static)
     r, ego_idx, span, engine = picture_inputs(recording, output, (".html",), engine, frames, ego, map_path, mode)
     try:
         write_report(r, ego_idx, output, statics, frames=span, view_range=view_range, engine=engine, mode=mode,
-                     progress=progress, title=recording.name, sensors=sensors)  # fmt: skip
+                     progress=progress, title=recording.name, sensors=sensors, occluders=blocking)  # fmt: skip
     except (ValueError, ImportError) as e:
         raise fail(str(e)) from None
     typer.echo(f"wrote {output}")

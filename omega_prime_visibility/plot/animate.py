@@ -41,6 +41,7 @@ def animate(
     engine: str | None = None,
     mode: str = "2d",
     progress: bool | None = None,
+    occluders: Any = None,
 ) -> Path:
     """Render frames seen from ``ego_idx`` to an animated GIF or an MP4 video; return the path written.
 
@@ -77,6 +78,9 @@ def animate(
     engine, mode : str
         As for ``get_visibility_df``: ``mode="3d"`` colours the objects by their 3D visibility (the region shaded
         is still the bird's-eye one).
+    occluders : str, sequence or polars expression, optional
+        Who may block the view, as for ``get_visibility_df``: the numbers computed here and the region shaded as
+        seen honour it (give the choice a ``table=`` was computed with). Default: everything blocks.
     progress : bool, optional
         Show a progress bar while rendering; by default for ``PROGRESS_MIN_FRAMES`` frames or more.
 
@@ -99,11 +103,11 @@ def animate(
         require("imageio_ffmpeg", "writing MP4")
     else:
         require("PIL", "writing GIF")
-    source = load_source(df, static_occluder_polys, lanes)
+    source = load_source(df, static_occluder_polys, lanes, occluders)
     positions = source.positions(frames)
     check_target(source, target, positions)
     viewer = picture_viewer(df, source, ego_idx, static_occluder_polys, positions, view_range, sensors=sensors,
-                            engine=engine, mode=mode)  # fmt: skip
+                            engine=engine, mode=mode, occluders=occluders)  # fmt: skip
     pictures = render(
         source, viewer, positions, follow=follow, view_range=view_range, target=target, size=size, dpi=dpi,
         progress=len(positions) >= PROGRESS_MIN_FRAMES if progress is None else progress,

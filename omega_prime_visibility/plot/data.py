@@ -106,18 +106,21 @@ class Source:
         return float(math.hypot(ego["x"][b] - ego["x"][a], ego["y"][b] - ego["y"][a]) / dt)
 
 
-def load_source(df: Any, static_occluder_polys: Sequence[shapely.Geometry] | None = None, lanes: Any = True) -> Source:
+def load_source(
+    df: Any, static_occluder_polys: Sequence[shapely.Geometry] | None = None, lanes: Any = True, occluders: Any = None
+) -> Source:
     """Load a recording (``omega_prime.Recording``, polars table or MCAP path) for pictures.
 
     ``lanes``: True takes the lanes of the recording's map where it has one, False none; a map object (with a
-    ``lanes`` dict) or a sequence of shapely geometries gives them explicitly.
+    ``lanes`` dict) or a sequence of shapely geometries gives them explicitly. ``occluders``: who may block the
+    view, as for :func:`~omega_prime_visibility.get_visibility_df` (None: everything).
     """
     if isinstance(df, str) or hasattr(df, "__fspath__"):
         from ..inputs.io import read_recording
 
         df = read_recording(df)
     table = as_polars(df)
-    objects = load_objects(table)
+    objects = load_objects(table, occluders=occluders)
     if objects.n_frames == 0:
         raise ValueError("the table has no usable object rows: there is nothing to draw")
     statics = load_static_occluders(static_occluder_polys)
@@ -286,6 +289,7 @@ def frames_table(
     sensors: Sequence[Sensor] = (),
     mode: str = "2d",
     engine: str | None = None,
+    occluders: Any = None,
 ) -> pl.DataFrame:
     """The visibility table of ``ego_idx`` in the frames ``frame_numbers`` only, by ``get_visibility_df`` (for
     what the per-frame views do not compute themselves, such as ``mode="3d"``)."""
@@ -293,7 +297,7 @@ def frames_table(
 
     rows = as_polars(df).filter(pl.col("frame").is_in(list(frame_numbers)))
     return get_visibility_df(rows, ego_idx, static_occluder_polys, engine=engine, sensors=list(sensors) or None,
-                             mode=mode, progress=False)  # fmt: skip
+                             mode=mode, occluders=occluders, progress=False)  # fmt: skip
 
 
 def sensor_list(sensors: Any, source: Source, ego_idx: int) -> tuple[Sensor, ...]:

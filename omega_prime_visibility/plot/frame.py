@@ -205,6 +205,7 @@ def picture_viewer(
     engine: str | None = None,
     mode: str = "2d",
     table: Any = None,
+    occluders: Any = None,
 ) -> FrameViewer:
     """The :class:`~.data.FrameViewer` of a picture: sensors fitted to the ego, the engine of ``mode``; in 3D
     (where views cannot compute their numbers themselves) the table of the frames at ``positions`` computed first."""
@@ -219,7 +220,9 @@ def picture_viewer(
     if table is None and mode == "3d":
         FrameViewer(source, ego_idx, "visilibity", margin)  # an absent ego fails before the long computation
         frames = source.frames[positions].tolist()
-        table = frames_table(df, ego_idx, static_occluder_polys, frames, sensors=own, mode=mode, engine=engine)
+        table = frames_table(
+            df, ego_idx, static_occluder_polys, frames, sensors=own, mode=mode, engine=engine, occluders=occluders
+        )
     return FrameViewer(source, ego_idx, engine if mode == "2d" else "visilibity", margin, sensors=own, table=table)
 
 
@@ -256,6 +259,7 @@ def plot_frame(
     engine: str | None = None,
     mode: str = "2d",
     table: Any = None,
+    occluders: Any = None,
 ) -> Any:
     """Draw one frame seen from ``ego_idx``; return the matplotlib ``Axes``.
 
@@ -293,6 +297,9 @@ def plot_frame(
         ``mode="3d"`` fills the objects by their 3D visibility.
     table : polars.DataFrame, optional
         A visibility table of this ego computed elsewhere to take the numbers from (per sensor or not).
+    occluders : str, sequence or polars expression, optional
+        Who may block the view, as for ``get_visibility_df``: the numbers computed here and the region shaded as
+        seen honour it (give the choice a ``table=`` was computed with). Default: everything blocks.
 
     Objects are filled by their visibility (colour bar 0..1) and labelled ``idx: visibility`` where the label has
     room; the region visible from the ego is shaded pale blue, and a scale bar gives metres.
@@ -310,11 +317,11 @@ def plot_frame(
     ['object 1', 'object 2']
     """
     plt = require("matplotlib.pyplot")
-    source = load_source(df, static_occluder_polys, lanes)
+    source = load_source(df, static_occluder_polys, lanes, occluders)
     k = source.position_of(frame)
     check_target(source, target, np.array([k]))
     viewer = picture_viewer(df, source, ego_idx, static_occluder_polys, np.array([k]), view_range, sensors=sensors,
-                            engine=engine, mode=mode, table=table)  # fmt: skip
+                            engine=engine, mode=mode, table=table, occluders=occluders)  # fmt: skip
     view = viewer.view(k)
     window = None
     if view_range is not None:

@@ -66,13 +66,14 @@ def seen_region(
 ) -> shapely.Geometry:
     """What the object at ``row`` sees in this frame: from its centre all around without sensors, else the union
     over the sensors of each one's visible region (from the sensor's pose, the same transparency as the table's)
-    inside its field of view and range. Bounded by the engine's box around the scene."""
+    inside its field of view and range. Bounded by the engine's box around the scene. Objects that may not block
+    (``occluders=``, ``objects.blocks``) hide nothing here either."""
     if not sensors:
         (view,) = viewpoints(objects, np.array([row]), statics)
-        return _visible_region(engine, objects, view)
+        return _visible_region(engine, objects, _see_through(view, objects))
     parts = []
     for s, view in zip(sensors, viewpoints(objects, np.array([row]), statics, tuple(sensors)), strict=True):
-        region = _visible_region(engine, objects, view)
+        region = _visible_region(engine, objects, _see_through(view, objects))
         if s.fov >= FULL_TURN and math.isinf(s.range):
             parts.append(region)
             continue
@@ -80,3 +81,10 @@ def seen_region(
         reach = min(s.range, 2 * math.hypot(x1 - x0, y1 - y0))
         parts.append(shapely.intersection(region, field_polygon(view.position, view.heading, s.fov, reach)))
     return shapely.union_all(parts)
+
+
+def _see_through(view: Viewpoint, objects: FrameObjects) -> Viewpoint:
+    """``view`` with the objects that may not block (``objects.blocks``) transparent as well."""
+    if objects.blocks is None:
+        return view
+    return dataclasses.replace(view, transparent=np.asarray(view.transparent, dtype=bool) | ~objects.blocks)

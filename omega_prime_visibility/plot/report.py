@@ -48,6 +48,7 @@ def write_report(
     engine: str | None = None,
     mode: str = "2d",
     progress: bool | None = None,
+    occluders: Any = None,
 ) -> Path:
     """Write an interactive, self-contained HTML report of what ``ego_idx`` sees; return its path.
 
@@ -80,6 +81,8 @@ def write_report(
         Heading of the page; by default the recording's file name where known.
     engine, mode : str, optional
         As for ``get_visibility_df``; ``mode="3d"`` shows 3D visibility (the scene stays a bird's-eye view).
+    occluders : str, sequence or polars expression, optional
+        Who may block the view, as for ``get_visibility_df`` (the numbers computed here and the seen region).
     progress : bool, optional
         Show a progress bar while computing; by default for ``PROGRESS_MIN_FRAMES`` frames or more.
     """
@@ -93,18 +96,19 @@ def write_report(
         title = Path(df).name if title is None else title
         df = read_recording(df)
     title = "recording" if title is None else title
-    source = load_source(df, static_occluder_polys, lanes)
+    source = load_source(df, static_occluder_polys, lanes, occluders)
     positions = source.positions(frames)
     if sensors is not None:  # the table the scene, the timeline and the summary all show
         from .data import frames_table, sensor_list
 
         own = sensor_list(sensors, source, ego_idx)
         frame_numbers = source.frames[positions].tolist()
-        table = frames_table(df, ego_idx, static_occluder_polys, frame_numbers, sensors=own, mode=mode, engine=engine)
+        table = frames_table(df, ego_idx, static_occluder_polys, frame_numbers, sensors=own, mode=mode,
+                             engine=engine, occluders=occluders)  # fmt: skip
     if table is not None:
         table = _own_rows(table, ego_idx, pl.Series(source.frames[positions]))
     viewer = picture_viewer(df, source, ego_idx, static_occluder_polys, positions, view_range, sensors=sensors,
-                            engine=engine, mode=mode, table=table)  # fmt: skip
+                            engine=engine, mode=mode, table=table, occluders=occluders)  # fmt: skip
     show = len(positions) >= PROGRESS_MIN_FRAMES if progress is None else progress
     views = [viewer.view(k) for k in tqdm(positions.tolist(), desc="frames", unit="frame", disable=not show)]
     computed = views_table(views)
