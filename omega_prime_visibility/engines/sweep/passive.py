@@ -15,6 +15,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from ...geometry.kernels import argsort_stable
 from ...geometry.occlusion import MIN_PIECE
 from ...geometry.view import limited_angle
 from .heap_sweep import credited_angles, nearer, nearest_intervals, unhidden_by_top
@@ -133,14 +134,10 @@ def _own_nearest(pieces, mine):
     in ``mine`` (its piece numbers) of the piece nearest over each; pieces that share no bearing (those of a
     convex body) are their own intervals."""
     k = len(mine)
-    order = np.arange(k)
-    for a in range(1, k):  # insertion sort by bearing (a body has a few pieces)
-        x = order[a]
-        b = a - 1
-        while b >= 0 and pieces[mine[order[b]], LO] > pieces[mine[x], LO]:
-            order[b + 1] = order[b]
-            b -= 1
-        order[b + 1] = x
+    starts = np.empty(k)
+    for a in range(k):
+        starts[a] = pieces[mine[a], LO]
+    order = argsort_stable(starts)  # by bearing
     for a in range(1, k):
         if pieces[mine[order[a]], LO] < pieces[mine[order[a - 1]], HI]:  # overlapping pieces: the sweep decides
             lo, hi, top, _, _ = nearest_intervals(pieces[mine], True)  # (ties unused: one compiled signature)
