@@ -32,6 +32,7 @@ from .inputs.sensors import fitted_layout, is_layout, resolve_sensors
 from .table.output import PartWriter, atomic_directory, check_output_path
 from .table.pipeline import ContainmentLog, chunks, run
 from .table.schema import STATUSES, empty_table, to_polars
+from .table.selection import passive_in_place
 from .threed.mode import Finisher, check_mode, load_statics, resolve_measure, with_can_see
 
 PROGRESS_MIN_FRAMES = 200
@@ -226,8 +227,7 @@ def get_visibility_df(
     chunk_frames = chunk_size(objects, len(egos), chunk_frames, 1 if sensor_set is None else len(sensor_set))
     n_workers = min(n_workers, len(chunks(objects.n_frames, chunk_frames, n_workers)))
     path_key = engine if sensor_set is None else f"{engine}+sensors"  # the sensors' path compiles more kernels
-    views = objects.wanted is not None or (objects.blocks is not None and not engine_class.passive_targets)
-    if views:  # so do the views of targets= and (where the engine takes no passive targets) of occluders=
+    if objects.chosen and not passive_in_place(objects, engine_class):  # so do the views of the choices
         path_key += "+views"
     announce_compilation(engine, engine_class, path_key)  # (the checks are done: work starts here)
     show = objects.n_frames >= PROGRESS_MIN_FRAMES if progress is None else progress

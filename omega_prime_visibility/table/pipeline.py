@@ -26,7 +26,14 @@ from ..inputs.statics import StaticOccluders
 from .notices import ContainmentLog
 from .rows import chunk_rows, frame_rows
 from .schema import Columns, TableBuilder
-from .selection import chunk_scenes, frame_scenes, frame_with_passive_targets, kept_rows, with_passive_targets
+from .selection import (
+    chunk_scenes,
+    frame_scenes,
+    frame_with_passive_targets,
+    kept_rows,
+    passive_in_place,
+    with_passive_targets,
+)
 
 SensorSet = Sequence[Sensor] | dict[int, Sequence[Sensor]]
 """Sensors for every observer, or per observer idx (same names, same order)."""
@@ -170,7 +177,7 @@ def observe_frame(
         if len(ego):
             containment.add_static_pairs(ego, np.concatenate(sources), np.full(len(ego), objects.frame))
     sensor_codes = None if sensors is None else np.tile(np.arange(sensors_per_observer(sensors)), len(rows))
-    if objects.wanted is None and objects.blocks is not None and engine.passive_targets:  # occluders= alone
+    if passive_in_place(objects, engine):  # occluders= alone, measured by the engine itself
         views = frame_with_passive_targets(objects, views)
     elif objects.blocks is not None or objects.wanted is not None:  # occluders= or targets= (see .selection)
         scenes, expanded = frame_scenes(objects, views, engine.passive_targets)
@@ -238,7 +245,7 @@ def run_chunk(
         per_observer = sensors_per_observer(sensors)
         sensor_codes = None if sensors is None else np.tile(np.arange(per_observer), len(views) // per_observer)
         scenes, seen, expanded = objects, views, None
-        if objects.wanted is None and objects.blocks is not None and eng.passive_targets:  # occluders= alone
+        if passive_in_place(objects, eng):  # occluders= alone, measured by the engine itself
             seen = with_passive_targets(views, owners, objects)
         elif objects.chosen:  # occluders= or targets= (see .selection)
             scenes, seen, expanded = chunk_scenes(views, owners, objects, eng.passive_targets)

@@ -210,6 +210,12 @@ def _fill_views(target_offsets, transparent, blocks, group, counts, centre, half
     return base, offsets, clear, keep
 
 
+def passive_in_place(objects: ObjectTable | FrameObjects, engine: type | object) -> bool:
+    """Whether the choices are ``occluders=`` alone and the engine measures passive targets itself: then the
+    viewpoints go to it as they are (:func:`with_passive_targets`), with no views."""
+    return objects.wanted is None and objects.blocks is not None and bool(getattr(engine, "passive_targets", False))
+
+
 def with_passive_targets(views: ChunkViewpoints, owners: np.ndarray, objects: ObjectTable) -> ChunkViewpoints:
     """A chunk's viewpoints as they are, the targets that may not block marked passive: for ``occluders=``
     alone (every target wanted) through an engine that measures passive targets itself."""
