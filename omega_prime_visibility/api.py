@@ -259,7 +259,7 @@ def get_visibility_df(
             bar.close()
         if sink is not None and not written:
             sink.write_empty()
-    containment.warn(stacklevel=3)
+    containment.warn(stacklevel=3, static_positions=static_positions)
     mark_compiled(path_key)
     if output is not None:
         return pl.scan_parquet(output)

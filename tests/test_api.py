@@ -97,6 +97,13 @@ def test_static_occluder_containing_observer_is_transparent_and_told(engine: str
     with warnings.catch_warnings():  # outside the building: nothing to tell
         warnings.simplefilter("error")
         get_visibility_df(df.filter(pl.col("frame") == 2), 0, statics, engine=engine)
+    # a low static occluder first in the list, which the 2D height rule leaves out: the building is still named by
+    # its position in the user's list, as static_occluder_idxs names the wall
+    low = shapely.box(50, 50, 60, 60)
+    message = r"static occluder 2 contains observer 0 in 2 frame\(s\)"
+    with pytest.warns(VisibilityInputWarning, match=message):
+        out = get_visibility_df(df, 0, [low, *statics], engine=engine, static_occluder_heights=[0.5, 10.0, 10.0])
+    assert all(s == [1] for s in out["static_occluder_idxs"].to_list())
 
 
 @pytest.mark.parametrize("engine", ENGINES)

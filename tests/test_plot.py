@@ -280,3 +280,9 @@ def test_objects_that_may_not_block_hide_nothing_in_the_picture(mode: str) -> No
     plt.close("all")
     with pytest.raises(ValueError, match="occluders"):
         load_source(df, lanes=False, occluders="walkers")
+    # an idx of the recording that the frames drawn do not hold is no error (as for get_visibility_df)
+    later = df.with_columns(frame=pl.lit(1, pl.Int64), total_nanos=pl.lit(10**8, pl.Int64), idx=pl.col("idx") + 10)
+    both = pl.concat([df, later])
+    source = load_source(both, lanes=False, occluders=[0, 12])
+    view = picture_viewer(both, source, 0, None, np.array([0]), 80.0, mode=mode, occluders=[0, 12]).view(0)
+    assert view.region.contains(behind)  # in frame 0 only the ego may block

@@ -294,8 +294,11 @@ def frames_table(
     """The visibility table of ``ego_idx`` in the frames ``frame_numbers`` only, by ``get_visibility_df`` (for
     what the per-frame views do not compute themselves, such as ``mode="3d"``)."""
     from ..api import get_visibility_df
+    from ..inputs.roles import within_frames
 
-    rows = as_polars(df).filter(pl.col("frame").is_in(list(frame_numbers)))
+    table = as_polars(df)
+    rows = table.filter(pl.col("frame").is_in(list(frame_numbers)))
+    occluders = within_frames(occluders, table["idx"].unique().to_numpy(), "occluders")  # idx of the recording
     return get_visibility_df(rows, ego_idx, static_occluder_polys, engine=engine, sensors=list(sensors) or None,
                              mode=mode, occluders=occluders, progress=False)  # fmt: skip
 

@@ -63,7 +63,9 @@ class ContainmentLog:
         self.fallback_frames += other.fallback_frames
         self.first_fallback = self.first_fallback or other.first_fallback
 
-    def warn(self, stacklevel: int = 3) -> None:
+    def warn(self, stacklevel: int = 3, static_positions: np.ndarray | None = None) -> None:
+        """Issue the summarising warnings; ``static_positions`` maps the static occluders the engines saw to their
+        positions in the user's list (where the 2D height rule left some out; None: the same)."""
         if self.first_fallback is not None:
             frame, why = self.first_fallback
             warnings.warn(
@@ -81,9 +83,13 @@ class ContainmentLog:
                 stacklevel=stacklevel,
             )
         if self.static_frames:
+            frames, first = self.static_frames, self.static_first
+            if static_positions is not None:  # named as the table's static_occluder_idxs name them
+                frames = Counter({(e, int(static_positions[s])): c for (e, s), c in frames.items()})
+                first = {(e, int(static_positions[s])): f for (e, s), f in first.items()}
             warnings.warn(
                 "static occluders containing the observer are treated as transparent (they hide nothing from it): "
-                f"{_named(self.static_frames, self.static_first, 'static occluder')}",
+                f"{_named(frames, first, 'static occluder')}",
                 VisibilityInputWarning,
                 stacklevel=stacklevel,
             )
