@@ -261,6 +261,11 @@ class FrameViewer:
 OCCLUDER_COLUMNS = ("occluder_idxs", "static_occluder_idxs")
 
 
+def listed_once(*columns: str) -> pl.Expr:
+    """In an aggregation: every value the list columns hold over the group, once each, ascending."""
+    return pl.col(*columns).list.explode(keep_nulls=False, empty_as_null=False).drop_nulls().unique().sort()
+
+
 def combined(table: pl.DataFrame) -> pl.DataFrame:
     """One row per target: ``visibility`` the best over the table's sensors (as ``seen_by_any`` gives it), the
     occluders those of any sensor; a table without ``sensor`` as it is.
@@ -275,7 +280,10 @@ def combined(table: pl.DataFrame) -> pl.DataFrame:
     present = [c for c in OCCLUDER_COLUMNS if c in table.columns]
     return (
         table.group_by("idx")
-        .agg(pl.col("visibility").max(), *[pl.col(c).flatten().drop_nulls().unique().sort() for c in present])
+        .agg(
+            pl.col("visibility").max(),
+            *[listed_once(c) for c in present],
+        )
         .sort("idx")
     )
 

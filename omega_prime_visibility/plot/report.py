@@ -23,7 +23,7 @@ from tqdm.auto import tqdm
 
 from ..table.output import atomic_write, check_output_path
 from ._optional import require
-from .data import FrameSpec, FrameView, load_source
+from .data import FrameSpec, FrameView, listed_once, load_source
 from .frame import picture_viewer
 from .style import EGO_FACE, REGION_FACE, sensor_colour, visibility_colour
 from .timeline import chart_spec, timeline_chart
@@ -220,7 +220,7 @@ def with_any_sensor(table: pl.DataFrame) -> pl.DataFrame:
         .agg(
             pl.col("visibility").max(),
             pl.col("in_view").max(),
-            pl.col("occluder_idxs", "static_occluder_idxs").flatten().drop_nulls().unique().sort(),
+            listed_once("occluder_idxs", "static_occluder_idxs"),
             (reason == "occluded").any().alias("occluded"),
             (reason == "out_of_range").any().alias("far"),
         )
@@ -324,10 +324,9 @@ def summary_html(table: pl.DataFrame) -> str:
         aggregations.append((pl.col("visibility") == 0).mean().alias("hidden"))
         aggregations.append(((pl.col("visibility") > 0) & (pl.col("visibility") < 1)).mean().alias("partly hidden"))
     if "occluder_idxs" in table.columns:
-        aggregations.append(pl.col("occluder_idxs").flatten().drop_nulls().unique().sort().alias("hidden by (idx)"))
+        aggregations.append(listed_once("occluder_idxs").alias("hidden by (idx)"))
     if "static_occluder_idxs" in table.columns:
-        statics = pl.col("static_occluder_idxs").flatten().drop_nulls().unique().sort()
-        aggregations.append(statics.alias("hidden by static occluders"))
+        aggregations.append(listed_once("static_occluder_idxs").alias("hidden by static occluders"))
     summary = table.group_by(by).agg(aggregations).sort(by)
     head = "".join(f"<th>{html.escape(c)}</th>" for c in summary.columns)
     body = []
