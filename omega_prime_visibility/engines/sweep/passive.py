@@ -15,7 +15,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...geometry.kernels import argsort_stable
+from ...geometry.kernels import argsort_stable, group_by_key
 from ...geometry.occlusion import MIN_PIECE
 from ...geometry.view import limited_angle
 from .heap_sweep import credited_angles, nearer, nearest_intervals, unhidden_by_top
@@ -63,29 +63,24 @@ def passive_angles(pieces, body, passive, n_bodies, wedge_start, fov, max_range)
     limited = fov < TWO_PI or max_range < np.inf
     n = len(passive)
     blocking = np.empty(len(pieces), dtype=np.int64)
+    mine_all = np.empty(len(pieces), dtype=np.int64)  # the passive bodies' pieces
     n_blocking = 0
-    own_offsets = np.zeros(n + 1, dtype=np.int64)  # each passive body's own pieces, counted then placed
+    n_mine = 0
     for p in range(len(pieces)):
         if body[p] >= n or not passive[body[p]]:
             blocking[n_blocking] = p
             n_blocking += 1
         else:
-            own_offsets[body[p] + 1] += 1
+            mine_all[n_mine] = p
+            n_mine += 1
     blocking = blocking[:n_blocking]
+    own_offsets, own = group_by_key(body, n, mine_all[:n_mine])  # each passive body's own pieces
     blocking_pieces = pieces[blocking]
     env_lo, env_hi, env_top, tie_offsets, ties = nearest_intervals(blocking_pieces, True)
     visible = credited_angles(
         blocking_pieces, body[blocking], n_bodies, wedge_start, fov, max_range, env_lo, env_hi, env_top,
         tie_offsets, ties,
     )  # fmt: skip
-    for i in range(n):
-        own_offsets[i + 1] += own_offsets[i]
-    own = np.empty(own_offsets[n], dtype=np.int64)
-    fill = own_offsets[:-1].copy()
-    for p in range(len(pieces)):
-        if body[p] < n and passive[body[p]]:
-            own[fill[body[p]]] = p
-            fill[body[p]] += 1
     n_env = len(env_lo)
     for i in range(n):
         if own_offsets[i + 1] == own_offsets[i]:
