@@ -11,7 +11,7 @@ import numba
 import numpy as np
 
 from ..geometry.convex_clip import clip_line, convex_hull, disc_area, polygon_area, subtract
-from ..geometry.kernels import reserve
+from ..geometry.kernels import copy_rows, reserve
 from ..geometry.shadows import ARC_POINTS
 from ..geometry.spans import may_be_in_front
 
@@ -105,7 +105,7 @@ def convex_frame_areas(coords, offsets, active, centre, half, near, far, reach, 
         size = offsets[t + 1] - offsets[t]
         if size > MAX_VERTICES:
             return area, in_fov, in_view, visible, occ_offsets, occ[:0], False
-        seen[0, :size] = coords[offsets[t] : offsets[t + 1]]
+        copy_rows(seen[0], 0, coords[offsets[t] : offsets[t + 1]])
         seen_c[0] = size
         n_seen = 1
         if fov <= np.pi:  # the wedge: left of its right edge, right of its left edge
@@ -122,11 +122,11 @@ def convex_frame_areas(coords, offsets, active, centre, half, near, far, reach, 
             if n_seen < 0:
                 return area, in_fov, in_view, visible, occ_offsets, occ[:0], False
             for p in range(n_seen):
-                seen[p, : ac[p]] = a[p, : ac[p]]
+                copy_rows(seen[p], 0, a[p, : ac[p]])
                 seen_c[p] = ac[p]
         in_fov[t], in_view[t] = _measure(seen, seen_c, n_seen, radius)
         for p in range(n_seen):
-            a[p, : seen_c[p]] = seen[p, : seen_c[p]]
+            copy_rows(a[p], 0, seen[p, : seen_c[p]])
             ac[p] = seen_c[p]
         n_pieces = n_seen
         for body in range(n):
@@ -144,14 +144,14 @@ def convex_frame_areas(coords, offsets, active, centre, half, near, far, reach, 
             total = 0.0
             for p in range(n_seen):  # what this body hides of the part in view: seen ∩ shadow
                 m = seen_c[p]
-                scratch[0, :m] = seen[p, :m]
+                copy_rows(scratch[0], 0, seen[p, :m])
                 for i in range(ks):
                     j = (i + 1) % ks
                     m = clip_line(scratch[0], m, shape[i, 0], shape[i, 1], shape[j, 0], shape[j, 1], True,
                                   scratch[1])  # fmt: skip
                     if m < 0:
                         return area, in_fov, in_view, visible, occ_offsets, occ[:0], False
-                    scratch[0, :m] = scratch[1, :m]
+                    copy_rows(scratch[0], 0, scratch[1, :m])
                     if m < 3:
                         break
                 if m >= 3:

@@ -44,7 +44,9 @@ def _keep_in_view(
             size = (t1 - t0) + (s1 - s0)
             if len(scratch) < size:
                 scratch = np.empty((2 * size, 2, 2))
-            scratch[: t1 - t0] = seg[t0:t1]
+            for r in range(t1 - t0):
+                for p in range(2):
+                    scratch[r, p, 0], scratch[r, p, 1] = seg[t0 + r, p, 0], seg[t0 + r, p, 1]
             for e in range(s0, s1):
                 r = t1 - t0 + e - s0
                 for p in range(2):

@@ -20,6 +20,8 @@ import math
 
 import numba
 
+from .kernels import copy_rows
+
 
 @numba.njit(cache=True)
 def clip_line(src, n, ax, ay, bx, by, left, dst):
@@ -135,7 +137,7 @@ def subtract(pieces, counts, n_pieces, shape, k, out, out_counts, scratch):
     boxes miss the shape's are passed on whole."""
     if k < 3:
         for p in range(n_pieces):
-            out[p, : counts[p]] = pieces[p, : counts[p]]
+            copy_rows(out[p], 0, pieces[p, : counts[p]])
             out_counts[p] = counts[p]
         return n_pieces
     sx0, sy0 = shape[:k, 0].min(), shape[:k, 1].min()
@@ -149,11 +151,11 @@ def subtract(pieces, counts, n_pieces, shape, k, out, out_counts, scratch):
                 or poly[:c, 1].min() >= sy1):  # fmt: skip
             if made >= len(out):
                 return -1
-            out[made, :c] = poly[:c]
+            copy_rows(out[made], 0, poly[:c])
             out_counts[made] = c
             made += 1
             continue
-        rest[:c] = poly[:c]
+        copy_rows(rest, 0, poly[:c])
         n_rest = c
         for i in range(k):
             j = (i + 1) % k

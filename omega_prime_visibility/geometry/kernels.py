@@ -5,6 +5,9 @@ arrays are int64. The helpers are plain ``numba.njit`` functions (the tiny ones 
 kernel; each does one thing with the same floating-point operations wherever it is used, so swapping one in for a
 hand-written copy changes no result in the last bit.
 
+- copying: :func:`copy_into`, :func:`copy_rows` (numba's slice assignment from an array compiles a formatted
+  shape-mismatch message into every kernel that uses it, about 3 s of a first call; the kernels copy with these
+  loops instead);
 - growable buffers: :func:`reserve`, :func:`push_pair`;
 - index building: :func:`prefix_sum`, :func:`group_by_key` (a stable counting sort with its CSR offsets),
   :func:`counting_sort`, :func:`ring_index`, :func:`next_vertex_index`, :func:`insertion_sort` (a few values in
@@ -24,6 +27,40 @@ import numpy as np
 
 TWO_PI = 2.0 * np.pi
 MIN_CAPACITY = 16  # smallest capacity a growable buffer is given
+
+# -- copying ---------------------------------------------------------------------------------------------------
+
+
+@numba.njit(cache=True, inline="always")
+def copy_into(dest, at, source):
+    """``dest[at:at + len(source)] = source`` for 1D arrays, as a loop (the caller makes sure it fits).
+
+    Examples
+    --------
+    >>> dest = np.zeros(5)
+    >>> copy_into(dest, 1, np.array([7.0, 8.0]))
+    >>> dest.tolist()
+    [0.0, 7.0, 8.0, 0.0, 0.0]
+    """
+    for i in range(len(source)):
+        dest[at + i] = source[i]
+
+
+@numba.njit(cache=True, inline="always")
+def copy_rows(dest, at, source):
+    """``dest[at:at + len(source)] = source`` for 2D arrays of the same number of columns, as a loop.
+
+    Examples
+    --------
+    >>> dest = np.zeros((3, 2))
+    >>> copy_rows(dest, 1, np.array([[1.0, 2.0]]))
+    >>> dest.tolist()
+    [[0.0, 0.0], [1.0, 2.0], [0.0, 0.0]]
+    """
+    for i in range(len(source)):
+        for c in range(source.shape[1]):
+            dest[at + i, c] = source[i, c]
+
 
 # -- growable buffers ------------------------------------------------------------------------------------------
 
@@ -49,7 +86,7 @@ def reserve(buffer, size, needed):
     if needed <= len(buffer):
         return buffer
     grown = np.empty(max(2 * len(buffer), needed, MIN_CAPACITY), dtype=buffer.dtype)
-    grown[:size] = buffer[:size]
+    copy_into(grown, 0, buffer[:size])
     return grown
 
 
@@ -59,7 +96,7 @@ def reserve_rows(buffer, size, needed):
     if needed <= len(buffer):
         return buffer
     grown = np.empty((max(2 * len(buffer), needed, MIN_CAPACITY), buffer.shape[1]), dtype=buffer.dtype)
-    grown[:size] = buffer[:size]
+    copy_rows(grown, 0, buffer[:size])
     return grown
 
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ..geometry.kernels import segment_distance2
+from ..geometry.kernels import copy_into, segment_distance2
 from ..geometry.rings import Rings
 
 TOUCH_TOLERANCE = 1e-9  # metres: a body passing this near a viewpoint touches it (and is transparent to it)
@@ -63,7 +63,7 @@ def _covers_points(points, coords, offsets, tolerance):
     out = np.empty((len(points), len(offsets) - 1), dtype=np.bool_)
     boxes = _ring_boxes(coords, offsets)
     for p in range(len(points)):
-        out[p] = _covers_in_boxes(points[p, 0], points[p, 1], coords, offsets, tolerance, boxes)
+        copy_into(out[p], 0, _covers_in_boxes(points[p, 0], points[p, 1], coords, offsets, tolerance, boxes))
     return out
 
 
@@ -79,7 +79,7 @@ def _covers_points_by_frame(points, point_starts, coords, offsets, frame_starts,
         if p1 > p0:
             s, e = frame_starts[f], frame_starts[f + 1]
             inside = _covers_points(points[p0:p1], coords, offsets[s : e + 1], tolerance)
-            out[counts[p0] : counts[p1]] = inside.ravel()
+            copy_into(out, counts[p0], inside.ravel())
     return out, counts
 
 

@@ -12,6 +12,7 @@ import numba
 import numpy as np
 
 from ..engines import ChunkObservation, ChunkViewpoints, Observation, Reason
+from ..geometry.kernels import copy_into
 from .schema import Columns, view_of, visibility_of
 
 _CONTAINS_OBSERVER = int(Reason.CONTAINS_OBSERVER)
@@ -177,15 +178,15 @@ def _chunk_rows(
     for o in range(k):
         part_idx, part_visibility, part_occ_n, part_occ, part_st_n, part_st, part_in_view, part_status = parts[o]
         m = len(part_idx)
-        row_idx[at : at + m] = part_idx
-        visibility[at : at + m] = part_visibility
-        occ_n[at : at + m] = part_occ_n
-        st_n[at : at + m] = part_st_n
-        occ_idxs[occ_at : occ_at + len(part_occ)] = part_occ
-        st_idxs[st_at : st_at + len(part_st)] = part_st
+        copy_into(row_idx, at, part_idx)
+        copy_into(visibility, at, part_visibility)
+        copy_into(occ_n, at, part_occ_n)
+        copy_into(st_n, at, part_st_n)
+        copy_into(occ_idxs, occ_at, part_occ)
+        copy_into(st_idxs, st_at, part_st)
         if with_view:
-            in_view[at : at + m] = part_in_view
-            status[at : at + m] = part_status
+            copy_into(in_view, at, part_in_view)
+            copy_into(status, at, part_status)
         at += m
         occ_at += len(part_occ)
         st_at += len(part_st)

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...geometry.kernels import next_vertex_index, reserve
+from ...geometry.kernels import copy_into, next_vertex_index, reserve
 from ...inputs.sensors import TWO_PI
 from .. import reason_of
 from .crossings import bearing_arguments_into, frame_crossings
@@ -73,11 +73,11 @@ def bearing_arguments(
             first, second = frame_crossings(
                 frame_coords, local, nxt, st_a, st_b, grid_f, grid_i, cell_off, items, ss_a, ss_b
             )
-            following[offsets[s] - offsets[0] : offsets[e] - offsets[0]] = nxt
+            copy_into(following, offsets[s] - offsets[0], nxt)
             cross_first = reserve(cross_first, n_cross, n_cross + len(first))
             cross_second = reserve(cross_second, n_cross, n_cross + len(first))
-            cross_first[n_cross : n_cross + len(first)] = first
-            cross_second[n_cross : n_cross + len(first)] = second
+            copy_into(cross_first, n_cross, first)
+            copy_into(cross_second, n_cross, second)
             n_cross += len(first)
             for o in range(v0, v1):  # what prepare_frame gives, written in place
                 bearing_arguments_into(y, x, arg_offsets[o], frame_coords, nxt, positions[o, 0], positions[o, 1])
@@ -172,8 +172,8 @@ def observe_frames(
                 static_transparent[static_inside[q]] = False
             occ = reserve(occ, n_occ, n_occ + len(one_occ))
             st = reserve(st, n_st, n_st + len(one_st))
-            occ[n_occ : n_occ + len(one_occ)] = one_occ
-            st[n_st : n_st + len(one_st)] = one_st
+            copy_into(occ, n_occ, one_occ)
+            copy_into(st, n_st, one_st)
             for i in range(n):
                 visible[t0 + i] = one_visible[i]
                 width[t0 + i] = one_width[i]

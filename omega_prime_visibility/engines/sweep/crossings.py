@@ -15,6 +15,7 @@ import numpy as np
 from ...geometry.kernels import (
     MIN_CAPACITY,
     argsort_stable,
+    copy_into,
     next_vertex_index,
     prefix_sum,
     push_pair,
@@ -117,7 +118,7 @@ def statics_near(grid_f, grid_i, cell_off, items, ox, oy, radius, n_static):
     k = 0
     for cy in range(cy0, cy1 + 1):
         a, b = cell_off[cy * nx + cx0], cell_off[cy * nx + cx1 + 1]
-        found[k : k + b - a] = items[a:b]
+        copy_into(found, k, items[a:b])
         k += b - a
     return unique_values(found)
 
@@ -290,8 +291,8 @@ def frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off, 
     total = k + len(static_first)
     cross_first = np.empty(total, dtype=np.int64)
     cross_second = np.empty(total, dtype=np.int64)
-    cross_first[:k] = first[:k]
-    cross_second[:k] = second[:k]
+    copy_into(cross_first, 0, first[:k])
+    copy_into(cross_second, 0, second[:k])
     for r in range(len(static_first)):
         cross_first[k + r] = m + static_first[r]
         cross_second[k + r] = m + static_second[r]

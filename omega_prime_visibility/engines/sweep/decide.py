@@ -53,7 +53,8 @@ def _occludes_static(
     m = len(objects.seg)
     k = 0
     for e in range(objects.offsets[target], objects.offsets[target + 1]):
-        scratch[k] = objects.seg[e]
+        for p in range(2):
+            scratch[k, p, 0], scratch[k, p, 1] = objects.seg[e, p, 0], objects.seg[e, p, 1]
         k += 1
     target_edges = k
     previous = -1

@@ -11,6 +11,7 @@ import math
 import numba
 import numpy as np
 
+from ...geometry.kernels import copy_into
 from .. import reason_of
 from .crossings import statics_near
 from .heap_sweep import visible_angles
@@ -137,10 +138,10 @@ def observe_frame(
             limits[o, 1],
             limits[o, 2],
         )
-        visible[o] = one_visible
-        width[o] = one_width
-        occ_offsets[o] = one_occ_offsets
-        st_offsets[o] = one_st_offsets
+        copy_into(visible[o], 0, one_visible)
+        copy_into(width[o], 0, one_width)
+        copy_into(occ_offsets[o], 0, one_occ_offsets)
+        copy_into(st_offsets[o], 0, one_st_offsets)
         occ_cut[o + 1] = occ_cut[o] + len(occ)
         st_cut[o + 1] = st_cut[o] + len(st)
         occ_parts.append(occ)
@@ -148,8 +149,8 @@ def observe_frame(
     occ_all = np.empty(occ_cut[k], dtype=np.int64)
     st_all = np.empty(st_cut[k], dtype=np.int64)
     for o in range(k):
-        occ_all[occ_cut[o] : occ_cut[o + 1]] = occ_parts[o]
-        st_all[st_cut[o] : st_cut[o + 1]] = st_parts[o]
+        copy_into(occ_all, occ_cut[o], occ_parts[o])
+        copy_into(st_all, st_cut[o], st_parts[o])
     return visible, width, occ_offsets, occ_all, occ_cut, st_offsets, st_all, st_cut
 
 

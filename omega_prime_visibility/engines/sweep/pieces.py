@@ -23,7 +23,7 @@ from collections import namedtuple
 import numba
 import numpy as np
 
-from ...geometry.kernels import group_by_key, prefix_sum, segment_distance2
+from ...geometry.kernels import copy_into, group_by_key, prefix_sum, segment_distance2
 
 PI = math.pi
 TWO_PI = 2.0 * math.pi
@@ -308,7 +308,7 @@ def crossing_cuts(kept, record_edge, records, cross_first, cross_second):
     cut_offsets, order = group_by_key(cut_record, n_rec, np.arange(n_cut))
     cuts = np.empty((n_cut, 3))
     for s in range(n_cut):
-        cuts[s] = cut[order[s]]
+        copy_into(cuts[s], 0, cut[order[s]])
     return cut_offsets, cuts
 
 
@@ -319,7 +319,7 @@ def _sort_rows_by_bearing(table, start, stop):
         row0, row1, row2 = table[a, 0], table[a, 1], table[a, 2]
         b = a - 1
         while b >= start and table[b, 0] > row0:
-            table[b + 1] = table[b]
+            copy_into(table[b + 1], 0, table[b])
             b -= 1
         table[b + 1, 0], table[b + 1, 1], table[b + 1, 2] = row0, row1, row2
 

@@ -25,7 +25,7 @@ from typing import Any
 import numba
 import numpy as np
 
-from ...geometry.kernels import reserve, unique_values
+from ...geometry.kernels import copy_into, reserve, unique_values
 from ...geometry.occlusion import _candidate_pairs, _occludes_pairs
 from ...geometry.rings import Rings
 from ...inputs.objects import ObjectTable
@@ -118,7 +118,7 @@ def occlusion_by_view(
             blocking = np.empty(n + n_sources, dtype=np.bool_)
             for i in range(n):
                 blocking[i] = not transparent[t0 + i]
-            blocking[n:] = static_blocking(static_offsets, static_inside, v, n_sources)
+            copy_into(blocking, n, static_blocking(static_offsets, static_inside, v, n_sources))
             targets = np.flatnonzero(blocking[:n])
             hidden = np.zeros(n + n_sources, dtype=np.bool_)
             codes = np.empty(0, dtype=np.int64)
@@ -127,9 +127,11 @@ def occlusion_by_view(
                     ox, oy, seg, seg_body, blocking, targets, start[t0 : t0 + n], width[t0 : t0 + n], n
                 )
                 check = np.flatnonzero(~certain)
-                certain[check] = _occludes_pairs(
+                occluding = _occludes_pairs(
                     ox, oy, seg, seg_offsets, body[check], target[check], start[t0 : t0 + n], width[t0 : t0 + n]
                 )
+                for q in range(len(check)):
+                    certain[check[q]] = occluding[q]
                 # grouped by target, ascending within: objects first (body < n), static sources after
                 codes = unique_values(target[certain] * (n + n_sources) + body[certain])
             occ = reserve(occ, n_occ, n_occ + len(codes))
@@ -240,7 +242,7 @@ def checked_visible_angles(
         for v in range(view_starts[f], view_starts[f + 1]):
             t0 = target_offsets[v]
             if not blocked[v]:
-                visible[t0 : t0 + n] = width[t0 : t0 + n]
+                copy_into(visible, t0, width[t0 : t0 + n])
                 continue
             p0, p1 = polygon_offsets[v], polygon_offsets[v + 1]
             if p1 == p0:
@@ -268,10 +270,11 @@ def checked_visible_angles(
                 if not transparent[t0 + i]:
                     targets[k] = i
                     k += 1
-            visible[t0 : t0 + n] = attribute_visible_angles(
+            attributed = attribute_visible_angles(
                 pts, seg, seg_offsets, targets[:k], start[t0 : t0 + n], width[t0 : t0 + n], ON_EDGE,
                 occ_offsets[t0 : t0 + n + 1], occ, st_offsets[t0 : t0 + n + 1], st,
             )  # fmt: skip
+            copy_into(visible, t0, attributed)
     return visible, failed
 
 
