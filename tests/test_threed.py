@@ -359,16 +359,22 @@ def boxes3d_table(rows: list[list[float]]) -> pl.DataFrame:
 @pytest.mark.parametrize("engine", ["silhouette3d", "raycast3d"])
 def test_a_low_platform_under_the_eye_blocks_and_a_building_around_it_does_not(engine: str) -> None:
     # a 1 m platform whose footprint covers the ego, the eye 1.25 m up above it: it hides the lower part of the car
-    # 20 m away exactly as the same platform beginning 3 m ahead does; a 10 m building around the eye is transparent
+    # 20 m away exactly as the same platform beginning 3 m ahead does, and draws no containment warning; a 10 m
+    # building around the eye is transparent, and told
     cars = boxes3d_table([[0, 0, 0.75, 4.5, 1.8, 1.5, 0, 0, 0], [20, 0, 0.75, 4.5, 1.8, 1.5, 0, 0, 0]])
-    under = get_visibility_df(cars, 0, [shapely.box(-5, -5, 12, 5)], static_occluder_heights=[1.0], mode="3d",
-                              engine=engine, progress=False)  # fmt: skip
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        under = get_visibility_df(cars, 0, [shapely.box(-5, -5, 12, 5)], static_occluder_heights=[1.0], mode="3d",
+                                  engine=engine, progress=False)  # fmt: skip
     ahead = get_visibility_df(cars, 0, [shapely.box(3, -5, 12, 5)], static_occluder_heights=[1.0], mode="3d",
                               engine=engine, progress=False)  # fmt: skip
     assert under["static_occluder_idxs"].to_list() == [[0]] and 0.3 < under["visibility"][0] < 0.5
     assert under["visibility"][0] == pytest.approx(ahead["visibility"][0], abs=1e-12)
-    around = get_visibility_df(cars, 0, [shapely.box(-5, -5, 12, 5)], static_occluder_heights=[10.0], mode="3d",
-                               engine=engine, progress=False)  # fmt: skip
+    told = r"static occluder 1 contains observer 0 in 1 frame\(s\) \(first frame 0\)"
+    with pytest.warns(VisibilityInputWarning, match=told):
+        statics = [shapely.box(30, -5, 40, 5), shapely.box(-5, -5, 12, 5)]  # (the first one beyond the car)
+        around = get_visibility_df(cars, 0, statics, static_occluder_heights=[1.0, 10.0], mode="3d", engine=engine,
+                                   progress=False)  # fmt: skip
     assert around.select("static_occluder_idxs", "visibility").rows() == [([], 1.0)]
 
 

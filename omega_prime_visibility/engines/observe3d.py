@@ -7,7 +7,9 @@ from dataclasses import fields
 
 import numpy as np
 
+from ..inputs.statics import StaticOccluders
 from ..threed.boxes import contains, eye_point, view_limits
+from ..threed.statics import BASE, DEFAULT_HEIGHT
 from . import Observation, Reason, Viewpoint
 
 _HAS_VIEW_FIELDS = "in_view_angle" in {f.name for f in fields(Observation)}
@@ -28,6 +30,24 @@ def statics_around_eye(view: Viewpoint, eye: np.ndarray, tops: np.ndarray, bases
     n = min(len(clear), len(tops))
     clear[:n] &= (bases[:n] <= eye[2]) & (eye[2] <= tops[:n])
     return clear
+
+
+def static_heights(statics: StaticOccluders) -> tuple[np.ndarray, np.ndarray]:
+    """The top and the base of each static footprint (metres above z = 0): as given with the footprints
+    (``statics.solids``), else :data:`.threed.statics.DEFAULT_HEIGHT` and :data:`.threed.statics.BASE`."""
+    solids = getattr(statics, "solids", None)
+    n = statics.n_sources
+    tops = np.full(n, DEFAULT_HEIGHT) if solids is None else np.asarray(solids.heights, dtype=np.float64)
+    bases = np.full(n, BASE) if solids is None else np.asarray(solids.bases, dtype=np.float64)
+    return tops, bases
+
+
+def statics_holding_eye(view: Viewpoint, boxes: np.ndarray, tops: np.ndarray, bases: np.ndarray) -> np.ndarray:
+    """:func:`statics_around_eye` from the eye of ``view`` among the frame's ``boxes`` (shape (n, 9))."""
+    if not np.any(view.static_transparent):
+        return np.zeros(len(view.static_transparent), dtype=bool)
+    eye, _ = eye_and_view(view, boxes)
+    return statics_around_eye(view, eye, tops, bases)
 
 
 def holding_eye(view: Viewpoint, boxes: np.ndarray) -> np.ndarray:

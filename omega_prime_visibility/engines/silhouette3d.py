@@ -44,9 +44,8 @@ from ..threed.bodies import (
 from ..threed.boxes import nearest_distance
 from ..threed.cube import MIN_SOLID_ANGLE, silhouettes, solid_angles, view_regions, within_range
 from ..threed.order import entered_before, nearest, nearest_bound
-from ..threed.statics import BASE, DEFAULT_HEIGHT
 from . import Observation, Viewpoint, group_pairs
-from .observe3d import eye_and_view, observation, own_body, statics_around_eye
+from .observe3d import eye_and_view, observation, own_body, static_heights, statics_around_eye
 
 RESIDUE = 1e-9
 """A visible share below this is rounding left by subtracting silhouettes with common edges (a target wholly
@@ -318,11 +317,9 @@ class SilhouetteEngine:
                 "the silhouette3d engine measures boxes and static footprints with heights; static_meshes need "
                 "the ray engine (engine='raycast3d', the 3D default when meshes are given)"
             )
-        n = statics.n_sources
-        tops = np.full(n, DEFAULT_HEIGHT) if solids is None else np.asarray(solids.heights, dtype=np.float64)
-        bases = np.full(n, BASE) if solids is None else np.asarray(solids.bases, dtype=np.float64)
+        tops, bases = static_heights(statics)
         self.statics, self.tops, self.bases = statics, tops, bases
-        self.prisms = prisms_from_footprints(list(statics.geometries), tops, bases) if n else None
+        self.prisms = prisms_from_footprints(list(statics.geometries), tops, bases) if statics.n_sources else None
 
     def prisms_for(self, view: Viewpoint, eye: np.ndarray) -> ConvexBodies | None:
         """The static prisms that block for ``view`` from ``eye`` (those of static occluders holding the eye left

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from ..engines import FALLBACK_ENGINE, ChunkViewpoints, Engine, EngineFailure, Viewpoint, get_engine
-from ..engines.observe3d import holding_eye
+from ..engines.observe3d import holding_eye, static_heights, statics_holding_eye
 from ..inputs.containment import covers_points, covers_points_by_frame
 from ..inputs.objects import FrameObjects, ObjectTable
 from ..inputs.sensors import TWO_PI, Sensor, sensor_poses
@@ -171,11 +171,14 @@ def observe_frame(
     if holders:
         ego, inside_idx = np.array(holders, dtype=np.int64).T
         containment.add_pairs(ego, inside_idx, np.full(len(ego), objects.frame))
-    if objects.boxes3d is None:  # (in 3D a static occluder is transparent only where its prism holds the eye)
+    if objects.boxes3d is None:
         sources = [np.flatnonzero(view.static_transparent) for view in views]
-        ego = np.repeat([objects.idx[view.own] for view in views], [len(k) for k in sources]).astype(np.int64)
-        if len(ego):
-            containment.add_static_pairs(ego, np.concatenate(sources), np.full(len(ego), objects.frame))
+    else:  # in 3D a static occluder is transparent only where its prism holds the eye
+        tops, bases = static_heights(statics)
+        sources = [np.flatnonzero(statics_holding_eye(view, objects.boxes3d, tops, bases)) for view in views]
+    ego = np.repeat([objects.idx[view.own] for view in views], [len(k) for k in sources]).astype(np.int64)
+    if len(ego):
+        containment.add_static_pairs(ego, np.concatenate(sources), np.full(len(ego), objects.frame))
     sensor_codes = None if sensors is None else np.tile(np.arange(sensors_per_observer(sensors)), len(rows))
     if passive_in_place(objects, engine):  # occluders= alone, measured by the engine itself
         views = frame_with_passive_targets(objects, views)
