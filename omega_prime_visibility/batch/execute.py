@@ -18,6 +18,8 @@ from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
 from pathlib import Path
 
+from tqdm.std import tqdm
+
 from . import task as file_task
 from .files import remove_leftovers
 from .task import FileResult, FileTask, process_file
@@ -113,6 +115,10 @@ def _init_worker(parent_pid: int) -> None:
     import pyarrow
 
     pyarrow.set_cpu_count(int(os.environ["OMP_NUM_THREADS"]))
+    # progress bars (disabled here) share a lock; tqdm's default one holds a named semaphore that a worker stopped
+    # by SIGTERM cannot release ("leaked semaphore objects" at the end of an interrupted batch): one process, a
+    # thread lock is enough
+    tqdm.set_lock(threading.RLock())
     settle()
     # Ctrl-C reaches the whole process group: the parent decides and stops the workers with SIGTERM
     signal.signal(signal.SIGINT, signal.SIG_IGN)
