@@ -196,6 +196,12 @@ def test_static_occluder_files(tmp_path) -> None:
     (tmp_path / "nogeom.geojson").write_text('{"type": "FeatureCollection", "features": [{"type": "Feature"}]}')
     with pytest.raises(RecordingReadError, match="feature 0 is no GeoJSON geometry"):
         read_static_occluders(tmp_path / "nogeom.geojson")
+    # a map given as static occluders, by its name or (renamed) by its content: said so, with where it belongs
+    (tmp_path / "town.xodr").write_text('<?xml version="1.0"?>\n<OpenDRIVE>\n  <header/>\n</OpenDRIVE>\n')
+    (tmp_path / "town.txt").write_text((tmp_path / "town.xodr").read_text())
+    for name in ("town.xodr", "town.txt"):
+        with pytest.raises(RecordingReadError, match=r"is an OpenDRIVE map, not GeoJSON or WKT: give it with --map"):
+            read_static_occluders(tmp_path / name)
 
 
 def test_per_file_failures_for_ego(tmp_path) -> None:

@@ -150,6 +150,11 @@ def read_static_occluders(path: str | os.PathLike) -> list[Any]:
         raise RecordingReadError(f"cannot read static occluders {path} ({e})") from None
     if path.suffix.lower() in (".geojson", ".json"):
         return _geojson_geometries(path, text)
+    if path.suffix.lower() == ".xodr" or "<OpenDRIVE" in text[:2000]:
+        raise RecordingReadError(
+            f"static occluders {path} is an OpenDRIVE map, not GeoJSON or WKT: give it with --map, and "
+            "--map-occluders to let its road objects block the view"
+        )
     geometries = []
     for number, line in enumerate(text.splitlines(), start=1):
         if not line.strip() or line.lstrip().startswith("#"):
