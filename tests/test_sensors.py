@@ -38,6 +38,11 @@ ROW_TOLERANCE = 5e-4
         ({"x": float("inf")}, "x must be finite"),
         ({"yaw": "left"}, "yaw must be a number"),
         ({"vertical_fov": 4.0}, "vertical_fov must be in"),
+        # a field of view beyond a full turn (half a turn upwards) but within 360 is degrees given for radians
+        ({"fov": 90.0}, r"fov must be in \(0, 2π\] radians, not 90.0; 90 looks like degrees \(90° is 1.571\)"),
+        ({"vertical_fov": 30.0}, r"not 30.0; 30 looks like degrees \(30° is 0.5236\)"),
+        ({"fov": 400.0}, r"not 400.0$"),
+        ({"fov": -90.0}, r"not -90.0$"),
     ],
 )
 def test_invalid_sensor_values_name_the_sensor_and_field(fields, message) -> None:

@@ -89,12 +89,17 @@ class Sensor:
                     f"sensor {self.name!r}: {angle} {value:g} looks like degrees; sensor angles are radians"
                     f" ({value:g}° is {math.radians(value):.4g})"
                 )
-        if not 0.0 < self.fov <= TWO_PI + 1e-12:
-            raise ValueError(f"sensor {self.name!r}: fov must be in (0, 2π] radians, not {self.fov!r}")
+        for angle, most, text in (("fov", TWO_PI, "2π"), ("vertical_fov", math.pi, "π")):
+            value = getattr(self, angle)
+            if not 0.0 < value <= most + 1e-12:
+                hint = (
+                    f"; {value:g} looks like degrees ({value:g}° is {math.radians(value):.4g})"
+                    if most < value <= 360.0
+                    else ""
+                )
+                raise ValueError(f"sensor {self.name!r}: {angle} must be in (0, {text}] radians, not {value!r}{hint}")
         if not self.range > 0.0:
             raise ValueError(f"sensor {self.name!r}: range must be > 0 metres (inf for no limit), not {self.range!r}")
-        if not 0.0 < self.vertical_fov <= math.pi + 1e-12:
-            raise ValueError(f"sensor {self.name!r}: vertical_fov must be in (0, π] radians, not {self.vertical_fov!r}")
 
     @property
     def fov_degrees(self) -> float:
