@@ -17,7 +17,7 @@ import shapely
 from omega_prime.metrics import metric
 
 from .analysis.conflicts import occluded_conflicts
-from .analysis.intervals import NUPLAN_NOTICE
+from .analysis.intervals import NUPLAN_NOTICE, check_threshold
 from .api import get_visibility_df
 from .inputs.objects import OnInvalid
 from .inputs.observers import EgoSpec, SensorSpec
@@ -110,6 +110,7 @@ def occluded_conflicts_metric(
     Give omega-prime's ``time_buffer`` (nanoseconds; its default is 2 s) at least ``pet`` seconds, or conflicts
     with a larger gap are never seen.
     """
+    check_threshold(visibility_threshold, "visibility_threshold")
     conflicts = occluded_conflicts(
         visibility,
         timegaps,

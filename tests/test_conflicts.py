@@ -156,6 +156,8 @@ def test_bad_input(van_scene) -> None:
         path_conflicts(gaps, pet=-1.0)
     with pytest.raises(ValueError, match="look_back"):
         occluded_conflicts(vis, gaps, ego_idx=0, look_back=float("nan"))
+    with pytest.raises(ValueError, match=r"threshold must be a share of the target in \[0, 1\), not 30 \(a percentage"):
+        occluded_conflicts(vis, gaps.filter(pl.lit(False)), ego_idx=0, threshold=30)  # (even with no conflict)
 
 
 def test_the_metric_beside_omega_primes_default_metrics() -> None:

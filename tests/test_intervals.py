@@ -75,6 +75,13 @@ def test_bad_arguments() -> None:
         visible_intervals(t, reaction_time=-1)
     with pytest.raises(ValueError, match="threshold"):
         visible_intervals(t, threshold=float("nan"))
+    # visible means visibility > threshold: 1 or more is never visible, below 0 calls hidden visible; a
+    # percentage is told as one
+    for bad, says in ((1.0, r"in \[0, 1\), not 1.0$"), (-0.1, "not -0.1$"), (50, r"a percentage\? 50 % is 0.5"),
+                      (True, "finite number, not True")):  # fmt: skip
+        with pytest.raises(ValueError, match=says):
+            visible_intervals(t, threshold=bad)
+    assert visible_intervals(t, threshold=0.999).height == 1
     with pytest.raises(ValueError, match=r"lacks the column\(s\) \['visibility'\]"):
         visible_intervals(t.drop("visibility"))
 

@@ -42,7 +42,7 @@ def visible_intervals(
         Any visibility table (with or without ``idx_ego`` and ``sensor``; e.g. after
         :func:`~omega_prime_visibility.analysis.combine.seen_by_any`).
     threshold : float
-        Visible means ``visibility > threshold`` (default: any part visible).
+        Visible means ``visibility > threshold``, a share in ``[0, 1)`` (default 0: any part visible).
     reaction_time : float, optional
         Seconds a target must stay visible without a break to count as noticed.
     notice : (float, float), optional
@@ -78,8 +78,7 @@ def visible_intervals(
     >>> windowed.select("start_frame", "noticed_frame").rows(), windowed["notice_model"][0]
     ([(0, None), (3, 3), (7, 7)], 'visible 0.3 s within 0.5 s')
     """
-    if not (isinstance(threshold, int | float) and math.isfinite(threshold)):
-        raise ValueError(f"threshold must be a finite number, not {threshold!r}")
+    check_threshold(threshold)
     if reaction_time is not None and not (_seconds(reaction_time) and reaction_time >= 0):
         raise ValueError(f"reaction_time must be a non-negative number of seconds or None, not {reaction_time!r}")
     if notice is not None:
@@ -144,6 +143,25 @@ def visible_intervals(
         )
         columns += ["noticed_frame", "noticed_nanos", "first_noticed_nanos", "notice_model"]
     return out.select(columns).sort(*group, "start_frame").collect()
+
+
+def check_threshold(threshold: object, name: str = "threshold") -> None:
+    """Refuse a visibility threshold that is not a share in ``[0, 1)`` (visible means ``visibility > threshold``;
+    1 or more would never be visible, a negative one would call a hidden target visible).
+
+    Examples
+    --------
+    >>> check_threshold(0.5)
+    >>> check_threshold(50)
+    Traceback (most recent call last):
+    ...
+    ValueError: threshold must be a share of the target in [0, 1), not 50 (a percentage? 50 % is 0.5)
+    """
+    if not (isinstance(threshold, int | float) and not isinstance(threshold, bool) and math.isfinite(threshold)):
+        raise ValueError(f"{name} must be a finite number, not {threshold!r}")
+    if not 0 <= threshold < 1:
+        hint = f" (a percentage? {threshold:g} % is {threshold / 100:g})" if 1 < threshold <= 100 else ""
+        raise ValueError(f"{name} must be a share of the target in [0, 1), not {threshold!r}{hint}")
 
 
 def frame_period(table: pl.LazyFrame) -> int:
