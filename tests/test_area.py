@@ -95,6 +95,9 @@ def test_over_time_with_a_road() -> None:
         assert row["visible_area"] == pytest.approx(seen.area, rel=1e-12)
         assert row["hidden_road_area"] == pytest.approx(road.area - road.intersection(seen).area, rel=1e-9)
     assert visible_area_over_time(frames, 0, CAMERA).columns == ["frame", "total_nanos", "visible_area"]
+    for bad in ("road", shapely.LineString([(0, 0), (9, 0)])):  # the road has an area: its outline
+        with pytest.raises(ValueError, match="road must be a shapely Polygon or MultiPolygon"):
+            visible_area_over_time(frames, 0, CAMERA, road=bad)
 
 
 def test_a_crowded_road_with_the_typical_set(monkeypatch) -> None:

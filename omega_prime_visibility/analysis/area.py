@@ -221,6 +221,8 @@ def visible_area_over_time(
     """
     if road is None:
         road = road_outline(df)
+    elif not isinstance(road, shapely.Polygon | shapely.MultiPolygon):
+        raise ValueError(f"road must be a shapely Polygon or MultiPolygon (the road's outline, metres), not {road!r}")
     objects: ObjectTable
     objects, statics, sensor_set = _prepare(df, ego_idx, sensors, static_occluder_polys, on_invalid, occluders)
     engine = SweepEngine(statics)
