@@ -141,6 +141,8 @@ def test_plot_frame_rejects_unknown_frame_and_absent_ego() -> None:
         plot_frame(df, 0, 3)
     with pytest.raises(ValueError, match="ego idx 7 never occurs"):
         plot_frame(df, 7, 0)
+    with pytest.raises(ValueError, match="cmap 'sunset' is not a matplotlib colour map"):
+        plot_frame(df, 0, 0, cmap="sunset")
 
 
 def test_plotting_is_public_and_lazy() -> None:

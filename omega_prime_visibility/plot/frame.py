@@ -64,7 +64,11 @@ class FramePainter:
         self.ax, self.source, self.ego_idx, self.target = ax, source, int(ego_idx), target
         self.sensors = tuple(sensors)
         self.window = window
-        self.cmap, self.norm = plt.get_cmap(cmap), colors.Normalize(0.0, 1.0)
+        try:
+            self.cmap = plt.get_cmap(cmap)
+        except ValueError:
+            raise ValueError(f"cmap {cmap!r} is not a matplotlib colour map (e.g. 'cividis', 'viridis')") from None
+        self.norm = colors.Normalize(0.0, 1.0)
         self._dynamic: list[Any] = []
         self._label_pool: list[Any] = []
         self._scale: Any = None
