@@ -6,7 +6,7 @@ from __future__ import annotations
 import polars as pl
 import pytest
 
-from omega_prime_visibility import occlusion_statistics
+from omega_prime_visibility import VisibilityInputWarning, occlusion_statistics
 
 VEHICLE, PEDESTRIAN = 2, 3
 
@@ -138,6 +138,19 @@ def test_campaign_bad_folders(campaign, tmp_path) -> None:
     shutil.copyfile(tmp_path / "other" / "a.mcap.parquet", mixed / "c.mcap.parquet")
     with pytest.raises(ValueError, match=r"different options \(engine"):
         campaign_statistics(mixed)
+    # a file that is not parquet at all beside the results: skipped and told, the statistics unchanged
+    junk = tmp_path / "junk"
+    shutil.copytree(campaign / "results", junk)
+    (junk / "notes.parquet").write_text("not a table")
+    with pytest.warns(
+        VisibilityInputWarning, match=r"skipping 1 file\(s\) that are not readable parquet.*notes\.parquet"
+    ):
+        assert campaign_statistics(junk)["by_band"].equals(campaign_statistics(campaign / "results")["by_band"])
+    # a batch whose every recording failed: its summary says so
+    (tmp_path / "broken.mcap").write_text("not a recording")
+    run_batch([tmp_path / "broken.mcap"], tmp_path / "failed", ego=0, progress=False)
+    with pytest.raises(ValueError, match=r"holds no finished results: its batch summary lists 1 failed"):
+        campaign_statistics(tmp_path / "failed")
 
 
 def test_cli_statistics(campaign, tmp_path) -> None:

@@ -9,13 +9,16 @@ Results computed with different options are refused, naming the options that dif
 from __future__ import annotations
 
 import json
+import warnings
 from pathlib import Path
 
 import polars as pl
+import pyarrow as pa
 import pyarrow.parquet as pq
 
 from ..analysis.combine import every_listed
 from ..analysis.statistics import class_shares, rows_with_distance, statistics_of_rows
+from ..inputs.objects import VisibilityInputWarning
 from .files import OPTIONS_KEY, RECORDING_KEY
 from .run import SUMMARY_NAME
 from .task import conflicts_path, objects_path
@@ -64,14 +67,31 @@ def _results(folder: Path) -> list[tuple[Path, dict, str]]:
     """Every complete result under ``folder`` with its recording; checks the options agree."""
     if not folder.is_dir():
         raise ValueError(f"{folder} is not a folder of batch results")
-    found = []
+    found, unreadable = [], []
     for path in sorted(folder.rglob("*.parquet")):
         if path.name == SUMMARY_NAME or path.name.startswith("."):
             continue
-        metadata = pq.read_metadata(path).metadata or {}
+        try:
+            metadata = pq.read_metadata(path).metadata or {}
+        except (OSError, pa.ArrowException):  # not a parquet file (batch writes its results whole)
+            unreadable.append(str(path.relative_to(folder)))
+            continue
         if OPTIONS_KEY in metadata and RECORDING_KEY in metadata:
             found.append((path, json.loads(metadata[OPTIONS_KEY]), metadata[RECORDING_KEY].decode()))
+    if unreadable:
+        warnings.warn(
+            f"{folder}: skipping {len(unreadable)} file(s) that are not readable parquet files, not batch results: "
+            + ", ".join(unreadable[:5])
+            + (", ..." if len(unreadable) > 5 else ""),
+            VisibilityInputWarning,
+            stacklevel=3,
+        )
     if not found:
+        summary = folder / SUMMARY_NAME
+        if summary.is_file():
+            counts = pl.read_parquet(summary, columns=["status"])["status"].value_counts(sort=True).rows()
+            listed = ", ".join(f"{n} {status}" for status, n in counts)
+            raise ValueError(f"{folder} holds no finished results: its batch summary lists {listed} (see {summary})")
         raise ValueError(f"{folder} holds no batch results (run omega-prime-visibility batch ... -o {folder} first)")
     first_path, first, _ = found[0]
     for path, options, _ in found[1:]:
