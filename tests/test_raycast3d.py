@@ -225,6 +225,9 @@ def test_mesh_file_that_does_not_load_is_named(tmp_path) -> None:
         static_solids(load_static_occluders(None), meshes=[bad])
     with pytest.raises(ValueError, match=r"missing\.obj does not exist"):
         static_solids(load_static_occluders(None), meshes=[tmp_path / "missing.obj"])
+    for wrong in (42, [[0, 0, 0]], None):  # neither a path nor a trimesh.Trimesh
+        with pytest.raises(ValueError, match=r"a static mesh must be a mesh file's path or a trimesh\.Trimesh"):
+            static_solids(load_static_occluders(None), meshes=[wrong])
 
 
 def test_eye_inside_another_box_sees_through_it() -> None:

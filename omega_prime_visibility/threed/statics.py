@@ -93,12 +93,14 @@ def load_mesh(mesh: Any) -> np.ndarray:
     Raises
     ------
     ValueError
-        Naming the file, if it does not exist, does not load, or holds no triangles.
+        Naming the file, if it does not exist, does not load, or holds no triangles; for anything else given.
     """
     import trimesh
 
     if isinstance(mesh, trimesh.Trimesh):
         loaded, name = mesh, "the given trimesh.Trimesh"
+    elif not isinstance(mesh, str | os.PathLike):
+        raise ValueError(f"a static mesh must be a mesh file's path or a trimesh.Trimesh, not {type(mesh).__name__}")
     else:
         path = Path(os.fspath(mesh))
         name = str(path)
