@@ -313,6 +313,19 @@ def test_positions_beyond_a_billion_metres_and_infinite_vertices_are_skipped() -
         get_visibility_df(table, 0, on_invalid="raise")
 
 
+def test_boxes_of_negative_size_are_skipped_and_a_table_with_no_usable_row_is_refused() -> None:
+    # a negative length and width multiply to a positive area: still no box (broken data), skipped and told
+    with pytest.warns(
+        VisibilityInputWarning, match=r"skipping 1 of 3.*1 zero-size or negative box.*\(frame 0, idx 1\)"
+    ):
+        out = get_visibility_df(_street(length=[4.0, -4.0, 4.0], width=[2.0, -2.0, 2.0]), 0)
+    assert out.select("idx", "visibility").rows() == [(2, 1.0)]
+    # nothing usable at all: the reason, not an ego that never occurs
+    for columns in ({"yaw": [math.nan] * 3}, {"width": [0.0] * 3}, {"x": [math.inf] * 3}):
+        with pytest.raises(ValueError, match=r"none of the 3 object row\(s\) is usable: 3 "):
+            get_visibility_df(_street(**columns), 0)
+
+
 def test_an_observer_without_a_heading_cannot_turn_its_sensors() -> None:
     # with a polygon column no yaw is needed for outlines, but sensors turn with their observer: a NaN yaw is not 0
     polygons = [shapely.box(-2, -1, 2, 1), shapely.box(-12, -1, -8, 1), shapely.box(8, -1, 12, 1)]

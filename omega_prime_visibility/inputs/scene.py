@@ -278,9 +278,11 @@ def load_objects(
         pose_ok = np.isfinite(yaw) & np.isfinite(length) & np.isfinite(width)
         if (good & ~pose_ok).any():
             problems.append(f"{int((good & ~pose_ok).sum())} NaN or infinite yaw/length/width")
-        size_ok = pose_ok & (length * width >= MIN_AREA)
+        size_ok = pose_ok & (length > 0) & (width > 0) & (length * width >= MIN_AREA)
         if (good & pose_ok & ~size_ok).any():
-            problems.append(f"{int((good & pose_ok & ~size_ok).sum())} zero-size box(es) (length * width ~ 0)")
+            problems.append(
+                f"{int((good & pose_ok & ~size_ok).sum())} zero-size or negative box(es) (length or width <= 0)"
+            )
         ok = good & size_ok
         rings = box_rings(x[ok], y[ok], length[ok], width[ok], yaw[ok])
     boxes3d = None
@@ -299,6 +301,8 @@ def load_objects(
     if not ok.all():
         bad = np.flatnonzero(~ok)
         examples = ", ".join(f"(frame {frame[i]}, idx {idx[i]})" for i in bad[:5])
+        if not ok.any():  # nothing left to compute with: said here, not as an ego that never occurs
+            raise ValueError(f"none of the {len(ok)} object row(s) is usable: {'; '.join(problems)}; e.g. {examples}")
         _report(
             f"skipping {len(bad)} of {len(ok)} object row(s): {'; '.join(problems)}; e.g. {examples}"
             + "".join(f"; {note}" for note in notes),
