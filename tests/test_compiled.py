@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from omega_prime_visibility._compiled import PACKAGE, sources_key
+from omega_prime_visibility._compiled import PACKAGE, remembered_sources_key, sources_key
 
 PROBE = (
     "import numba, omega_prime_visibility as o; from omega_prime_visibility.geometry.kernels import wrap_positive;"
@@ -44,6 +44,27 @@ def test_the_key_changes_with_any_source_and_only_then(tmp_path: Path) -> None:
     changed = sources_key(copy)
     (copy / "geometry" / "helper_constants.py").write_text("TOLERANCE = 1e-6\n")
     assert sources_key(copy) not in (key, changed)
+
+
+def test_the_key_is_remembered_by_the_sources_sizes_and_times(tmp_path: Path, monkeypatch) -> None:
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    copy = tmp_path / "pkg"
+    shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__"))
+    key = sources_key(copy)
+    assert remembered_sources_key(copy) == key  # computed, then remembered
+    memos = list((tmp_path / "cache" / "omega-prime-visibility" / "source-keys").iterdir())
+    assert [m.read_text() for m in memos] == [key]
+    memos[0].write_text("0123456789abcdef")  # what was remembered is what is used ...
+    assert remembered_sources_key(copy) == "0123456789abcdef"
+    memos[0].write_text("garbage")  # ... unless it is no key
+    assert remembered_sources_key(copy) == key
+    # an edited kernel module (a git pull): a new size or time, so the key is computed anew
+    kernels = copy / "geometry" / "kernels.py"
+    kernels.write_text(kernels.read_text() + "\n# changed\n")
+    assert remembered_sources_key(copy) == sources_key(copy) != key
+    # nowhere to remember it: still the right key
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "pkg" / "__init__.py" / "cannot"))
+    assert remembered_sources_key(copy) == sources_key(copy)
 
 
 def test_editing_a_front_end_does_not_recompile_the_kernels(tmp_path: Path) -> None:
