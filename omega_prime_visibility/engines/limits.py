@@ -9,6 +9,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
+from ..geometry.kernels import copy_rows
 from ..geometry.occlusion import occludes_within
 from ..geometry.rings import Rings, angular_extent, next_vertex
 from ..geometry.view import view_intervals
@@ -45,8 +46,7 @@ def _keep_in_view(
             if len(scratch) < size:
                 scratch = np.empty((2 * size, 2, 2))
             for r in range(t1 - t0):
-                for p in range(2):
-                    scratch[r, p, 0], scratch[r, p, 1] = seg[t0 + r, p, 0], seg[t0 + r, p, 1]
+                copy_rows(scratch[r], 0, seg[t0 + r])
             for e in range(s0, s1):
                 r = t1 - t0 + e - s0
                 for p in range(2):

@@ -15,7 +15,7 @@ import math
 import numba
 import numpy as np
 
-from ...geometry.kernels import insertion_sort, wrap_positive
+from ...geometry.kernels import copy_rows, insertion_sort, wrap_positive
 from ...geometry.occlusion import MIN_PIECE, RELATIVE_TOLERANCE, _edge_line_distance, _nearest_edge
 from .pieces import R_HI, R_LO
 
@@ -53,8 +53,7 @@ def _occludes_static(
     m = len(objects.seg)
     k = 0
     for e in range(objects.offsets[target], objects.offsets[target + 1]):
-        for p in range(2):
-            scratch[k, p, 0], scratch[k, p, 1] = objects.seg[e, p, 0], objects.seg[e, p, 1]
+        copy_rows(scratch[k], 0, objects.seg[e])
         k += 1
     target_edges = k
     previous = -1
