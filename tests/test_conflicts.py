@@ -206,7 +206,7 @@ def test_pedestrian_trace_has_no_conflict_and_the_camera_sees_it_from_the_start(
 def test_only_what_happens_before_the_conflict_counts() -> None:
     # a hand-made table: target 2 hidden by 5 in frames 0-5, by 6 in frames 6-9, seen from frame 10; its path
     # conflicts with the ego's at frame 5 (it gets there first, the ego 1 s later). Before the conflict it was never
-    # seen: no sight, no notice; hidden 0.6 s (frames 0-5), by 5 alone.
+    # seen: no sight, no notice; hidden 0.5 s (frames 0-4: the conflict frame 5 is not before it), by 5 alone.
     frames = range(15)
     vis = pl.DataFrame(
         {
@@ -226,4 +226,79 @@ def test_only_what_happens_before_the_conflict_counts() -> None:
     assert row["conflict_nanos"] == 5 * STEP
     assert row["first_visible_nanos"] is None and row["sight_to_conflict"] is None
     assert row["first_noticed_nanos"] is None
-    assert (row["hidden"], row["hidden_seconds"], row["hidden_by"]) == (True, pytest.approx(0.6), [5])
+    assert (row["hidden"], row["hidden_seconds"], row["hidden_by"]) == (True, pytest.approx(0.5), [5])
+
+
+def hidden_run(frames: int, period: int, start: int = 0, frame_dtype=pl.Int64, shuffle: bool = False):
+    """A target 2 hidden by 5 (in view, nothing seen) in every frame ``0 .. frames - 1`` of ``period`` ns from
+    ``start`` ns, and the timegaps of a conflict at the last frame (the ego gets there at that time, timegap 0)."""
+    vis = pl.DataFrame(
+        {
+            "frame": pl.Series(range(frames), dtype=frame_dtype),
+            "total_nanos": [start + f * period for f in range(frames)],
+            "idx": [2] * frames,
+            "occluder_idxs": [[5]] * frames,
+            "static_occluder_idxs": [[]] * frames,
+            "visibility": [0.0] * frames,
+        },
+        schema_overrides={"occluder_idxs": pl.List(pl.Int64), "static_occluder_idxs": pl.List(pl.Int64)},
+    )
+    if shuffle:
+        vis = vis.sample(fraction=1.0, shuffle=True, seed=1)
+    last = start + (frames - 1) * period
+    gaps = pl.DataFrame(
+        {"idx_ego": [0], "idx": [2], "total_nanos_ego": [last], "timegap": [0.0], "total_nanos": [last]}
+    )
+    return vis, gaps
+
+
+@pytest.mark.parametrize("hz", [1, 10, 100])
+@pytest.mark.parametrize("start", [0, 3 * 3600 * 10**9, 2**53 + 1], ids=["zero", "3 hours", "beyond 2^53 ns"])
+@pytest.mark.parametrize("frame_dtype", [pl.Int64, pl.UInt32], ids=["Int64", "UInt32"])
+def test_hidden_seconds_over_long_windows_never_wrap(hz, start, frame_dtype) -> None:
+    # hidden in every frame of 12 minutes: a 10-minute look-back holds exactly 600 s of frames before the conflict
+    # ([conflict - 600 s, conflict): 600 * hz frames, each one period). A 32-bit count times the period in ns wraps at
+    # 2^32 ns (4.29 s): 51 frames at 10 Hz read 0.805 s before.
+    period = 10**9 // hz
+    vis, gaps = hidden_run(720 * hz + 1, period, start, frame_dtype, shuffle=hz == 10)
+    for look_back in (5.0, 5.1, 600.0):
+        row = occluded_conflicts(vis, gaps, ego_idx=0, look_back=look_back, notice=None).row(0, named=True)
+        expected = math.floor(look_back * hz + 1e-9) / hz  # frames at conflict - k periods, 1 <= k <= look_back * hz
+        assert row["hidden_seconds"] == pytest.approx(expected, rel=1e-12), look_back
+        assert row["hidden"] and row["hidden_by"] == [5]
+
+
+def test_unsigned_times_from_elsewhere_do_not_wrap() -> None:
+    # timegaps and a table with UInt64 times (a parquet file from another tool): conflict minus look-back would wrap
+    vis, gaps = hidden_run(31, STEP)
+    vis = vis.with_columns(pl.col("total_nanos").cast(pl.UInt64))
+    gaps = gaps.with_columns(pl.col("total_nanos", "total_nanos_ego").cast(pl.UInt64))
+    row = occluded_conflicts(vis, gaps, ego_idx=0).row(0, named=True)
+    assert row["hidden_seconds"] == pytest.approx(3.0) and row["conflict_nanos"] == 30 * STEP
+    # a look-back of "everything" (longer than int64 nanoseconds) is the whole past, not an empty window
+    assert occluded_conflicts(vis, gaps, ego_idx=0, look_back=1e12)["hidden_seconds"][0] == pytest.approx(3.0)
+
+
+def test_the_look_back_window_is_half_open() -> None:
+    # hidden in all 31 frames (0 to 3 s at 10 Hz), conflict at 3.0 s. A 2 s look-back is [1.0, 3.0): frames 10 to 29,
+    # 20 frames, 2.0 s. The frame at 1.0 s lies on the lower bound and counts; the frame at the conflict's own time
+    # does not (either slip gives 1.9 or 2.1 s).
+    vis, gaps = hidden_run(31, STEP)
+    row = occluded_conflicts(vis, gaps, ego_idx=0, look_back=2.0).row(0, named=True)
+    assert row["hidden_seconds"] == pytest.approx(2.0, abs=1e-12)
+    # a look-back a nanosecond short of 2 s leaves out the frame at 1.0 s; a nanosecond longer adds nothing
+    assert occluded_conflicts(vis, gaps, ego_idx=0, look_back=1.999999999)["hidden_seconds"][0] == pytest.approx(1.9)
+    assert occluded_conflicts(vis, gaps, ego_idx=0, look_back=2.000000001)["hidden_seconds"][0] == pytest.approx(2.0)
+    # hidden only at the conflict's time: not hidden before it
+    only_last = vis.with_columns(visibility=pl.when(pl.col("frame") == 30).then(0.0).otherwise(1.0))
+    assert not occluded_conflicts(only_last, gaps, ego_idx=0)["hidden"][0]
+
+
+def test_the_pet_window_is_half_open() -> None:
+    # |timegap| in [0, pet): a gap of exactly the PET is no conflict, one a nanosecond-scale below it is
+    gaps = pl.DataFrame(
+        {"idx_ego": [0, 0], "idx": [7, 8], "total_nanos_ego": [0, 0], "timegap": [3.0, -2.999999999],
+         "total_nanos": [3 * 10**9, 0]}
+    )  # fmt: skip
+    assert path_conflicts(gaps, pet=3.0)["idx"].to_list() == [8]
+    assert path_conflicts(gaps, pet=3.000000001)["idx"].to_list() == [7, 8]

@@ -70,6 +70,17 @@ def test_report_scene_and_summary_agree_with_the_table(report, expected) -> None
     assert rule["mark"]["type"] == "rule" and rule["encoding"]["x"]["datum"] == {"expr": "now"}
 
 
+def summary_row(page: str, idx: int, sensor: str | None = None) -> dict[str, str]:
+    """The cells of the report's summary row of target ``idx`` (and ``sensor``), by column heading."""
+    summary = re.search(r'<table id="summary">(.*?)</table>', page, re.S).group(1)
+    heads = re.findall(r"<th>(.*?)</th>", summary)
+    for row in re.findall(r"<tr>(.*?)</tr>", summary, re.S)[1:]:
+        cells = dict(zip(heads, re.findall(r"<td>(.*?)</td>", row), strict=True))
+        if cells["idx"] == str(idx) and (sensor is None or cells.get("sensor") == sensor):
+            return cells
+    raise AssertionError(f"no summary row of idx {idx} {sensor or ''}")
+
+
 def test_report_shows_a_given_status_table(recording, expected, tmp_path) -> None:
     status = expected.with_columns(
         status=pl.when(pl.col("visibility") == 0).then(pl.lit("occluded")).otherwise(pl.lit("visible"))
@@ -77,7 +88,9 @@ def test_report_shows_a_given_status_table(recording, expected, tmp_path) -> Non
     out = write_report(recording, 0, tmp_path / "s.html", frames=slice(0, 20), table=status, progress=False)
     page = out.read_text()
     assert embedded(page, "timeline-data")["spec"]["layer"][0]["encoding"]["color"]["field"] == "status"
-    assert "occluded: 20" in page  # idx 2 is hidden in frames 0 to 19: the summary counts them
+    # idx 2 is hidden in frames 0 to 19: the summary's hidden share is all of them, by the stated definition
+    assert summary_row(page, 2)["hidden"] == "100%" and summary_row(page, 2)["partly hidden"] == "0%"
+    assert "hidden: nothing of it is seen, something is in front" in page
 
 
 def test_report_through_sensors(recording, tmp_path) -> None:
@@ -86,7 +99,8 @@ def test_report_through_sensors(recording, tmp_path) -> None:
     assert embedded(page, "timeline-data")["spec"]["layer"][0]["encoding"]["color"]["field"] == "status"
     summary = re.search(r'<table id="summary">(.*?)</table>', page, re.S).group(1)
     assert "<th>sensor</th>" in summary and "<td>roof</td>" in summary
-    assert "<td>occluded: 10</td>" in summary  # idx 2, behind the truck in all ten frames
+    roof = summary_row(page, 2, "roof")  # idx 2, behind the truck in all ten frames
+    assert (roof["hidden"], roof["out of view"], roof["frames"]) == ("100%", "0%", "10")
 
 
 def test_report_bad_input(recording, tmp_path) -> None:
@@ -183,4 +197,5 @@ def test_static_occluders_are_named_in_the_report(tmp_path) -> None:
     car = next(o for o in scene["frames"][0]["objects"] if o["idx"] == 1)
     assert (car["vis"], car["occluders"], car["statics"]) == (0.0, [], [0])
     summary = re.search(r'<table id="summary">(.*?)</table>', page, re.S).group(1)
-    assert "<th>hidden by static occluders</th>" in summary and "<td>0</td>" in summary
+    assert "<th>hidden by static occluders</th>" in summary
+    assert summary_row(page, 1)["hidden by static occluders"] == "static #0"  # never a bare 0 that reads as none

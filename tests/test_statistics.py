@@ -39,20 +39,22 @@ def scene() -> tuple[pl.DataFrame, pl.DataFrame]:
 
 def test_shares_by_band_and_type_on_paper() -> None:
     table, objects = scene()
-    stats = occlusion_statistics(table, objects, ego_idx=0)
+    stats = occlusion_statistics(table, objects, ego_idx=0, partly=(0.1, 0.9))
     rows = {(r["band"], r["target_type"]): r for r in stats["by_band"].iter_rows(named=True)}
-    # < 20 m: car 1 (visible, 1.0 > 0.9), pedestrian 2 (partly, 0.5)
+    # bounds (0.1, 0.9): hidden at or below 0.1, visible at or above 0.9 (each bound belongs to the outer class)
+    # < 20 m: car 1 (visible, 1.0), pedestrian 2 (partly, 0.5)
     near = rows[("< 20 m", "all")]
     assert (near["rows"], near["visible"], near["partly"], near["hidden"]) == (2, 0.5, 0.5, 0.0)
-    # 20 to 50 m: car 3 at exactly 20 m (hidden, 0.05 < 0.1), truck 4 at 35 m (0.9: partly, the bound is in it),
+    # 20 to 50 m: car 3 at exactly 20 m (hidden, 0.05), truck 4 at 35 m (0.9: visible, the bound is in it),
     # truck 4 at 40 m (visible)
     mid = rows[("20 to 50 m", "all")]
-    assert mid["rows"] == 3 and mid["visible"] == pytest.approx(1 / 3)
-    assert mid["partly"] == pytest.approx(1 / 3) and mid["hidden"] == pytest.approx(1 / 3)
-    # >= 50 m: car 1 at exactly 50 m (hidden), pedestrian 2 at 70 m (0.1: partly)
+    assert mid["rows"] == 3 and mid["visible"] == pytest.approx(2 / 3)
+    assert mid["partly"] == 0.0 and mid["hidden"] == pytest.approx(1 / 3)
+    # >= 50 m: car 1 at exactly 50 m (hidden), pedestrian 2 at 70 m (0.1: hidden, the bound is in it)
     far = rows[(">= 50 m", "all")]
-    assert (far["rows"], far["visible"], far["partly"], far["hidden"]) == (2, 0.0, 0.5, 0.5)
+    assert (far["rows"], far["visible"], far["partly"], far["hidden"]) == (2, 0.0, 0.0, 1.0)
     assert rows[("< 20 m", "pedestrian")]["partly"] == 1.0 and rows[(">= 50 m", "vehicle")]["hidden"] == 1.0
+    assert stats["by_band"]["out_of_view"].to_list() == [0.0] * stats["by_band"].height  # no sensors: all in view
     bands = stats["by_band"]["band"].to_list()
     assert bands == sorted(bands, key=["< 20 m", "20 to 50 m", ">= 50 m"].index)  # near to far
     # histogram: 0.0, 0.05 in [0, 0.1); 0.1 in [0.1, 0.2); 0.5 in [0.5, 0.6); 0.9, 0.95, 1.0 in [0.9, 1.0]
@@ -61,6 +63,28 @@ def test_shares_by_band_and_type_on_paper() -> None:
     assert hist["share"].sum() == pytest.approx(1.0) and hist["bin_start"][9] == pytest.approx(0.9)
     # occluders: car 1 twice (rows of 2 and 3), truck 4 three times (rows of 3, of 1 and of 2 in frame 1)
     assert stats["occluder_types"].rows() == [("vehicle", 5)]
+
+
+def test_the_default_is_the_exact_definition() -> None:
+    # visible: all seen (1.0); hidden: nothing seen (0.0); everything else partly hidden, as target_summary says
+    table, objects = scene()
+    all_rows = occlusion_statistics(table, objects, ego_idx=0)["by_band"].filter(pl.col("target_type") == "all")
+    assert all_rows.select("band", "rows", "visible", "partly", "hidden").rows() == [
+        ("< 20 m", 2, 0.5, 0.5, 0.0),
+        ("20 to 50 m", 3, 0.0, 1.0, 0.0),
+        (">= 50 m", 2, 0.0, 0.5, 0.5),
+    ]
+
+
+def test_out_of_view_rows_are_not_hidden() -> None:
+    # through sensors (combined by seen_by_any, which keeps the best in_view): car 1 out of every sensor's view,
+    # pedestrian 2 half in view and all of that half seen (visible, nothing in front), car 3 in view and hidden
+    table, objects = scene()
+    table = table.with_columns(in_view=pl.Series([0.0, 0.5, 1.0, 1.0, 1.0, 1.0, 1.0]))
+    table = table.with_columns(visibility=pl.Series([0.0, 0.5, 0.0, 0.9, 0.0, 0.1, 0.95]))
+    near = occlusion_statistics(table, objects, ego_idx=0)["by_band"].row(0, named=True)
+    assert (near["band"], near["target_type"], near["rows"]) == ("< 20 m", "all", 2)
+    assert (near["visible"], near["partly"], near["hidden"], near["out_of_view"]) == (0.5, 0.0, 0.0, 0.5)
 
 
 def test_other_bands_and_bounds() -> None:
@@ -86,6 +110,8 @@ def test_bad_input() -> None:
         occlusion_statistics(table, objects, ego_idx=0, bands=(50.0, 20.0))
     with pytest.raises(ValueError, match="partly"):
         occlusion_statistics(table, objects, ego_idx=0, partly=(0.9, 0.1))
+    with pytest.raises(ValueError, match="partly"):
+        occlusion_statistics(table, objects, ego_idx=0, partly=(0.5, 0.5))
     with pytest.raises(ValueError, match="seen_by_any"):
         occlusion_statistics(table.with_columns(sensor=pl.lit("camera")), objects, ego_idx=0)
 

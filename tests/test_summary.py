@@ -69,3 +69,42 @@ def test_keys_of_several_observers_and_a_table_without_columns() -> None:
     assert summary.select("idx_ego", "idx", "frames", "hidden_share").rows() == [(0, 2, 2, 0.5), (1, 2, 1, 0.0)]
     with pytest.raises(ValueError, match="occluder_idxs"):
         target_summary(table.drop("occluder_idxs"))
+
+
+def test_a_target_cut_by_the_field_of_view_is_not_partly_hidden() -> None:
+    # through a sensor, with nothing in front: frame 0 all in view, frames 1-2 half of it beyond the field of view's
+    # edge (visibility == in_view == 0.5, status partly_visible), frame 3 out of view. Then with a car in front of it:
+    # frame 4 half in view and half of that hidden (partly hidden, and partly out of view), frame 5 in view, hidden
+    statuses = ["visible", "partly_visible", "partly_visible", "out_of_fov", "partly_visible", "occluded"]
+    table = pl.DataFrame(
+        {
+            "frame": range(6),
+            "idx": [1] * 6,
+            "sensor": ["front_radar"] * 6,
+            "visibility": [1.0, 0.5, 0.5, 0.0, 0.25, 0.0],
+            "in_view": [1.0, 0.5, 0.5, 0.0, 0.5, 1.0],
+            "status": pl.Series(statuses).cast(pl.Enum(["visible", "partly_visible", "occluded", "out_of_fov",
+                                                         "out_of_range"])),
+            "occluder_idxs": [[], [], [], [], [4], [4]],
+            "static_occluder_idxs": [[]] * 6,
+        },
+        schema_overrides=LISTS,
+    )  # fmt: skip
+    row = target_summary(table).row(0, named=True)
+    assert row["visible_share"] == pytest.approx(3 / 6)  # frames 0, 1, 2: all of the part in view is seen
+    assert row["partly_hidden_share"] == pytest.approx(1 / 6)  # frame 4 only: something in front
+    assert row["hidden_share"] == pytest.approx(1 / 6)  # frame 5
+    assert row["out_of_view_share"] == pytest.approx(1 / 6)  # frame 3
+    assert row["partly_out_of_view_share"] == pytest.approx(3 / 6)  # frames 1, 2, 4
+    shares = ("visible_share", "partly_hidden_share", "hidden_share", "out_of_view_share")
+    assert sum(row[k] for k in shares) == pytest.approx(1.0)  # the classes part the frames
+    # other bounds: seen share 0.5 (frame 4) is hidden when at most half seen counts as hidden
+    loose = target_summary(table, partly=(0.5, 0.9)).row(0, named=True)
+    assert (loose["partly_hidden_share"], loose["hidden_share"]) == (0.0, pytest.approx(2 / 6))
+
+
+@pytest.mark.parametrize("partly", [(0.5, 0.5), (-0.1, 1.0), (0.0, 1.5), (0.9, 0.1), (True, 1.0), "0,1"])
+def test_bounds_are_checked(partly) -> None:
+    table = pl.DataFrame({"idx": [1], "visibility": [1.0], "occluder_idxs": [[]]}, schema_overrides=LISTS)
+    with pytest.raises(ValueError, match="partly"):
+        target_summary(table, partly=partly)

@@ -1,12 +1,22 @@
 """Occluded conflicts: road users whose path crosses the ego's, and whether they could be seen in time.
 
-Where paths cross comes from omega-prime's ``timegaps`` metric: for each ego time, the other object that occupies
-the place the ego occupies then, closest in time, and the time gap (the target's time minus the ego's, seconds;
-negative when the target was there first). A pair *conflicts* when the gap is within a post-encroachment time
-(PET, default 3 s); the conflict is the pair's row with the least gap, and its time, ``conflict_nanos``, is when the
-first of the two reaches the shared place. Before it, from the visibility table: when the target was first
-visible and first noticed (a notice model of :func:`~.intervals.visible_intervals`), how much time that left, how
-far away it was, and whether and how long it was hidden in a look-back window (default 5 s), and by whom.
+Where paths cross comes from omega-prime's ``timegaps`` metric: for each ego time, the other object that occupies the
+place the ego occupies then, closest in time, and the time gap (the target's time minus the ego's, seconds; negative
+when the target was there first). A pair *conflicts* when the gap is within a post-encroachment time (PET, default 3
+s): ``|timegap|`` in ``[0, pet)``; the conflict is the pair's row with the least gap, and its time,
+``conflict_nanos``, is when the first of the two reaches the shared place. Before it, from the visibility table: when
+the target was first visible and first noticed (a notice model of :func:`~.intervals.visible_intervals`), how much
+time that left, how far away it was, and whether and how long it was hidden in a look-back window (default 5 s), and
+by whom.
+
+Every time window is half-open, and each frame stands for one frame period from its time on:
+
+- sight and notice count the frames at or before the conflict (a target first seen at the conflict's time has
+  0 s left);
+- the look-back window holds the frames at times in ``[conflict - look_back, conflict)``: the frame at the
+  conflict's own time is not before it, so ``hidden_seconds`` (hidden frames times the frame period) is never more
+  than ``look_back``;
+- the notice models' windows are those of :func:`~.intervals.visible_intervals`.
 """
 
 from __future__ import annotations
@@ -17,6 +27,10 @@ import polars as pl
 
 from .combine import every_listed, polars_table
 from .intervals import NANOS, NUPLAN_NOTICE, frame_period, visible_intervals
+
+LONGEST = 2**62
+"""The longest look-back window, nanoseconds (146 years: any longer one is the same window, and polars would take
+its literal for a 128-bit integer)."""
 
 CONFLICT_COLUMNS = ("idx_ego", "idx", "timegap", "ego_nanos", "target_nanos", "conflict_nanos")
 
@@ -30,7 +44,7 @@ def path_conflicts(timegaps: pl.DataFrame | pl.LazyFrame, pet: float = 3.0) -> p
         omega-prime's ``timegaps`` property (``idx_ego, idx, total_nanos_ego, timegap, total_nanos``), computed with
         a ``time_buffer`` of at least ``pet`` seconds (its default is 2 s).
     pet : float
-        Post-encroachment time, seconds: the largest ``|timegap|`` that counts as a conflict.
+        Post-encroachment time, seconds: a pair conflicts when ``|timegap| < pet`` (the half-open ``[0, pet)``).
 
     Returns
     -------
@@ -54,7 +68,7 @@ def path_conflicts(timegaps: pl.DataFrame | pl.LazyFrame, pet: float = 3.0) -> p
     if missing:
         raise ValueError(f"the timegaps table (omega-prime's timegaps property) lacks the column(s) {missing}")
     return (
-        lazy.filter(pl.col("timegap").abs() <= pet)
+        lazy.filter(pl.col("timegap").abs() < pet)
         .sort("idx_ego", "idx", pl.col("timegap").abs(), "total_nanos_ego")
         .group_by("idx_ego", "idx", maintain_order=True)
         .first()
@@ -62,9 +76,9 @@ def path_conflicts(timegaps: pl.DataFrame | pl.LazyFrame, pet: float = 3.0) -> p
             "idx_ego",
             "idx",
             "timegap",
-            pl.col("total_nanos_ego").alias("ego_nanos"),
-            pl.col("total_nanos").alias("target_nanos"),
-            pl.min_horizontal("total_nanos_ego", "total_nanos").alias("conflict_nanos"),
+            pl.col("total_nanos_ego").cast(pl.Int64).alias("ego_nanos"),  # unsigned times would wrap below
+            pl.col("total_nanos").cast(pl.Int64).alias("target_nanos"),
+            pl.min_horizontal("total_nanos_ego", "total_nanos").cast(pl.Int64).alias("conflict_nanos"),
         )
         .collect()
     )
@@ -107,10 +121,10 @@ def occluded_conflicts(
     -------
     polars.DataFrame
         One row per conflict: :data:`CONFLICT_COLUMNS`, then ``first_visible_nanos`` and ``first_noticed_nanos``
-        (before the conflict; null if never), ``sight_to_conflict`` and ``notice_to_conflict`` (seconds left),
+        (at or before the conflict; null if never), ``sight_to_conflict`` and ``notice_to_conflict`` (seconds left),
         ``distance_at_sight`` (metres between the centres, when ``objects`` is given), ``first_seen_by`` (the sensor
-        that saw it first, through sensors), ``hidden_seconds`` (frames within ``look_back`` before the conflict in
-        which the target was in view but nothing of it seen, times the frame period), ``hidden`` (any),
+        that saw it first, through sensors), ``hidden_seconds`` (frames at times in ``[conflict - look_back,
+        conflict)`` in which the target was in view but nothing of it seen, times the frame period), ``hidden`` (any),
         ``hidden_by`` and ``hidden_by_static`` (the objects and static occluders in front of it then, ascending) and
         ``notice_model``.
     """
@@ -138,10 +152,11 @@ def occluded_conflicts(
         .agg(pl.col("first_noticed_nanos").min(), pl.col("notice_model").first())
     )
     period = frame_period(table)
-    window = rows.filter(pl.col("total_nanos") >= pl.col("conflict_nanos") - round(look_back * NANOS))
+    before = pl.col("conflict_nanos") - min(round(look_back * NANOS), LONGEST)
+    window = rows.filter(pl.col("total_nanos") >= before, pl.col("total_nanos") < pl.col("conflict_nanos"))
     hiding = window.filter(~visible & pl.col("in_view_any"))
     hidden = hiding.group_by("idx_ego", "idx").agg(
-        (pl.len() * period / NANOS).alias("hidden_seconds"),
+        (pl.len().cast(pl.Int64) * period / NANOS).alias("hidden_seconds"),  # (a UInt32 count would wrap)
         every_listed("occluder_idxs").alias("hidden_by"),
         every_listed("static_occluder_idxs").alias("hidden_by_static"),
     )
@@ -179,6 +194,7 @@ def _per_frame(table: pl.LazyFrame, ego_idx: int | None) -> pl.LazyFrame:
         table = table.with_columns(idx_ego=pl.lit(ego_idx, dtype=pl.Int64))
     if "static_occluder_idxs" not in names:
         table = table.with_columns(static_occluder_idxs=pl.lit([], dtype=pl.List(pl.Int64)))
+    table = table.with_columns(pl.col("total_nanos").cast(pl.Int64))  # unsigned times would wrap in differences
     sensors = "sensor" in names
     in_view = pl.col("in_view") > 0 if "in_view" in names else pl.lit(True)
     return table.group_by("frame", "total_nanos", "idx_ego", "idx").agg(

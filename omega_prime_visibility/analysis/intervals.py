@@ -5,11 +5,12 @@ exceeds a threshold. A missing frame (the target, or the observer, absent in fra
 never bridged. A target counts as *noticed* under one of two models:
 
 - ``reaction_time=r``: once it has stayed visible ``r`` seconds within one interval (an unbroken run), as
-  occlusion-aware planners model a driver's or a tracker's confirmation time;
+  occlusion-aware planners model a driver's or a tracker's confirmation time: at the first frame of the run whose
+  time lies ``r`` or more after the run's first frame (the elapsed time in the half-open ``[r, inf)``);
 - ``notice=(d, w)``: once it has been visible for at least ``d`` seconds within the last ``w`` seconds (nuPlan's
-  model with ``(1.0, 1.5)``), so a flicker of a frame or two does not start the count again. Each visible frame
-  counts for one frame period of the table (the median step between its frame times); missing frames count as
-  not visible.
+  model with ``(1.0, 1.5)``), so a flicker of a frame or two does not start the count again. The window of a frame
+  at time ``t`` is the half-open ``(t - w, t]``; each visible frame in it counts for one frame period of the table
+  (the median step between its frame times); missing frames count as not visible.
 """
 
 from __future__ import annotations
@@ -101,6 +102,7 @@ def visible_intervals(
     missing = [c for c in ("frame", "total_nanos", "idx", "visibility") if c not in names]
     if missing:
         raise ValueError(f"the visibility table lacks the column(s) {missing}")
+    lazy = lazy.with_columns(pl.col("total_nanos").cast(pl.Int64))  # unsigned times would wrap in differences
     group = [k for k in KEYS if k in names and k not in ("frame", "total_nanos")]
     visible = pl.col("visibility") > threshold
     starts = visible & (~visible.shift(1).over(group).fill_null(False) | (pl.col("frame").diff().over(group) != 1))

@@ -1,8 +1,9 @@
 """How often and how badly road users are occluded, near and far, and by whom: statistics over a visibility table
 (a recording, or a campaign's tables concatenated), as dataset realism checks compare them between datasets.
 
-Each (frame, target) row is *visible* when ``visibility > 0.9``, *partly* occluded when it lies in ``[0.1, 0.9]``
-and *hidden* below 0.1 (the bounds are ``partly=``); its distance is between the observer's and the target's
+Each (frame, target) row is *visible*, *partly* hidden, *hidden* or *out of view* by the one definition of
+:mod:`~.classes` (by default exact: hidden when nothing of it is seen, visible when all of it in view is; other
+bounds with ``partly=``); its distance is between the observer's and the target's
 bounding-box centres (metres) in that frame, banded by ``bands`` (default ``< 20 m``, ``20 to 50 m`` and
 ``>= 50 m``; a band holds its lower bound).
 """
@@ -13,6 +14,8 @@ import math
 
 import polars as pl
 
+from .classes import EXACT, check_partly
+from .classes import class_shares as _shares
 from .combine import polars_table
 
 TYPE_NAMES = {0: "unknown", 1: "other", 2: "vehicle", 3: "pedestrian", 4: "animal"}
@@ -25,7 +28,7 @@ def occlusion_statistics(
     *,
     ego_idx: int | None = None,
     bands: tuple[float, ...] = (20.0, 50.0),
-    partly: tuple[float, float] = (0.1, 0.9),
+    partly: tuple[float, float] = EXACT,
     bins: int = 10,
 ) -> dict[str, pl.DataFrame]:
     """Shares of visible, partly occluded and hidden rows by distance band and target type; the visibility
@@ -43,22 +46,24 @@ def occlusion_statistics(
     bands : tuple of float
         Ascending distance bounds, metres.
     partly : (float, float)
-        Visibility bounds of *partly occluded*: below the first is hidden, above the second visible.
+        Bounds of *partly hidden* on the seen share of the part in view (:mod:`~.classes`): at or below the first
+        is hidden, at or above the second visible; default ``(0, 1)``.
     bins : int
         Bins of the histogram over [0, 1].
 
     Returns
     -------
     dict of polars.DataFrame
-        ``"by_band"``: ``band, target_type, rows, visible, partly, hidden`` (shares of the band's rows, per type and
-        ``"all"``); ``"histogram"``: ``bin_start, bin_end, rows, share``; ``"occluder_types"``: ``occluder_type,
-        rows`` (rows in which an object of that type occludes the target), most first.
+        ``"by_band"``: ``band, target_type, rows, visible, partly, hidden, out_of_view`` (shares of the band's rows,
+        per type and ``"all"``; ``out_of_view`` is 0 for a table without the sensors' ``in_view``);
+        ``"histogram"``: ``bin_start, bin_end, rows, share``; ``"occluder_types"``: ``occluder_type, rows``
+        (rows in which an object of that type occludes the target), most first.
 
     Examples
     --------
     >>> objects = pl.DataFrame({"total_nanos": [0, 0, 0], "idx": [0, 1, 2], "x": [0.0, 10.0, 60.0],
     ...     "y": [0.0, 0.0, 0.0], "type": [2, 2, 3]})
-    >>> table = pl.DataFrame({"frame": [0, 0], "total_nanos": [0, 0], "idx": [1, 2], "visibility": [1.0, 0.05],
+    >>> table = pl.DataFrame({"frame": [0, 0], "total_nanos": [0, 0], "idx": [1, 2], "visibility": [1.0, 0.0],
     ...     "occluder_idxs": [[], [1]]})
     >>> stats = occlusion_statistics(table, objects, ego_idx=0)
     >>> stats["by_band"].filter(pl.col("target_type") == "all").select("band", "rows", "visible", "hidden").rows()
@@ -72,14 +77,14 @@ def occlusion_statistics(
 
 
 def statistics_of_rows(
-    rows: pl.LazyFrame, *, bands: tuple[float, ...] = (20.0, 50.0), partly=(0.1, 0.9), bins: int = 10
+    rows: pl.LazyFrame, *, bands: tuple[float, ...] = (20.0, 50.0), partly=EXACT, bins: int = 10
 ) -> dict[str, pl.DataFrame]:
     """:func:`occlusion_statistics` of rows that already have ``distance`` and ``target_type`` (from
     :func:`rows_with_distance`, e.g. several recordings' rows concatenated)."""
     low, high = _checked(bands, partly, bins)
     labels = _band_labels(bands)
     band = pl.col("distance").cut(list(bands), labels=labels, left_closed=True)
-    shares = class_shares(low, high)
+    shares = class_shares(rows.collect_schema().names(), (low, high))
     v = pl.col("visibility")
     banded = rows.with_columns(band=band.cast(pl.String))
     by_type = banded.group_by("band", "target_type").agg(shares)
@@ -93,7 +98,7 @@ def statistics_of_rows(
     histogram = (
         pl.LazyFrame({"bin": list(range(bins))})
         .join(binned, on="bin", how="left")
-        .with_columns(pl.col("rows").fill_null(0).cast(pl.UInt32))
+        .with_columns(pl.col("rows").fill_null(0).cast(pl.Int64))  # (a UInt32 sum would wrap beyond 2^32 rows)
         .with_columns(
             bin_start=pl.col("bin").replace_strict(dict(enumerate(edges[:-1])), return_dtype=pl.Float64),
             bin_end=pl.col("bin").replace_strict(dict(enumerate(edges[1:])), return_dtype=pl.Float64),
@@ -116,15 +121,16 @@ def statistics_of_rows(
     }
 
 
-def class_shares(low: float, high: float) -> list[pl.Expr]:
-    """In a ``group_by(...).agg``: ``rows`` and the shares of them ``visible`` (visibility above ``high``),
-    ``partly`` occluded (``low`` to ``high``) and ``hidden`` (below ``low``)."""
-    v = pl.col("visibility")
+def class_shares(names: list[str], partly: tuple[float, float] = EXACT) -> list[pl.Expr]:
+    """In a ``group_by(...).agg`` over rows with the columns ``names``: ``rows`` and the shares of them
+    ``visible``, ``partly`` hidden, ``hidden`` and ``out_of_view`` (:mod:`~.classes`)."""
+    shares = _shares(names, partly)
     return [
-        pl.len().alias("rows"),
-        (v > high).mean().alias("visible"),
-        ((v >= low) & (v <= high)).mean().alias("partly"),
-        (v < low).mean().alias("hidden"),
+        pl.len().cast(pl.Int64).alias("rows"),
+        shares["visible"].alias("visible"),
+        shares["partly_hidden"].alias("partly"),
+        shares["hidden"].alias("hidden"),
+        shares["out_of_view"].alias("out_of_view"),
     ]
 
 
@@ -134,11 +140,9 @@ def _checked(bands, partly, bins) -> tuple[float, float]:
         raise ValueError(f"bands takes ascending positive distances in metres, e.g. (20, 50), not {bands!r}")
     if sorted(set(values)) != values:
         raise ValueError(f"bands must be strictly ascending, not {bands!r}")
-    if not (isinstance(partly, tuple | list) and len(partly) == 2 and 0 <= partly[0] <= partly[1] <= 1):
-        raise ValueError(f"partly takes (low, high) visibility bounds with 0 <= low <= high <= 1, not {partly!r}")
     if not (isinstance(bins, int) and bins >= 1):
         raise ValueError(f"bins must be a positive whole number, not {bins!r}")
-    return float(partly[0]), float(partly[1])
+    return check_partly(partly)
 
 
 def _band_labels(bands) -> list[str]:

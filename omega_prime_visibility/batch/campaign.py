@@ -16,6 +16,7 @@ import polars as pl
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from ..analysis.classes import EXACT
 from ..analysis.combine import every_listed
 from ..analysis.statistics import class_shares, rows_with_distance, statistics_of_rows
 from ..inputs.objects import VisibilityInputWarning
@@ -28,7 +29,7 @@ def campaign_statistics(
     folder: str | Path,
     *,
     bands: tuple[float, ...] = (20.0, 50.0),
-    partly: tuple[float, float] = (0.1, 0.9),
+    partly: tuple[float, float] = EXACT,
     bins: int = 10,
 ) -> dict[str, pl.DataFrame]:
     """:func:`~omega_prime_visibility.occlusion_statistics` over every result in a batch output ``folder``.
@@ -37,7 +38,8 @@ def campaign_statistics(
     -------
     dict of polars.DataFrame
         ``"by_band"``, ``"histogram"`` and ``"occluder_types"`` over all recordings together, and
-        ``"by_recording"``: ``recording, rows, visible, partly, hidden`` (shares of the recording's rows), and
+        ``"by_recording"``: ``recording, rows, visible, partly, hidden, out_of_view`` (shares of the recording's
+        rows), and
         ``"conflicts"``: every result's occluded conflicts with its ``recording`` (written by ``batch --conflicts``;
         empty without them).
     """
@@ -56,7 +58,8 @@ def campaign_statistics(
         frames.append(rows.with_columns(recording=pl.lit(recording)))
     rows = pl.concat(frames, how="vertical_relaxed")
     stats = statistics_of_rows(rows, bands=bands, partly=partly, bins=bins)
-    stats["by_recording"] = rows.group_by("recording").agg(class_shares(*partly)).sort("recording").collect()
+    shares = class_shares(rows.collect_schema().names(), partly)
+    stats["by_recording"] = rows.group_by("recording").agg(shares).sort("recording").collect()
     stats["conflicts"] = (
         pl.concat(conflicts, how="vertical_relaxed") if conflicts else pl.DataFrame(schema={"recording": pl.String})
     )
@@ -111,7 +114,10 @@ def _table(result: Path) -> pl.LazyFrame:
     if "sensor" not in names:
         return table
     keys = [k for k in ("frame", "total_nanos", "idx_ego", "idx") if k in names]
-    return table.group_by(keys).agg(pl.col("visibility").max(), every_listed("occluder_idxs")).sort(keys)
+    best = [pl.col("visibility").max(), every_listed("occluder_idxs")]
+    if "in_view" in names:  # so that a target out of every sensor's view is told apart from a hidden one
+        best.append(pl.col("in_view").max())
+    return table.group_by(keys).agg(best).sort(keys)
 
 
 def _objects(recording: str) -> tuple[pl.LazyFrame, int | None]:

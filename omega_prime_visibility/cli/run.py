@@ -55,7 +55,7 @@ def run(
     measure: Measure = "angle",
 ) -> None:
     """Compute the visibility table of one recording; print it with a per-target summary, or write it."""
-    from ..analysis.summary import target_summary
+    from ..analysis.summary import DEFINITION, target_summary
     from ..api import get_visibility_df
     from ..inputs.observers import describe_idx
     from ..table.output import check_output_path, write_csv
@@ -122,3 +122,4 @@ def run(
             tbl_rows=-1, tbl_cols=-1, fmt_table_cell_list_len=8, tbl_width_chars=200, tbl_hide_dataframe_shape=True
         ):
             typer.echo(target_summary(table))
+        typer.echo(f"shares of each target's frames; {DEFINITION}")

@@ -18,9 +18,18 @@ def statistics(
     bands: Annotated[
         str, typer.Option(metavar="METRES", help="distance band bounds, comma-separated, ascending")
     ] = "20,50",
+    partly: Annotated[
+        str,
+        typer.Option(
+            metavar="LOW,HIGH",
+            help="bounds of partly hidden on the seen share: at or below LOW hidden, at or above HIGH visible",
+        ),
+    ] = "0,1",
 ) -> None:
-    """Print how often road users were visible, partly occluded (visibility 0.1 to 0.9) or hidden, per recording,
-    by distance band and target type, the visibility histogram, and the types of the objects that occluded them."""
+    """Print how often road users were visible, partly hidden, hidden or out of view (docs: Definitions), per
+    recording, by distance band and target type, the visibility histogram, and the types of the objects that
+    occluded them."""
+    from ..analysis.classes import check_partly, describe
     from ..batch.campaign import campaign_statistics
 
     try:
@@ -28,9 +37,16 @@ def statistics(
     except ValueError:
         raise fail(f"--bands takes distances in metres separated by commas, e.g. 20,50, not {bands!r}") from None
     try:
-        stats = campaign_statistics(folder, bands=bounds)
+        partly = check_partly(tuple(float(b) for b in partly.split(",")))
+    except ValueError:
+        raise fail(
+            f"--partly takes two shares LOW,HIGH with 0 <= LOW < HIGH <= 1, e.g. 0.1,0.9, not {partly!r}"
+        ) from None
+    try:
+        stats = campaign_statistics(folder, bands=bounds, partly=partly)
     except ValueError as e:
         raise fail(str(e)) from None
+    typer.echo(describe(partly))
     with pl.Config(tbl_rows=-1, tbl_cols=-1, tbl_width_chars=200, tbl_hide_dataframe_shape=True, fmt_str_lengths=80):
         for title, name in (
             ("per recording", "by_recording"),

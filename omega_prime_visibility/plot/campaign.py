@@ -11,33 +11,41 @@ from typing import Any
 
 import polars as pl
 
+from ..analysis.classes import EXACT, describe
 from ..table.output import atomic_write, check_output_path
 from ._optional import require
 from .report import _json_for_script, _script_safe
 from .style import OKABE_ITO
 
-CLASS_COLOURS = {"visible": OKABE_ITO["blue"], "partly": OKABE_ITO["sky blue"], "hidden": OKABE_ITO["vermillion"]}
+CLASS_COLOURS = {
+    "visible": OKABE_ITO["blue"],
+    "partly": OKABE_ITO["sky blue"],
+    "hidden": OKABE_ITO["vermillion"],
+    "out_of_view": "#bbbbbb",
+}
 
 
-def write_campaign_page(folder: str | os.PathLike, output: str | os.PathLike, *, bands=(20.0, 50.0)) -> Path:
+def write_campaign_page(
+    folder: str | os.PathLike, output: str | os.PathLike, *, bands=(20.0, 50.0), partly=EXACT
+) -> Path:
     """Write the campaign page of the batch output ``folder`` to ``output`` (``.html``); return its path.
 
-    The page shows :func:`~omega_prime_visibility.campaign_statistics` of the folder. The file is written under a
-    temporary name and renamed when complete.
+    The page shows :func:`~omega_prime_visibility.campaign_statistics` of the folder (``bands`` and ``partly`` as
+    there), and states the definition of its classes. The file is written under a temporary name and renamed when
+    complete.
     """
     from ..batch.campaign import campaign_statistics
 
     output = check_output_path(output, (".html",))
     vlc = require("vl_convert", "the campaign page")
-    stats = campaign_statistics(folder, bands=bands)
+    stats = campaign_statistics(folder, bands=bands, partly=partly)
     charts = {"bands": _bands_chart(stats["by_band"]), "histogram": _histogram_chart(stats["histogram"])}
     charts["occluders"] = _occluders_chart(stats["occluder_types"])
     recordings = stats["by_recording"]
     page = PAGE.format(
         title=html.escape(f"Occlusion over a campaign: {Path(folder).name}"),
         subtitle=html.escape(
-            f"{recordings.height} recordings, {int(recordings['rows'].sum())} (frame, target) rows; visible: "
-            "visibility above 0.9, partly occluded: 0.1 to 0.9, hidden: below 0.1"
+            f"{recordings.height} recordings, {int(recordings['rows'].sum())} (frame, target) rows; {describe(partly)}"
         ),
         bundle=_script_safe(vlc.javascript_bundle()),
         charts=_json_for_script(charts),
@@ -53,10 +61,10 @@ def write_campaign_page(folder: str | os.PathLike, output: str | os.PathLike, *,
 
 def _bands_chart(by_band: pl.DataFrame) -> dict:
     alt = require("altair")
-    long = by_band.unpivot(
-        index=["band", "target_type", "rows"], on=["visible", "partly", "hidden"], variable_name="class"
-    )
-    colour = alt.Color("class:N", scale=alt.Scale(domain=list(CLASS_COLOURS), range=list(CLASS_COLOURS.values())))
+    # out of view only where some row was (tables through sensors): a class no row can be in is not listed
+    shown = {c: colour for c, colour in CLASS_COLOURS.items() if c != "out_of_view" or by_band[c].max() > 0}
+    long = by_band.unpivot(index=["band", "target_type", "rows"], on=list(shown), variable_name="class")
+    colour = alt.Color("class:N", scale=alt.Scale(domain=list(shown), range=list(shown.values())))
     chart = (
         alt.Chart(long)
         .mark_bar()
@@ -68,7 +76,7 @@ def _bands_chart(by_band: pl.DataFrame) -> dict:
             column=alt.Column("target_type:N", title="target type"),
             tooltip=["band", "target_type", "class", alt.Tooltip("value:Q", format=".1%"), "rows"],
         )
-        .transform_calculate(class_order="indexof(['visible', 'partly', 'hidden'], datum['class'])")
+        .transform_calculate(class_order=f"indexof({list(shown)}, datum['class'])")
         .properties(width=160, height=220)
     )
     return chart.to_dict()

@@ -93,7 +93,7 @@
         "stroke-width": 0.12, "data-idx": o.idx }, frameLayer);
       p.classList.add(o.ego ? "ego" : "object");
       const t = el("title", {}, p);
-      const hiders = o.occluders.map(String).concat(o.statics.map((k) => `static ${k}`));
+      const hiders = o.occluders.map(String).concat(o.statics.map((k) => `static #${k}`));
       t.textContent = o.ego ? `ego idx ${o.idx}` : o.vis === null ? `idx ${o.idx}: no row in the table` :
         `idx ${o.idx}: visibility ${o.vis.toFixed(3)}; hidden by ${hiders.length ? hiders.join(", ") : "nothing"}`;
       let top = -Infinity, bottom = Infinity, left = Infinity, right = -Infinity;

@@ -21,7 +21,9 @@ import polars as pl
 import shapely
 from tqdm.auto import tqdm
 
+from ..analysis.classes import EXACT, class_shares, describe
 from ..table.output import atomic_write, check_output_path
+from ..table.schema import static_names
 from ._optional import require
 from .data import FrameSpec, FrameView, listed_once, load_source
 from .frame import picture_viewer
@@ -308,21 +310,23 @@ def scene_data(views: list[FrameView], source, ego_idx: int, window: Window, sen
     }
 
 
-def summary_html(table: pl.DataFrame) -> str:
-    """The per-target summary as an HTML table: frames, mean and least visibility, share of frames hidden and
-    partly hidden (or, where the table has the sensors' ``status``, the frames of each status), and every object
-    that hid it at some time."""
+def summary_html(table: pl.DataFrame, partly: tuple[float, float] = EXACT) -> str:
+    """The per-target summary as an HTML table: frames, mean and least visibility, the share of frames visible,
+    partly hidden, hidden and (through sensors) out of view by the one definition of
+    :mod:`~omega_prime_visibility.analysis.classes`, stated under the table, and every object and static occluder
+    that hid it at some time (static occluders named ``static #k`` by their position in the list given)."""
     by = [c for c in ("idx", "sensor") if c in table.columns]
+    shares = class_shares(table.columns, partly)
     aggregations = [
-        pl.len().alias("frames"),
+        pl.len().cast(pl.Int64).alias("frames"),
         pl.col("visibility").mean().alias("mean visibility"),
         pl.col("visibility").min().alias("least visibility"),
+        shares["visible"].alias("visible"),
+        shares["partly_hidden"].alias("partly hidden"),
+        shares["hidden"].alias("hidden"),
     ]
-    if "status" in table.columns:  # the sensors' verdict tells hidden from out of view
-        aggregations.append(pl.col("status").value_counts(sort=True).alias("status"))
-    else:
-        aggregations.append((pl.col("visibility") == 0).mean().alias("hidden"))
-        aggregations.append(((pl.col("visibility") > 0) & (pl.col("visibility") < 1)).mean().alias("partly hidden"))
+    if "in_view" in table.columns:
+        aggregations.append(shares["out_of_view"].alias("out of view"))
     if "occluder_idxs" in table.columns:
         aggregations.append(listed_once("occluder_idxs").alias("hidden by (idx)"))
     if "static_occluder_idxs" in table.columns:
@@ -333,19 +337,23 @@ def summary_html(table: pl.DataFrame) -> str:
     for row in summary.iter_rows(named=True):
         cells = []
         for name, value in row.items():
-            if name in ("hidden", "partly hidden"):
+            if name in ("visible", "partly hidden", "hidden", "out of view"):
                 text = f"{value:.0%}"
             elif isinstance(value, float):
                 text = f"{value:.3f}"
-            elif name == "status":
-                text = ", ".join(f"{d['status']}: {d['count']}" for d in value)
+            elif name == "hidden by static occluders":
+                text = static_names(value)
             elif isinstance(value, list):
                 text = ", ".join(map(str, value)) or "none"
             else:
                 text = str(value)
             cells.append(f"<td>{html.escape(text)}</td>")
         body.append(f"<tr>{''.join(cells)}</tr>")
-    return f'<table id="summary"><thead><tr>{head}</tr></thead><tbody>{"".join(body)}</tbody></table>'
+    note = html.escape(f"Shares of the target's frames; {describe(partly)}.")
+    return (
+        f'<table id="summary"><thead><tr>{head}</tr></thead><tbody>{"".join(body)}</tbody></table>'
+        f'<p class="definition">{note}</p>'
+    )
 
 
 PAGE = """<!DOCTYPE html>

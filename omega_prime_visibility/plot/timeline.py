@@ -15,6 +15,7 @@ import numpy as np
 import polars as pl
 
 from ..table.output import atomic_write, check_output_path
+from ..table.schema import STATIC_LABEL
 from ._optional import require
 from .style import STATUS_COLOURS
 
@@ -57,16 +58,17 @@ def timeline_intervals(table: pl.DataFrame, *, by: str = "auto", resolution: flo
     frames = np.unique(table["frame"].to_numpy())
     frame_step = int(np.median(np.diff(frames))) if len(frames) > 1 else 1
 
-    def text(column: str) -> pl.Expr:
+    def text(column: str, prefix: str = "") -> pl.Expr:
         if column not in table.columns:
             return pl.lit("none")
-        joined = pl.col(column).list.eval(pl.element().cast(pl.String)).list.join(", ")
+        named = pl.concat_str([pl.lit(prefix), pl.element().cast(pl.String)])
+        joined = pl.col(column).list.eval(named).list.join(", ")
         return pl.when(pl.col(column).list.len() > 0).then(joined).otherwise(pl.lit("none"))
 
     shade = (pl.col("visibility") / resolution).round(0) if colour == "visibility" else pl.col("status")
     rows = table.sort([*keys, "frame"]).with_columns(
         occluders=text("occluder_idxs"),
-        static_occluders=text("static_occluder_idxs"),
+        static_occluders=text("static_occluder_idxs", STATIC_LABEL),
         seen_by=text("seen_by"),
         shade=shade,
     )

@@ -47,6 +47,20 @@ SENSOR_SCHEMA: dict[str, pl.DataType] = {
 }
 """The columns a table gains when sensors were given: ``sensor`` follows ``idx``, the others come last."""
 
+STATIC_LABEL = "static #"
+"""How a person reads a static occluder's entry in ``static_occluder_idxs`` (its position in the list given):
+``static #0`` is the first, never a bare number that reads as a count."""
+
+
+def static_names(positions: Sequence[int] | None) -> str:
+    """Static occluders by their positions in the list given, as a person reads them (``"none"`` for none).
+
+    >>> static_names([0, 2]), static_names([])
+    ('static #0, static #2', 'none')
+    """
+    return ", ".join(f"{STATIC_LABEL}{int(k)}" for k in positions or []) or "none"
+
+
 LIST_COLUMNS = tuple(name for name, dtype in SCHEMA.items() if isinstance(dtype, pl.List))
 """List columns travel as ``(lengths, values)`` pairs of flat arrays."""
 
