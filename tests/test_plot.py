@@ -288,3 +288,27 @@ def test_objects_that_may_not_block_hide_nothing_in_the_picture(mode: str) -> No
     source = load_source(both, lanes=False, occluders=[0, 12])
     view = picture_viewer(both, source, 0, None, np.array([0]), 80.0, mode=mode, occluders=[0, 12]).view(0)
     assert view.region.contains(behind)  # in frame 0 only the ego may block
+
+
+def test_through_sensors_the_outlines_follow_the_number_shown() -> None:
+    # ego at the origin (1 x 1 m), target 2 across y in [-1, 1] at x = 20, blocker 1 at x = 10, y in [1.5, 2.5].
+    # Sensor "low" at (0, -3) passes below the blocker (its rays cross x = 10 at y in [-2, -1]): it sees all of the
+    # target. Sensor "high" at (0, 3) sees it through x = 10 at y = 3 + (y - 3) / 2, so the blocker hides the part
+    # y >= 0 (part of its angle). The picture shows the best sensor's 100 %, so the blocker is no "hides 2" outline.
+    from omega_prime_visibility import get_visibility_df
+
+    df = boxes_table([(0, 0, 1, 1, 0), (10, 2, 1, 1, 0), (20, 0, 1, 2, 0)])
+    sensors = [Sensor("high", x=0.0, y=3.0, fov=1.0), Sensor("low", x=0.0, y=-3.0, fov=1.0)]
+    table = get_visibility_df(df, 0, sensors=sensors, progress=False).filter(idx=2)
+    seen = dict(zip(table["sensor"], table["visibility"], strict=True))
+    assert 0.0 < seen["high"] < 1.0 and seen["low"] == 1.0
+    assert table.filter(sensor="high")["occluder_idxs"].to_list() == [[1]]
+    ax = plot_frame(df, 0, 0, target=2, sensors=sensors)
+    (blocker,) = by_gid(ax, "object 1")
+    (target,) = by_gid(ax, "object 2")
+    assert tuple(target.get_facecolor()) == pytest.approx(CMAP(1.0)) and "2: 100%" in texts(ax)
+    assert blocker.get_linewidth() != 2.5  # not outlined as hiding the target
+    # with the low sensor alone blocked too (a second blocker below), the best is the high one's half: outlined
+    df = boxes_table([(0, 0, 1, 1, 0), (10, 2, 1, 1, 0), (20, 0, 1, 2, 0), (10, -1.5, 1, 1, 0)])
+    ax = plot_frame(df, 0, 0, target=2, sensors=sensors)
+    assert by_gid(ax, "object 1")[0].get_linewidth() == 2.5 or by_gid(ax, "object 3")[0].get_linewidth() == 2.5

@@ -267,25 +267,27 @@ def listed_once(*columns: str) -> pl.Expr:
 
 
 def combined(table: pl.DataFrame) -> pl.DataFrame:
-    """One row per target: ``visibility`` the best over the table's sensors (as ``seen_by_any`` gives it), the
-    occluders those of any sensor; a table without ``sensor`` as it is.
+    """One row per target: ``visibility`` the best over the table's sensors (as ``seen_by_any`` gives it) and the
+    occluders *of that best sensor* (ties: the first sensor by name, as ``seen_by_any``'s ``best_sensor``), so that
+    a picture outlines what hides the target from the view whose number it shows; a table without ``sensor`` as
+    it is.
 
     >>> t = pl.DataFrame({"idx": [2, 2], "sensor": ["a", "b"], "visibility": [0.25, 0.5],
     ...                   "occluder_idxs": [[1], [3]], "static_occluder_idxs": [[], []]})
     >>> combined(t).rows()
-    [(2, 0.5, [1, 3], [])]
+    [(2, 0.5, [3], [])]
     """
     if "sensor" not in table.columns:
         return table
     present = [c for c in OCCLUDER_COLUMNS if c in table.columns]
-    return (
-        table.group_by("idx")
-        .agg(
-            pl.col("visibility").max(),
-            *[listed_once(c) for c in present],
-        )
-        .sort("idx")
-    )
+    return table.group_by("idx").agg(pl.col("visibility").max(), *[of_best_sensor(c) for c in present]).sort("idx")
+
+
+def of_best_sensor(column: str) -> pl.Expr:
+    """In a ``group_by(...).agg`` over a table's sensors: ``column`` of the sensor with the best visibility (ties:
+    the first by name, as ``seen_by_any``'s ``best_sensor``)."""
+    order = [pl.col("visibility"), pl.col("sensor").cast(pl.String)]
+    return pl.col(column).sort_by(order, descending=[True, False]).first()
 
 
 def frames_table(

@@ -25,7 +25,7 @@ from ..analysis.classes import EXACT, class_shares, describe
 from ..table.output import atomic_write, check_output_path
 from ..table.schema import static_names
 from ._optional import require
-from .data import FrameSpec, FrameView, listed_once, load_source
+from .data import FrameSpec, FrameView, listed_once, load_source, of_best_sensor
 from .frame import picture_viewer
 from .style import EGO_FACE, REGION_FACE, sensor_colour, visibility_colour
 from .timeline import chart_spec, timeline_chart
@@ -211,7 +211,8 @@ def _coords(geometry: Any, digits: int = 2) -> list[list[float]]:
 
 def with_any_sensor(table: pl.DataFrame) -> pl.DataFrame:
     """A per-sensor table with, per (frame, target), one more row: sensor ``"any sensor"``, the best visibility
-    over the sensors (as ``seen_by_any`` gives it, the number the scene shows), the occluders of any sensor, and
+    over the sensors (as ``seen_by_any`` gives it, the number the scene shows), the occluders of that best sensor
+    (what the scene outlines), and
     a status: visible or partly visible by that visibility, else occluded if some sensor is occluded, else out
     of range if some sensor is, else out of view. A table without ``sensor`` is returned as it is."""
     if "sensor" not in table.columns:
@@ -222,7 +223,8 @@ def with_any_sensor(table: pl.DataFrame) -> pl.DataFrame:
         .agg(
             pl.col("visibility").max(),
             pl.col("in_view").max(),
-            listed_once("occluder_idxs", "static_occluder_idxs"),
+            of_best_sensor("occluder_idxs"),
+            of_best_sensor("static_occluder_idxs"),
             (reason == "occluded").any().alias("occluded"),
             (reason == "out_of_range").any().alias("far"),
         )
