@@ -7,18 +7,20 @@ import math
 import multiprocessing
 import numbers
 import os
+import warnings
 from collections.abc import Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from contextlib import contextmanager, nullcontext
 from typing import Any, Literal
 
+import numpy as np
 import polars as pl
 import shapely
 from tqdm.auto import tqdm
 
 from ._compiled import announce_compilation, mark_compiled
 from .engines import get_engine
-from .inputs.objects import ObjectTable, OnInvalid
+from .inputs.objects import ObjectTable, OnInvalid, VisibilityInputWarning
 from .inputs.observers import (  # noqa: F401 (describe_idx: public here too)
     EgoSpec,
     SensorSpec,
@@ -27,6 +29,7 @@ from .inputs.observers import (  # noqa: F401 (describe_idx: public here too)
     resolve_egos,
 )
 from .inputs.roles import RoleSpec, within_frames
+from .inputs.roles import describe as describe_choice
 from .inputs.scene import as_lazy, load_objects, observer_sizes
 from .inputs.sensors import fitted_layout, is_layout, resolve_sensors
 from .table.output import PartWriter, atomic_directory, check_output_path
@@ -218,6 +221,13 @@ def get_visibility_df(
         static_occluder_polys, mode, static_occluder_heights, static_meshes, map_occluders, df
     )
     egos, with_ego = resolve_egos(ego_idx, objects)
+    if objects.wanted is not None and objects.wanted.any() and np.isin(objects.idx[objects.wanted], egos).all():
+        warnings.warn(
+            f"targets={describe_choice(targets)!r} matches only the observer(s) {egos.tolist()[:10]}, which are never "
+            "their own targets, so the table has no rows",
+            VisibilityInputWarning,
+            stacklevel=2,
+        )
     if sensors is not None:  # sensors turn with their observer
         objects = observers_with_heading(objects, egos, on_invalid)
     if is_layout(sensors):  # fitted to each observer's own size

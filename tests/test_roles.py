@@ -4,6 +4,7 @@ on scenes with answers on paper, on random scenes against the reference, through
 from __future__ import annotations
 
 import math
+import re
 import warnings
 
 import numpy as np
@@ -12,7 +13,7 @@ import pytest
 from conftest import scene_table
 from reference import occluder_disagreements, random_scene, reference_visibility
 
-from omega_prime_visibility import ENGINES, get_visibility_df
+from omega_prime_visibility import ENGINES, VisibilityInputWarning, get_visibility_df
 from omega_prime_visibility.inputs.roles import role_mask
 
 N_RAYS = 20000
@@ -288,3 +289,26 @@ def test_a_passive_target_of_two_arms_is_counted_once() -> None:
         assert u["occluder_idxs"] == [2]
         car_row = out.filter(pl.col("idx") == 2).row(0, named=True)
         assert car_row["visibility"] == pytest.approx(1.0) and car_row["occluder_idxs"] == []
+
+
+@pytest.mark.parametrize(
+    ("targets", "said"),
+    [
+        ("animals", "targets='animals' matches no object of the recording"),
+        ([0], "targets=[0] matches only the observer(s) [0]"),
+        (pl.col("length") > 100, "targets='expression: "),
+    ],
+)
+def test_targets_that_match_nothing_are_told(targets, said: str) -> None:
+    # an empty table is never silent: the warning names what was asked and what the recording holds
+    with pytest.warns(VisibilityInputWarning, match=re.escape(said)) as caught:
+        table = get_visibility_df(street(), 0, targets=targets, progress=False)
+    assert table.height == 0
+    if "no object" in said:
+        assert "present: VEHICLE idx [0, 2]; PEDESTRIAN idx [1]" in str(caught[0].message)
+
+
+def test_targets_that_match_some_object_say_nothing() -> None:
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert get_visibility_df(street(), 0, targets="pedestrians", progress=False)["idx"].to_list() == [1]

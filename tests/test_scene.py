@@ -136,3 +136,23 @@ def test_polygonal_and_lineal_parts_of_nested_collections() -> None:
     polygons, lines = polygonal_and_lineal_parts(nested)
     assert [p.area for p in polygons] == [1.0, 1.0]
     assert len(lines) == 1 and lines[0].is_closed
+
+
+@pytest.mark.parametrize("yaws", [[90.0, 180.0, -90.0], [0.0, 45.0, 10.0]])
+def test_headings_in_degrees_are_told(yaws) -> None:
+    # omega-prime's yaw is radians in [-pi, pi]: 90, 180 or 45 on an object are degrees
+    df = pl.DataFrame({"frame": [0, 0, 0], "total_nanos": [0, 0, 0], "idx": [0, 1, 2], "x": [0.0, 10.0, 20.0],
+                       "y": [0.0, 0.0, 0.0], "length": [4.0] * 3, "width": [2.0] * 3, "yaw": yaws})  # fmt: skip
+    largest = max(yaws, key=abs)
+    with pytest.warns(VisibilityInputWarning, match=rf"beyond a full turn \(up to {largest:g}\).*looks like degrees"):
+        load_objects(df)
+
+
+def test_headings_within_a_turn_say_nothing() -> None:
+    # radians anywhere in [-2 pi, 2 pi] (an unwrapped 6 rad too) are plausible headings
+    df = pl.DataFrame({"frame": [0, 0, 0], "total_nanos": [0, 0, 0], "idx": [0, 1, 2], "x": [0.0, 10.0, 20.0],
+                       "y": [0.0, 0.0, 0.0], "length": [4.0] * 3, "width": [2.0] * 3,
+                       "yaw": [-math.pi, 6.0, 2 * math.pi]})  # fmt: skip
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        load_objects(df)

@@ -202,3 +202,29 @@ def describe(spec: RoleSpec) -> str | list | None:
     if isinstance(spec, pl.Expr):
         return f"expression: {spec}"
     return list(spec.tolist() if isinstance(spec, np.ndarray) else spec)
+
+
+def kinds_present(df: pl.DataFrame) -> str:
+    """What a table holds, for a message about a choice that matched nothing: the objects of each ``type`` (by
+    name, with their idx) where the table has that column, else the idx.
+
+    Examples
+    --------
+    >>> kinds_present(pl.DataFrame({"idx": [0, 1, 1, 4], "type": [2, 3, 3, 2]}))
+    'VEHICLE idx [0, 4]; PEDESTRIAN idx [1]'
+    >>> kinds_present(pl.DataFrame({"idx": [7, 8]}))
+    'idx [7, 8]'
+    """
+
+    def listed(values: list) -> str:
+        return f"{values[:20]}{' ...' if len(values) > 20 else ''}"
+
+    if "type" not in df.columns:
+        return f"idx {listed(sorted(df['idx'].unique().to_list()))}"
+    names = {v: k for k, v in TYPES.items()}
+    groups = df.select(pl.col("type").cast(pl.Int64, strict=False), pl.col("idx").cast(pl.Int64)).unique()
+    parts = []
+    for kind, idx in groups.group_by("type").agg(pl.col("idx").sort()).sort("type").iter_rows():
+        name = "no type" if kind is None else names.get(kind, f"type {kind}")
+        parts.append(f"{name} idx {listed(idx)}")
+    return "; ".join(parts)

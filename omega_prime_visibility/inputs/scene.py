@@ -19,7 +19,8 @@ import shapely
 from ..geometry.rings import Rings, box_rings, convex_quadrilaterals, gather_oriented
 from .columns import BOX_COLUMNS, MAX_COORDINATE, check_columns, check_times, float_columns, whole_numbers
 from .objects import ObjectTable, OnInvalid, VisibilityInputWarning
-from .roles import RoleSpec, role_mask
+from .roles import RoleSpec, kinds_present, role_mask
+from .roles import describe as describe_choice
 
 MIN_AREA = 1e-6  # m²; smaller polygons are "zero-size"
 
@@ -206,6 +207,23 @@ def _finite_outlines(geoms, polygonal, single, coords, first, n_coords) -> np.nd
     return finite
 
 
+def check_yaw_units(yaw: np.ndarray) -> None:
+    """Warn when headings lie beyond a full turn: omega-prime's ``yaw`` is radians in ``[-pi, pi]``, and 90, 180
+    or -90 on every object are degrees (sensors refuse such angles; an object's heading is only warned about, as
+    an unwrapped track can pass 2 pi)."""
+    finite = yaw[np.isfinite(yaw)]
+    beyond = np.abs(finite) > 2.0 * np.pi + 1e-9
+    if beyond.any():
+        largest = float(finite[np.argmax(np.abs(finite))])
+        warnings.warn(
+            f"yaw: {int(beyond.sum())} of {len(yaw)} object row(s) have a heading beyond a full turn (up to "
+            f"{largest:g}); yaw is radians counter-clockwise from +x, and {largest:g} looks like degrees "
+            f"({largest:g}° is {np.radians(largest):.4g} rad): convert with numpy.radians",
+            VisibilityInputWarning,
+            stacklevel=4,
+        )
+
+
 def load_objects(
     data: Any,
     *,
@@ -253,9 +271,17 @@ def load_objects(
         k = int(np.flatnonzero(dup)[0])
         raise ValueError(f"object idx {idx[k]} appears more than once in frame {frame[k]}: (frame, idx) must be unique")
     blocks, wanted = role_mask(df, occluders, "occluders"), role_mask(df, targets, "targets")
+    if wanted is not None and not wanted.any():
+        warnings.warn(
+            f"targets={describe_choice(targets)!r} matches no object of the recording, so the table has no rows "
+            f"(present: {kinds_present(df)})",
+            VisibilityInputWarning,
+            stacklevel=3,
+        )
     floats = float_columns(df, ("x", "y", "yaw", *BOX_COLUMNS))
     x, y = floats["x"], floats["y"]
     yaw = floats.get("yaw", np.zeros(df.height))
+    check_yaw_units(yaw)
     good = np.isfinite(x) & np.isfinite(y)
     problems = []
     if (~good).any():
