@@ -151,3 +151,18 @@ def test_map_that_is_missing_or_no_map(tmp_path, shared_data) -> None:
     with pytest.raises(RecordingReadError, match=r"cannot read map .*notes\.txt \(no map reader for '\.txt' files\)"):
         read_recording(trace, tmp_path / "notes.txt")
     assert type(read_recording(trace, shared_data / "fabriksgatan.xodr").map).__name__ == "MapOdr"
+
+
+def test_a_map_given_for_an_mcap_file_is_told(tmp_path) -> None:
+    # an MCAP file carries its own map: a map given with it replaces that, and the reader says so in one line
+    from omega_prime_visibility.inputs.io import MapNotice, read_recording
+
+    road = tmp_path / "road.xodr"
+    road.write_text(
+        '<?xml version="1.0"?><OpenDRIVE><header revMajor="1" revMinor="6"/><road name="r" length="600" id="1" '
+        'junction="-1"><planView><geometry s="0" x="-300" y="0" hdg="0" length="600"><line/></geometry></planView>'
+        "</road></OpenDRIVE>"
+    )
+    with pytest.warns(MapNotice, match=r"highway_merge\.mcap is read with the map road\.xodr given, in place of"):
+        r = read_recording(REPO / "highway_merge.mcap", road)
+    assert type(r.map).__name__ == "MapOdr"

@@ -13,6 +13,7 @@ static occluders by their position in the full list (the user's, then the map's,
 from __future__ import annotations
 
 import os
+import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any, Literal
@@ -22,6 +23,7 @@ import polars as pl
 import shapely
 
 from ..engines import ENGINES, ENGINES_3D
+from ..inputs.objects import VisibilityInputWarning
 from ..inputs.sensors import DRIVER_EYE_HEIGHT
 from ..inputs.statics import StaticOccluders, load_static_occluders
 from .statics import blocks_in_2d, check_heights, static_solids
@@ -104,6 +106,8 @@ def load_statics(
     bases = np.concatenate([bases, [m.base for m in map_objects]])
     above_road = np.concatenate([above_road, [m.height_above_road for m in map_objects]])
     meshes = list(meshes or ())
+    if map_path is not None:
+        _tell_map_objects(map_path, map_objects, mode, above_road[n_user:])
     if mode == "2d":
         if meshes:
             raise ValueError("static_meshes are 3D occluders: pass mode='3d'")
@@ -113,6 +117,27 @@ def load_statics(
     statics = load_static_occluders(geoms)
     solids = static_solids(statics, tops, meshes, np.where(np.isnan(bases), -1.0, bases))
     return replace(statics, solids=solids), None
+
+
+def _tell_map_objects(map_path: Any, map_objects: list, mode: Mode, above_road: np.ndarray) -> None:
+    """One warning when the map's road objects add no static occluder: the map holds none, or (2D) none reaches
+    the driver's eye height."""
+    name = "the recording's map" if map_path is True else f"the map {os.fspath(map_path)}"
+    if not map_objects:
+        warnings.warn(
+            f"map_occluders: {name} holds no road object with an extent and a height (<object> with an outline, "
+            "length and width, or radius, and a height), so it adds no static occluder",
+            VisibilityInputWarning,
+            stacklevel=4,
+        )
+    elif mode == "2d" and not blocks_in_2d(above_road, DRIVER_EYE_HEIGHT).any():
+        warnings.warn(
+            f"map_occluders: none of the {len(map_objects)} road objects of {name} reaches the driver's eye "
+            f"({DRIVER_EYE_HEIGHT:g} m above the road; the highest reaches {np.max(above_road):.2f} m), so in 2D "
+            "none blocks the view (mode='3d' sees over and under them)",
+            VisibilityInputWarning,
+            stacklevel=4,
+        )
 
 
 def map_source(map_path: str | os.PathLike | bool, recording: Any) -> tuple[str | os.PathLike, str | None]:
