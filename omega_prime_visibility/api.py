@@ -32,7 +32,7 @@ from .inputs.roles import RoleSpec, within_frames
 from .inputs.roles import describe as describe_choice
 from .inputs.scene import as_lazy, load_objects, observer_sizes
 from .inputs.sensors import fitted_layout, is_layout, resolve_sensors
-from .table.output import PartWriter, atomic_directory, check_output_path
+from .table.output import PartWriter, atomic_directory, check_dataset_path
 from .table.pipeline import ContainmentLog, chunks, run
 from .table.schema import STATUSES, empty_table, to_polars
 from .table.selection import passive_in_place
@@ -137,10 +137,10 @@ def get_visibility_df(
         Stream the table to this ``.parquet`` path chunk by chunk (memory stays bounded): a directory of parquet
         parts, one per chunk, each written by the worker that computed it, which ``polars.scan_parquet`` (and
         pandas, pyarrow) read as one table. The path is checked before anything is computed (see
-        :func:`check_output_path`; a file there, or a dataset from an earlier run, is replaced); other suffixes are
-        refused: for CSV, call :func:`~omega_prime_visibility.write_csv` on the returned table. The parts are
-        written in a temporary directory beside it, renamed when complete, so a failed or killed run leaves no
-        partial result.
+        :func:`check_dataset_path`; a dataset from an earlier run is replaced, a single file refused); other
+        suffixes are refused: for CSV, call :func:`~omega_prime_visibility.write_csv` on the returned table. The
+        parts are written in a temporary directory beside it, renamed when complete, so a failed or killed run
+        leaves no partial result.
     chunk_frames : int
         Frames per chunk of work, at most (fewer when frames yield many rows, see :func:`chunk_size`).
     hide_progress : bool, optional
@@ -210,7 +210,7 @@ def get_visibility_df(
         raise ValueError(f"on_invalid takes 'warn' (skip bad rows with a warning) or 'raise', not {on_invalid!r}")
     progress = resolve_progress(progress, hide_progress)
     if output is not None:
-        output = check_output_path(output)
+        output = check_dataset_path(output)
     mode = check_mode(mode)
     engine = resolve_measure(measure, engine, mode, meshes=bool(static_meshes))
     sensor_set = resolve_sensors(sensors)  # a bad layout name or file fails before the table is read

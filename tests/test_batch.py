@@ -21,7 +21,7 @@ from conftest import REPO, SHARED_DATA, interrupted_writer
 from polars.testing import assert_frame_equal
 
 from omega_prime_visibility import VisibilityInputWarning, get_visibility_df, run_batch
-from omega_prime_visibility.batch.files import OPTIONS_KEY, find_recordings
+from omega_prime_visibility.batch.files import OPTIONS_KEY, BatchNotice, find_recordings
 from omega_prime_visibility.inputs.io import RecordingReadError, read_recording, read_static_occluders
 
 MCAP = REPO / "highway_merge.mcap"
@@ -270,6 +270,7 @@ def test_interrupted_by_a_signal_then_resumed(tmp_path, expected) -> None:
     assert 2 <= len(before) < 8
     stopped = pl.read_parquet(out / SUMMARY)
     assert set(stopped["status"]) <= {"done", "interrupted"} and (stopped["status"] == "interrupted").any()
+    assert_summary_says_what_is_on_disk(stopped, out)
     rerun = batch_cli(tmp_path / "in", "-o", out, "--workers", "2", "--no-progress")
     assert rerun.returncode == 0, rerun.stderr
     summary = pl.read_parquet(out / SUMMARY)
@@ -282,6 +283,35 @@ def test_interrupted_by_a_signal_then_resumed(tmp_path, expected) -> None:
     for name in status:
         assert_frame_equal(pl.read_parquet(out / name), expected)
     assert not leftovers(out)
+
+
+def assert_summary_says_what_is_on_disk(summary: pl.DataFrame, out: Path) -> None:
+    """Every result on disk is labelled done (with its rows), every interrupted one is absent."""
+    for result, status, rows in summary.select("result", "status", "rows").iter_rows():
+        on_disk = (out / result).is_file()
+        assert (status == "done") == on_disk, (result, status, on_disk)
+        if on_disk:
+            assert rows == pl.scan_parquet(out / result).select(pl.len()).collect().item()
+
+
+def test_ctrl_c_is_heard_while_every_worker_is_busy(tmp_path) -> None:
+    # 3D through six sensors: each copy keeps its worker busy for tens of seconds (more with kernels to compile).
+    # Ctrl-C once both workers have started must stop the batch at once, not when a file finishes: the stopped
+    # workers remove what they were writing, and the summary says what is on disk.
+    copies(tmp_path / "in", 4)
+    out = tmp_path / "out"
+    args = [str(SCRIPT), "batch", str(tmp_path / "in"), "-o", str(out), "--workers", "2", "--no-progress"]
+    args += ["--mode", "3d", "--sensors", "typical", "--ego", "all"]
+    process = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    deadline = time.monotonic() + 60
+    while len(descendants(process.pid, 2)) < 2 and process.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.05)
+    time.sleep(1.0)  # the workers are inside their first file
+    os.killpg(process.pid, signal.SIGINT)
+    _, stderr = process.communicate(timeout=12)  # a file takes longer than this: the stop did not wait for one
+    assert process.returncode == 130, stderr
+    assert not leftovers(out)
+    assert_summary_says_what_is_on_disk(pl.read_parquet(out / SUMMARY), out)
 
 
 def descendants(pid: int, depth: int) -> list[int]:
@@ -468,6 +498,16 @@ def test_printed_summary_shows_failures_first(capsys) -> None:
     print_summary(summary, Path("out") / SUMMARY)
     shown = [line for line in capsys.readouterr().out.splitlines() if ".mcap.parquet" in line]
     assert [line.split()[1].strip('"') for line in shown] == [f"{n}.mcap.parquet" for n in "bec" + "ad"]
+    # a recording's warnings (stored in the summary) are printed with it, one line each, as run prints them
+    noted = summary.with_columns(
+        warnings=pl.when(pl.col("recording") == "a.mcap").then(pl.lit("the 3D result may be wrong | heights 0"))
+    )
+    print_summary(noted, Path("out") / SUMMARY)
+    lines = capsys.readouterr().out.splitlines()
+    assert [line for line in lines if line.startswith("warning:")] == [
+        "warning: a.mcap: the 3D result may be wrong",
+        "warning: a.mcap: heights 0",
+    ]
 
 
 def test_batch_result_and_summary_are_written_atomically(tmp_path, monkeypatch) -> None:
@@ -497,3 +537,30 @@ def test_batch_does_not_grow_a_tree_of_folders(tmp_path) -> None:
     # a mistyped output path: its parent does not exist, nothing is created; the folder itself may be new
     assert_cli_error(batch_cli(MCAP, "-o", tmp_path / "typo" / "out"), f"the folder {tmp_path / 'typo'} does not exist")
     assert not (tmp_path / "typo").exists()
+
+
+def test_inputs_are_named_as_given_through_symbolic_links(tmp_path) -> None:
+    # a link's failure names the link, not its target; two names of one file are computed once, and said so
+    src, inputs = tmp_path / "src", tmp_path / "in"
+    src.mkdir()
+    inputs.mkdir()
+    (src / "broken.mcap").write_bytes(b"not an MCAP file at all")
+    (inputs / "bad_link.mcap").symlink_to(src / "broken.mcap")
+    (a,) = copies(inputs, 1, prefix="a")
+    (inputs / "b_link.mcap").symlink_to(a)
+    with pytest.warns(BatchNotice, match=r"b_link\.mcap is the same file as .*a0\.mcap: computed once"):
+        summary = run_batch(inputs, tmp_path / "out", ego=0, engine="sweep", workers=1, progress=False)
+    rows = {Path(r).name: (s, e) for r, s, e in summary.select("recording", "status", "error").iter_rows()}
+    assert set(rows) == {"a0.mcap", "bad_link.mcap"}
+    status, error = rows["bad_link.mcap"]
+    assert status == "failed" and "bad_link.mcap" in error and "broken.mcap" not in error
+    assert summary.filter(pl.col("status") == "failed")["recording"][0] == str(inputs / "bad_link.mcap")
+
+
+def test_a_folder_of_parts_is_no_batch_output(tmp_path) -> None:
+    # run -o x.parquet wrote a folder of parts: batch must not add its results and summary to that table
+    parts = tmp_path / "vis.parquet"
+    get_visibility_df(MCAP, 0, engine="sweep", output=parts, progress=False)
+    with pytest.raises(ValueError, match=r"holds the parquet parts of one table .* not batch results"):
+        run_batch(MCAP, parts, ego=0, progress=False)
+    assert pl.read_parquet(parts).height == 1206  # still one readable table

@@ -92,11 +92,13 @@ def test_cli_rejects_unknown_engine() -> None:
         ("notes.txt/x.parquet", "notes.txt is not a folder"),
         ("taken.parquet", "taken.parquet: it is a directory"),
         ("x.txt", "must end in .parquet or .csv"),
+        ("single.parquet", "single.parquet: it is a single file, and the output is a folder of parquet parts"),
     ],
 )
 def test_cli_bad_output_path_fails_before_computing(tmp_path, output: str, problem: str) -> None:
     (tmp_path / "notes.txt").write_text("a file, not a folder")
     (tmp_path / "taken.parquet").mkdir()
+    (tmp_path / "single.parquet").write_bytes(b"PAR1 a file written by someone else PAR1")
     before = files_under(tmp_path)
     out = cli(MCAP, "--ego", "0", "--no-progress", "-o", output, cwd=tmp_path)
     assert_error(out, f"cannot write {output}", problem)

@@ -107,7 +107,6 @@ def test_workers_write_parts_read_as_one_table_in_order(tmp_path) -> None:
 
 def test_an_earlier_result_is_replaced_but_a_foreign_directory_is_not(tmp_path) -> None:
     target = tmp_path / "vis.parquet"
-    target.write_bytes(b"a file from an older version")
     get_visibility_df(SCENE, 0, workers=1, chunk_frames=2, output=target)
     assert is_dataset(target) and len(list(target.iterdir())) == 3
     lazy = get_visibility_df(SCENE, 0, workers=1, chunk_frames=4, output=target)  # a dataset: replaced whole
@@ -193,14 +192,15 @@ def test_failed_run_leaves_no_partial_file(tmp_path, monkeypatch) -> None:
             raise RuntimeError("engine failed")
         return run_chunk(*args)
 
-    monkeypatch.setattr(pipeline, "run_chunk", failing_second)
     target = tmp_path / "vis.parquet"
-    target.write_bytes(b"previous result")
+    get_visibility_df(SCENE, 0, workers=1, chunk_frames=4, output=target)  # the previous result: two parts
+    previous = {p.name: p.read_bytes() for p in target.iterdir()}
+    monkeypatch.setattr(pipeline, "run_chunk", failing_second)
     with pytest.raises(RuntimeError, match="engine failed"):
         get_visibility_df(SCENE, 0, workers=1, chunk_frames=2, output=target)
     assert calls == [1, 1]  # the first chunk was written (to the temporary directory) before the failure
     assert [p.name for p in tmp_path.iterdir()] == ["vis.parquet"]
-    assert target.read_bytes() == b"previous result"
+    assert {p.name: p.read_bytes() for p in target.iterdir()} == previous
 
 
 def test_empty_result_is_written_too(tmp_path) -> None:
@@ -277,3 +277,19 @@ def test_write_csv_as_the_advice_says(tmp_path) -> None:
     assert any(" " in j for j in joined) and any(table["static_occluder_idxs"].list.len() > 0)
     with pytest.raises(ValueError, match=r"must end in \.csv"):
         write_csv(table, tmp_path / "vis.parquet")
+
+
+def test_a_single_file_under_the_output_name_is_refused(tmp_path, engine_calls) -> None:
+    # output= writes a folder of parts: a single parquet file already there (batch's, another tool's) is kept and
+    # the call refused before computing, instead of being silently replaced by a folder
+    target = tmp_path / "vis.parquet"
+    pl.DataFrame({"a": [1]}).write_parquet(target)
+    before = target.read_bytes()
+    with pytest.raises(ValueError, match=r"vis\.parquet: it is a single file, and the output is a folder of parquet"):
+        get_visibility_df(SCENE, 0, workers=1, output=target)
+    assert engine_calls == [] and target.read_bytes() == before
+    link = tmp_path / "link.parquet"
+    link.symlink_to(target)
+    with pytest.raises(ValueError, match="it is a single file"):
+        get_visibility_df(SCENE, 0, workers=1, output=link)
+    assert link.is_symlink() and target.read_bytes() == before

@@ -13,7 +13,7 @@ import threading
 import time
 from collections import Counter
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
 from pathlib import Path
@@ -32,6 +32,8 @@ PRELOAD = [
     "omega_prime_visibility.batch",
 ]
 MAX_ATTEMPTS = 2  # a file whose worker process dies this often is reported failed (the others go on)
+POLL = 0.25  # seconds between looks at the workers: how soon Ctrl-C is heard while every worker is busy
+STOP_SECONDS = 2.0  # how long stopped workers get to remove their unfinished results before they are killed
 
 
 def available_cores() -> int:
@@ -74,16 +76,19 @@ def run_local(tasks: Sequence[FileTask], n_workers: int, report: Report) -> None
         pool = ProcessPoolExecutor(
             min(n_workers, len(pending)), mp_context=context, initializer=_init_worker, initargs=(os.getpid(),)
         )
+        futures = {pool.submit(process_file, task): task for task in pending}
+        reported: set[Future] = set()
         try:
-            futures = {pool.submit(process_file, task): task for task in pending}
-            for future in as_completed(futures):
-                task = futures[future]
-                try:
-                    report(future.result())
-                except BrokenProcessPool:
-                    broken.append(task)
+            waiting = set(futures)
+            while waiting:
+                # a wait without a timeout is deaf to Ctrl-C until some file finishes (minutes in 3D): poll
+                done, waiting = wait(waiting, timeout=POLL, return_when=FIRST_COMPLETED)
+                broken += _report_done(done, futures, reported, report)
         except BaseException:
-            _stop(pool)
+            # what finished before the stop is on disk: report it as done, then stop the others
+            finished = [f for f in futures if f.done() and not f.cancelled() and f.exception() is None]
+            _report_done(finished, futures, reported, report)
+            _stop(pool, [futures[f] for f in futures if f not in reported])
             raise
         pool.shutdown()
         pending = []
@@ -97,13 +102,36 @@ def run_local(tasks: Sequence[FileTask], n_workers: int, report: Report) -> None
                 report(FileResult(task.recording, task.result, "failed", error=f"{message} (killed, out of memory?)"))
 
 
-def _stop(pool: ProcessPoolExecutor) -> None:
-    """Stop the workers now: SIGTERM makes each remove the result it is writing and exit."""
+def _report_done(done, futures: dict[Future, FileTask], reported: set[Future], report: Report) -> list[FileTask]:
+    """Report the results of the finished futures ``done`` not reported yet; return the tasks whose worker died."""
+    broken = []
+    for future in done:
+        if future in reported:
+            continue
+        reported.add(future)
+        try:
+            report(future.result())
+        except BrokenProcessPool:
+            broken.append(futures[future])
+    return broken
+
+
+def _stop(pool: ProcessPoolExecutor, unfinished: Sequence[FileTask] = ()) -> None:
+    """Stop the workers now: SIGTERM makes each remove the result it is writing and exit; one that has not within
+    :data:`STOP_SECONDS` (inside a long compiled call) is killed, and its unfinished result removed here."""
     processes = list((getattr(pool, "_processes", None) or {}).values())
     for process in processes:
         process.terminate()
+    deadline = time.monotonic() + STOP_SECONDS
     for process in processes:
-        process.join(timeout=10)
+        process.join(timeout=max(0.0, deadline - time.monotonic()))
+    stubborn = [process for process in processes if process.is_alive()]
+    for process in stubborn:
+        process.kill()
+        process.join(timeout=1.0)
+    if stubborn:
+        for task in unfinished:
+            remove_leftovers(Path(task.result))
     pool.shutdown(wait=False, cancel_futures=True)
 
 

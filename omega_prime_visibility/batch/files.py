@@ -5,11 +5,14 @@ from __future__ import annotations
 
 import glob
 import os
+import warnings
 from collections import defaultdict
 from pathlib import Path
 
 import pyarrow as pa
 import pyarrow.parquet as pq
+
+from ..table.output import is_dataset
 
 RECORDING_SUFFIXES = (".mcap", ".osi")  # what a folder or a glob contributes; files named directly may be anything
 OPTIONS_KEY = b"omega_prime_visibility.options"
@@ -41,10 +44,22 @@ def find_recordings(inputs: list[str | os.PathLike], output_dir: Path) -> list[t
     ...     [str(result) for _, result in pairs]
     ['out/a/x.mcap.parquet', 'out/b/x.mcap.parquet']
     """
-    found: dict[Path, Path] = {}  # resolved recording -> name relative to its root
+    # one task per file, however many names lead to it; each named by the path given (a symbolic link stays the
+    # link: messages and the summary name what the user gave)
+    by_file: dict[Path, Path] = {}  # resolved recording -> the path given, made absolute
+    found: dict[Path, Path] = {}  # the path given -> name relative to its root
     for item in inputs:
         for recording, relative in _expand(str(item)):
-            found.setdefault(recording.resolve(), relative)
+            given = Path(os.path.abspath(recording))
+            first = by_file.setdefault(recording.resolve(), given)
+            if first == given:
+                found.setdefault(given, relative)
+            else:
+                warnings.warn(
+                    f"{given} is the same file as {first}: computed once, as {first.name}",
+                    BatchNotice,
+                    stacklevel=2,
+                )
     if not found:
         raise ValueError(f"no recordings ({', '.join(RECORDING_SUFFIXES)}) found in {', '.join(map(str, inputs))}")
     by_name: dict[Path, list[Path]] = defaultdict(list)
@@ -56,6 +71,10 @@ def find_recordings(inputs: list[str | os.PathLike], output_dir: Path) -> list[t
             for r in recordings:
                 found[r] = r.relative_to(common)
     return [(recording, output_dir / f"{relative}.parquet") for recording, relative in found.items()]
+
+
+class BatchNotice(UserWarning):
+    """Something about a batch's inputs worth a line: two names of one file, computed once."""
 
 
 def _expand(item: str) -> list[tuple[Path, Path]]:
@@ -115,6 +134,11 @@ def prepare_output_dir(output_dir: str | os.PathLike) -> Path:
     output_dir = Path(output_dir)
     if output_dir.exists() and not output_dir.is_dir():
         raise ValueError(f"the output folder {output_dir} is a file")
+    if is_dataset(output_dir):
+        raise ValueError(
+            f"the output folder {output_dir} holds the parquet parts of one table (run -o or output= wrote it), not "
+            "batch results: choose another folder"
+        )
     parent = output_dir.absolute().parent
     if not output_dir.exists() and not parent.is_dir():
         raise ValueError(f"cannot write results to {output_dir}: the folder {parent} does not exist")

@@ -5,6 +5,7 @@ from __future__ import annotations
 import hashlib
 import json
 import numbers
+import os
 from dataclasses import asdict, dataclass, field, fields
 from functools import lru_cache
 from pathlib import Path
@@ -93,7 +94,7 @@ class FileOptions:
                 if not path.is_file():
                     what = "is not a file" if path.exists() else "does not exist"
                     raise ValueError(f"the {f.name} file {path} {what}")
-                object.__setattr__(self, f.name, str(path.resolve()))
+                object.__setattr__(self, f.name, os.path.abspath(path))  # as given: a link stays the link
 
     def api_kwargs(self, map_path: str | None = None) -> dict[str, Any]:
         """Keywords for ``get_visibility_df`` besides the recording, the ego and the static occluders, for a
@@ -136,6 +137,8 @@ class FileOptions:
             return None
         if Path(self.map).suffix == ".json":
             table = _map_table(self.map, Path(self.map).stat().st_mtime_ns)
+            if recording.name not in table and recording.resolve().name in table:  # a link to a listed trace
+                recording = recording.resolve()
             if recording.name not in table:
                 raise ValueError(
                     f"the map list {self.map} has no map for {recording.name} (it lists {', '.join(sorted(table))})"
@@ -200,7 +203,7 @@ def _map_table(path: str, mtime_ns: int) -> dict[str, str]:
         for pair in pairs
     ):
         raise ValueError(f'{expected}, such as [["trace.osi", "map.xodr"]]; it holds {json.dumps(pairs)[:80]}')
-    table = {trace: str((Path(path).parent / m).resolve()) for trace, m in pairs}
+    table = {trace: os.path.abspath(Path(path).parent / m) for trace, m in pairs}
     missing = sorted({m for m in table.values() if not Path(m).is_file()})
     if missing:
         raise ValueError(f"the map list {path} names maps that do not exist: {', '.join(missing[:5])}")

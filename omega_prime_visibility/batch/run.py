@@ -123,7 +123,7 @@ def run_batch(
         raise ValueError(f"the output folder {output_dir} is a file")
     # recordings first: a typo in the inputs leaves no empty output folder behind
     pairs = find_recordings([inputs] if isinstance(inputs, str | os.PathLike) else list(inputs), Path("."))
-    output_dir = prepare_output_dir(output_dir).resolve()
+    output_dir = Path(os.path.abspath(prepare_output_dir(output_dir)))
     pairs = [(recording, output_dir / result) for recording, result in pairs]
     if any(result == output_dir / SUMMARY_NAME for _, result in pairs):
         raise ValueError(f"a recording's result would overwrite the summary {output_dir / SUMMARY_NAME}")
@@ -165,7 +165,7 @@ def run_batch(
             own_client.close()
     rows = []
     for recording, result in pairs:
-        done = results.get(str(result)) or FileResult(str(recording), str(result), "interrupted")
+        done = results.get(str(result)) or _unreported(recording, result, fingerprint)
         rows.append({**asdict_shallow(done), "result": result.relative_to(output_dir).as_posix()})
     summary = pl.DataFrame(rows, schema=SUMMARY_SCHEMA)
     with atomic_write(output_dir / SUMMARY_NAME) as temp:
@@ -173,6 +173,15 @@ def run_batch(
     if interrupted:
         raise BatchInterrupted(summary)
     return summary
+
+
+def _unreported(recording: Path, result: Path, fingerprint: str) -> FileResult:
+    """The summary row of a file whose result was not reported before an interruption: done if its complete
+    result is on disk (a worker finished it as the stop came), so that the summary says what the disk holds;
+    else interrupted."""
+    rows = is_current(result, recording, fingerprint)
+    status = "interrupted" if rows is None else "done"
+    return FileResult(str(recording), str(result), status, rows)
 
 
 def asdict_shallow(instance: Any) -> dict[str, Any]:

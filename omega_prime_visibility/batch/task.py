@@ -38,6 +38,9 @@ class FileResult:
     warnings: str | None = None
 
 
+WARNING_SEPARATOR = " | "
+"""Between the warnings of one recording in the summary's ``warnings`` column."""
+
 BUSY = False  # whether this process is inside process_file (a pool worker's SIGTERM handler asks)
 
 
@@ -65,7 +68,13 @@ def process_file(task: FileTask) -> FileResult:
         BUSY = False
     notes = sorted({_one_line(str(w.message)) for w in caught if not issubclass(w.category, DeprecationWarning)})
     return FileResult(
-        task.recording, task.result, "done", rows, time.perf_counter() - start, None, " | ".join(notes) or None
+        task.recording,
+        task.result,
+        "done",
+        rows,
+        time.perf_counter() - start,
+        None,
+        WARNING_SEPARATOR.join(notes) or None,
     )
 
 

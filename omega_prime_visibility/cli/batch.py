@@ -108,7 +108,8 @@ def batch(
 
 
 def print_summary(summary: pl.DataFrame, path: Path) -> None:
-    """The summary table (failures first), one line per failure with its message, and one line of counts."""
+    """The summary table (failures first), one line per failure with its message, one per warning a recording
+    gave (as ``run`` prints them), and one line of counts."""
     order = pl.col("status").replace_strict({"failed": 0, "interrupted": 1}, default=2, return_dtype=pl.Int8)
     shown = summary.sort(order, maintain_order=True).select("result", "status", "rows", "seconds")
     with pl.Config(tbl_rows=30, tbl_cols=-1, tbl_hide_dataframe_shape=True, fmt_str_lengths=120):
@@ -122,5 +123,12 @@ def print_summary(summary: pl.DataFrame, path: Path) -> None:
             typer.echo(f"failed: {recording}{error[len(name) :]}")
         else:
             typer.echo(f"failed: {recording}: {error}")
+    from ..batch.task import WARNING_SEPARATOR
+
+    for recording, notes in (
+        summary.filter(pl.col("warnings").is_not_null()).select("recording", "warnings").iter_rows()
+    ):
+        for note in str(notes).split(WARNING_SEPARATOR):  # as run shows them: one line each, with the recording
+            typer.echo(f"warning: {recording}: {note}")
     counts = ", ".join(f"{n} {status}" for status, n in summary["status"].value_counts(sort=True).iter_rows())
     typer.echo(f"{summary.height} recordings: {counts}; {summary['seconds'].sum():.1f} s of work; summary in {path}")

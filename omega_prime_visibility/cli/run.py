@@ -58,7 +58,7 @@ def run(
     from ..analysis.summary import DEFINITION, target_summary
     from ..api import get_visibility_df
     from ..inputs.observers import describe_idx
-    from ..table.output import check_output_path, write_csv
+    from ..table.output import check_dataset_path, check_output_path, write_csv
 
     # every check that needs no computing comes first, so a typo never costs a long run
     from ..threed.mode import check_mode, resolve_measure
@@ -75,6 +75,8 @@ def run(
     if output is not None:
         try:
             output = check_output_path(output, (".parquet", ".csv"))
+            if output.suffix == ".parquet":  # a folder of parts: a single file there is refused before reading
+                check_dataset_path(output)
         except ValueError as e:
             raise fail(str(e)) from None
     ego_idx = parse_ego(ego) if ego else None

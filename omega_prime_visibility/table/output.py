@@ -61,6 +61,19 @@ def check_output_path(path: str | os.PathLike, suffixes: Sequence[str] = (".parq
     return path
 
 
+def check_dataset_path(path: str | os.PathLike) -> Path:
+    """:func:`check_output_path` for a folder of parquet parts (``output=``, ``run -o x.parquet``): an existing single
+    file there is refused, never silently turned into a folder (one written by ``batch`` or another tool would be
+    lost, and the name would then hold a folder)."""
+    path = check_output_path(path)
+    if path.is_file() or (path.is_symlink() and not path.is_dir()):
+        raise ValueError(
+            f"cannot write {path}: it is a single file, and the output is a folder of parquet parts under that name; "
+            "remove it or choose another name"
+        )
+    return path
+
+
 def _temp_name(path: Path) -> Path:
     """A hidden, unused name next to ``path`` (same folder, so the final rename is atomic)."""
     return path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
