@@ -307,3 +307,22 @@ def test_an_edge_seen_at_grazing_incidence_is_credited_despite_the_joining_gap()
     seen = {e: out[e].filter(pl.col("idx") == 6)["visibility"].item() for e in ENGINES}
     assert seen["sweep"] == pytest.approx(0.997925, abs=2e-6)  # the 200,000-ray reference: 0.997925
     assert seen["visilibity"] == pytest.approx(seen["sweep"], abs=1e-6)
+
+
+@pytest.mark.parametrize(("chord", "fails"), [(1e-5, True), (1e-4, True), (1e-7, False)])
+def test_a_polygon_that_cuts_a_body_corner_by_a_hair_is_caught(chord: float, fails: bool) -> None:
+    # The observer at the origin inside a closed 2 m cabin (walls along [-1, 1]^2, checked as bodies). A polygon
+    # that cuts the corner (1, 1) with a chord of length `chord` runs along no wall there: nearer than the bodies
+    # (by up to chord / 2), so the check must reject it, and the engine take its fallback, once the stretch is
+    # longer than the tolerance UNCOVERED = 1e-6 m (within 1e-6 of the distance a polygon edge still counts as
+    # running along a wall, which covers the chord's ends); a 1e-7 m chord is VisiLibity's rounding and passes.
+    # A tolerance raised to 1e-3 m would let a gap of 10 um in a body's outline pass as seen.
+    a = chord / np.sqrt(2.0)
+    cut = np.array([[1.0, -1.0], [1.0, 1.0 - a], [1.0 - a, 1.0], [-1.0, 1.0], [-1.0, -1.0]])
+    walls = np.array(
+        [[[1.0, -1.0], [1.0, 1.0]], [[1.0, 1.0], [-1.0, 1.0]], [[-1.0, 1.0], [-1.0, -1.0]], [[-1.0, -1.0], [1.0, -1.0]]]
+    )
+    check = np.ones(len(walls), dtype=bool)
+    assert bool(polygon_fails(np.ascontiguousarray(cut), walls, check, 1e-7, 1e-9, 1e-6)) is fails
+    whole = np.array([[1.0, -1.0], [1.0, 1.0], [-1.0, 1.0], [-1.0, -1.0]])
+    assert not polygon_fails(whole, walls, check, 1e-7, 1e-9, 1e-6)
