@@ -18,6 +18,7 @@ from .batch.campaign import campaign_statistics
 from .engines import ENGINES, ENGINES_3D, Observation, Reason, Viewpoint
 from .inputs.objects import VisibilityInputWarning
 from .inputs.sensors import Sensor
+from .query import OptionError, Query
 from .table.output import write_csv
 from .table.schema import SCHEMA
 
@@ -31,6 +32,8 @@ __all__ = [
     "ENGINES_3D",
     "SCHEMA",
     "Observation",
+    "OptionError",
+    "Query",
     "Reason",
     "Sensor",
     "Viewpoint",

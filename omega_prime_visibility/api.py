@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import inspect
 import math
 import multiprocessing
 import numbers
@@ -13,30 +12,22 @@ from concurrent.futures import ProcessPoolExecutor
 from contextlib import contextmanager, nullcontext
 from typing import Any, Literal
 
-import numpy as np
 import polars as pl
 import shapely
 from tqdm.auto import tqdm
 
 from ._compiled import announce_compilation, mark_compiled
-from .engines import get_engine
 from .inputs.objects import ObjectTable, OnInvalid, VisibilityInputWarning
-from .inputs.observers import (  # noqa: F401 (describe_idx: public here too)
-    EgoSpec,
-    SensorSpec,
-    describe_idx,
-    observers_with_heading,
-    resolve_egos,
-)
+from .inputs.observers import EgoSpec, SensorSpec, describe_idx  # noqa: F401 (describe_idx: public here too)
 from .inputs.roles import RoleSpec, within_frames
-from .inputs.roles import describe as describe_choice
-from .inputs.scene import as_lazy, load_objects, observer_sizes
-from .inputs.sensors import fitted_layout, is_layout, resolve_sensors
+from .inputs.scene import as_lazy, load_objects
+from .query import TABLE_KEYWORDS, Query, Resolved, fold_keywords, resolve
+from .query.resolve import host_vehicle
 from .table.output import PartWriter, atomic_directory, check_dataset_path
 from .table.pipeline import ContainmentLog, chunks, run
 from .table.schema import STATUSES, empty_table, to_polars
 from .table.selection import passive_in_place
-from .threed.mode import Finisher, check_mode, load_statics, resolve_measure, with_can_see
+from .threed.mode import Finisher, with_can_see
 
 PROGRESS_MIN_FRAMES = 200
 PARALLEL_MIN_WORK = 5_000  # (frame, observer) pairs from which all cores are used by default
@@ -86,25 +77,26 @@ def auto_workers(work: int) -> int:
 
 def get_visibility_df(
     df: Any,
-    ego_idx: EgoSpec,
+    ego_idx: EgoSpec | None = None,
     static_occluder_polys: Sequence[shapely.Geometry] | None = None,
     epsilon: float | None = None,
     *,
+    query: Query | None = None,
     engine: str | None = None,
     progress: bool | None = None,
-    on_invalid: OnInvalid = "warn",
+    on_invalid: OnInvalid | None = None,
     workers: int | None = None,
     output: str | os.PathLike | None = None,
     chunk_frames: int = CHUNK_FRAMES,
     hide_progress: bool | None = None,
     sensors: SensorSpec = None,
-    mode: Literal["2d", "3d"] = "2d",
+    mode: Literal["2d", "3d"] | None = None,
     static_occluder_heights: Sequence[float] | float | None = None,
-    static_meshes: Sequence[Any] = (),
+    static_meshes: Sequence[Any] | None = None,
     map_occluders: str | os.PathLike | bool | None = None,
     occluders: RoleSpec = None,
     targets: RoleSpec = None,
-    measure: Literal["angle", "area"] = "angle",
+    measure: Literal["angle", "area"] | None = None,
 ) -> pl.DataFrame | pl.LazyFrame:
     """Visibility and occluders of every object, seen from the ego, in every frame where the ego exists.
 
@@ -113,14 +105,19 @@ def get_visibility_df(
     df : omega_prime.Recording, polars.DataFrame or polars.LazyFrame (or a pandas DataFrame, a pyarrow Table)
         The moving-object table: ``frame, total_nanos, idx, x, y`` and either a ``polygon`` column (shapely
         polygons) or ``length, width, yaw`` (metres, radians counter-clockwise from +x).
-    ego_idx : int, list of int or "all"
+    ego_idx : int, list of int or "all", optional
         The observing object(s); the observer sits at the centre ``(x, y)`` of its bounding box. With more than
-        one, the table gains an ``idx_ego`` column (named as in omega-prime's own metrics, so they join).
+        one, the table gains an ``idx_ego`` column (named as in omega-prime's own metrics, so they join). None:
+        the recording's host vehicle (an omega-prime Recording names it).
     static_occluder_polys : sequence of shapely geometries, optional
         Static occluders (Polygon, MultiPolygon, LineString, ...), reported by their position in this sequence.
     epsilon : float, optional
         Metres; accepted for compatibility with 0.1.0, where it was VisiLibity's snapping distance; the result here
         is exact and does not depend on it. Must be a non-negative finite number or None.
+    query : Query, optional
+        The whole question as one value (:class:`~omega_prime_visibility.Query`: every keyword below that shapes
+        the table, and ``ego_idx`` and ``static_occluder_polys``); a keyword given beside it must agree with it.
+        How to run it (``workers``, ``chunk_frames``, ``progress``, ``output``) stays with the call.
     engine : str, optional
         Registered engine name: in 2D ``"visilibity"`` (the default) or ``"sweep"`` (``ENGINES``); in 3D
         ``"silhouette3d"`` (the default: exact for boxes and static footprints with heights),
@@ -203,60 +200,76 @@ def get_visibility_df(
     ...     "width": [2.0, 4.0, 2.0], "yaw": [0.0, 0.0, 0.0]})
     >>> get_visibility_df(objects, ego_idx=0).select("idx", "occluder_idxs", "visibility").rows()
     [(1, [], 1.0), (2, [1], 0.0)]
+
+    The same question as one value, asked again with other ways to run it:
+
+    >>> from omega_prime_visibility import Query
+    >>> question = Query(observers=0, targets=[2])
+    >>> get_visibility_df(objects, query=question, workers=1).select("idx", "visibility").rows()
+    [(2, 0.0)]
     """
     check_epsilon(epsilon)
     check_counts(workers=workers, chunk_frames=chunk_frames)
-    if on_invalid not in ("warn", "raise"):
-        raise ValueError(f"on_invalid takes 'warn' (skip bad rows with a warning) or 'raise', not {on_invalid!r}")
     progress = resolve_progress(progress, hide_progress)
     if output is not None:
         output = check_dataset_path(output)
-    mode = check_mode(mode)
-    engine = resolve_measure(measure, engine, mode, meshes=bool(static_meshes))
-    sensor_set = resolve_sensors(sensors)  # a bad layout name or file fails before the table is read
-    objects = load_objects(df, on_invalid=on_invalid, three_d=mode == "3d", occluders=occluders, targets=targets)
-    if sensors is not None and not _has_yaw(df):
-        raise ValueError("sensors need the observers' heading: the moving-object table has no 'yaw' column")
-    statics, static_positions = load_statics(
-        static_occluder_polys, mode, static_occluder_heights, static_meshes, map_occluders, df
+    question = fold_keywords(
+        query,
+        ego_idx=ego_idx,
+        static_occluder_polys=static_occluder_polys,
+        engine=engine,
+        on_invalid=on_invalid,
+        sensors=sensors,
+        mode=mode,
+        static_occluder_heights=static_occluder_heights,
+        static_meshes=static_meshes,
+        map_occluders=map_occluders,
+        occluders=occluders,
+        targets=targets,
+        measure=measure,
     )
-    egos, with_ego = resolve_egos(ego_idx, objects)
-    if objects.wanted is not None and objects.wanted.any() and np.isin(objects.idx[objects.wanted], egos).all():
-        warnings.warn(
-            f"targets={describe_choice(targets)!r} matches only the observer(s) {egos.tolist()[:10]}, which are never "
-            "their own targets, so the table has no rows",
-            VisibilityInputWarning,
-            stacklevel=2,
-        )
-    if sensors is not None:  # sensors turn with their observer
-        objects = observers_with_heading(objects, egos, on_invalid)
-    if is_layout(sensors):  # fitted to each observer's own size
-        sensor_set = fitted_layout(sensors, observer_sizes(objects, egos))
-    engine_class = get_engine(engine)  # unknown names fail here, not in a worker
+    return compute(resolve(question, df), workers=workers, chunk_frames=chunk_frames, progress=progress, output=output)
+
+
+def compute(
+    scene: Resolved,
+    *,
+    workers: int | None = None,
+    chunk_frames: int = CHUNK_FRAMES,
+    progress: bool | None = None,
+    output: os.PathLike | None = None,
+) -> pl.DataFrame | pl.LazyFrame:
+    """The table of a resolved question (:func:`~omega_prime_visibility.query.resolve`): how to run it
+    (``workers``, ``chunk_frames``, ``progress``, a checked ``output`` path) as for :func:`get_visibility_df`."""
+    objects, egos, engine, sensor_set = scene.objects, scene.egos, scene.engine, scene.sensors
+    three_d, with_ego = scene.query.three_d, scene.with_ego
     n_workers = auto_workers(objects.n_frames * len(egos)) if workers is None else int(workers)
-    chunk_frames = chunk_size(objects, len(egos), chunk_frames, 1 if sensor_set is None else len(sensor_set))
+    n_sensors = 1 if sensor_set is None else len(scene.sensor_names)
+    chunk_frames = chunk_size(objects, len(egos), chunk_frames, n_sensors)
     n_workers = min(n_workers, len(chunks(objects.n_frames, chunk_frames, n_workers)))
     path_key = engine if sensor_set is None else f"{engine}+sensors"  # the sensors' path compiles more kernels
-    if objects.chosen and not passive_in_place(objects, engine_class):  # so do the views of the choices
+    if objects.chosen and not passive_in_place(objects, scene.engine_class):  # so do the views of the choices
         path_key += "+views"
-    announce_compilation(engine, engine_class, path_key)  # (the checks are done: work starts here)
+    announce_compilation(engine, scene.engine_class, path_key)  # (the checks are done: work starts here)
     show = objects.n_frames >= PROGRESS_MIN_FRAMES if progress is None else progress
     bar = tqdm(total=objects.n_frames, disable=not show, desc="visibility", unit="frame")
     containment = ContainmentLog()
     tables: list[pl.DataFrame] = []
+    mode = scene.query.mode
     with atomic_directory(output) if output is not None else nullcontext() as temp:
         # workers write their own parts: only row counts and containment logs come back here
-        names = sensor_names(sensor_set)
+        names = scene.sensor_names
         labels = {} if names is None else {"sensor": names, "status": STATUSES}
-        finish = Finisher(static_positions, mode == "3d")
+        finish = Finisher(scene.static_positions, three_d)
         sink = None
         if temp is not None:
             schema = with_can_see(empty_table(with_ego, names is not None), mode).to_arrow().schema
-            sink = Finisher(static_positions, mode == "3d", PartWriter(temp, schema, labels))
+            sink = Finisher(scene.static_positions, three_d, PartWriter(temp, schema, labels))
         try:
             with _executor(n_workers) as pool:
                 spread = {"executor": pool, "workers": n_workers, "sink": sink}
-                frames = run(objects, statics, egos, engine, chunk_frames=chunk_frames, sensors=sensor_set, **spread)
+                frames = run(objects, scene.statics, egos, engine, chunk_frames=chunk_frames, sensors=sensor_set,
+                             **spread)  # fmt: skip
                 written = 0
                 for n_frames, result, log in frames:
                     containment.merge(log)
@@ -269,13 +282,11 @@ def get_visibility_df(
             bar.close()
         if sink is not None and not written:
             sink.write_empty()
-    containment.warn(stacklevel=3, static_positions=static_positions)
+    containment.warn(stacklevel=4, static_positions=scene.static_positions)
     mark_compiled(path_key)
     if output is not None:
         return pl.scan_parquet(output)
-    return (
-        pl.concat(tables, rechunk=True) if tables else with_can_see(empty_table(with_ego, sensor_set is not None), mode)
-    )
+    return pl.concat(tables, rechunk=True) if tables else with_can_see(empty_table(with_ego, names is not None), mode)
 
 
 def sensor_names(sensors: Any) -> list[str] | None:
@@ -325,28 +336,28 @@ def check_counts(**counts: Any) -> None:
 
 def get_visibility_df_for_frame(
     df: Any,
-    ego_idx: EgoSpec,
+    ego_idx: EgoSpec | None,
     frame: int,
     static_occluder_polys: Sequence[shapely.Geometry] | None = None,
     epsilon: float | None = None,
     *,
-    engine: str | None = None,
-    on_invalid: OnInvalid = "warn",
-    sensors: SensorSpec = None,
-    **three_d: Any,
+    query: Query | None = None,
+    **keywords: Any,
 ) -> pl.DataFrame:
-    """:func:`get_visibility_df` for a single frame number (same parameters and columns; ``epsilon`` likewise has
-    no effect; ``mode``, the 3D keywords, ``occluders``, ``targets`` and ``measure`` are passed on).
+    """:func:`get_visibility_df` for a single frame number (same parameters, ``query`` too, and columns;
+    ``epsilon`` likewise has no effect).
 
     Raises
     ------
     ValueError
         If the frame does not occur in the table, or an observer is not in it.
     """
-    unknown = sorted(set(three_d) - set(inspect.signature(get_visibility_df).parameters))
-    if unknown:
-        raise TypeError(f"get_visibility_df_for_frame() got an unexpected keyword argument {unknown[0]!r}")
+    keywords.pop("progress", None)
+    for name in keywords:
+        if name not in TABLE_KEYWORDS:
+            raise TypeError(f"get_visibility_df_for_frame() got an unexpected keyword argument {name!r}")
     check_epsilon(epsilon)
+    question = fold_keywords(query, ego_idx=ego_idx, static_occluder_polys=static_occluder_polys, **keywords)
     lazy = as_lazy(df)
     names = lazy.collect_schema().names()
     if "frame" not in names:
@@ -356,25 +367,34 @@ def get_visibility_df_for_frame(
     frame_type = lazy.collect_schema()["frame"]
     if not frame_type.is_numeric():
         raise ValueError(f"column 'frame' must hold whole numbers (frame numbers), not {frame_type} values")
-    for option in ("occluders", "targets"):  # idx are those of the recording, not only of this frame
-        if three_d.get(option) is not None and "idx" in names:
-            all_idx = lazy.select(pl.col("idx").unique()).collect()["idx"].to_numpy()
-            three_d[option] = within_frames(three_d[option], all_idx, option)
     one = lazy.filter(pl.col("frame") == frame).collect()
     if one.height == 0:
         raise ValueError(f"frame {frame} does not occur in the table")
-    egos = [ego_idx] if isinstance(ego_idx, numbers.Integral) else ego_idx if isinstance(ego_idx, list | tuple) else []
+    if "idx" in names:
+        question = within_recording(question, lazy)
+    observers = question.observers
+    if observers is None:
+        observers = host_vehicle(df, load_objects(one, on_invalid=question.on_invalid))
+        question = question.replace(observers=observers)
+    egos = [observers] if isinstance(observers, int) else list(observers) if isinstance(observers, tuple) else []
     present = set(one["idx"].cast(pl.Int64, strict=False).to_list()) if "idx" in names else set()
-    absent = sorted({int(e) for e in egos if isinstance(e, numbers.Integral)} - present) if present else []
+    absent = sorted(set(egos) - present) if present else []
     if absent:  # (an ego that occurs nowhere is told by get_visibility_df)
         raise ValueError(f"ego idx {absent} not present in frame {frame} (idx there: {sorted(present)[:20]})")
-    return get_visibility_df(
-        one,
-        ego_idx,
-        static_occluder_polys,
-        engine=engine,
-        progress=False,
-        on_invalid=on_invalid,
-        sensors=sensors,
-        **three_d,
-    )
+    with warnings.catch_warnings():  # an idx of the recording absent from this frame is no mistake
+        warnings.filterwarnings("ignore", r"targets=.* matches no object", VisibilityInputWarning)
+        scene = resolve(question, one)
+    return compute(scene, workers=1, progress=False)
+
+
+def within_recording(question: Query, lazy: pl.LazyFrame) -> Query:
+    """``question`` for a part of a recording (some of its frames): a list of idx in ``occluders`` or ``targets``
+    is checked against the whole recording's idx and becomes an expression, so an idx absent from the part
+    selects nothing there rather than being refused."""
+    changes = {}
+    for option in ("occluders", "targets"):
+        spec = getattr(question, option)
+        if spec is not None and not isinstance(spec, pl.Expr | str):
+            all_idx = lazy.select(pl.col("idx").unique()).collect()["idx"].to_numpy()
+            changes[option] = within_frames(spec, all_idx, option)
+    return question.replace(**changes) if changes else question

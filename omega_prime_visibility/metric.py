@@ -10,7 +10,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Literal
+from typing import Any, Literal
 
 import polars as pl
 import shapely
@@ -22,6 +22,7 @@ from .api import get_visibility_df
 from .inputs.objects import OnInvalid
 from .inputs.observers import EgoSpec, SensorSpec
 from .inputs.roles import RoleSpec
+from .query import Query
 
 
 @metric(computes_properties=["visibility"])
@@ -32,16 +33,18 @@ def visibility(
     static_occluder_polys: Sequence[shapely.Geometry] | None = None,
     engine: str | None = None,
     progress: bool | Literal[False] = False,
-    on_invalid: OnInvalid = "warn",
+    on_invalid: OnInvalid | None = None,
     ego_idx: EgoSpec | None = None,
     epsilon: float | None = None,
-    mode: Literal["2d", "3d"] = "2d",
+    mode: Literal["2d", "3d"] | None = None,
     static_occluder_heights: Sequence[float] | float | None = None,
     map_occluders: str | None = None,
     sensors: SensorSpec = None,
     occluders: RoleSpec = None,
     targets: RoleSpec = None,
-    measure: Literal["angle", "area"] = "angle",
+    measure: Literal["angle", "area"] | None = None,
+    query: Query | None = None,
+    static_meshes: Sequence[Any] | None = None,
 ) -> tuple[pl.LazyFrame, dict[str, pl.LazyFrame]]:
     """Visibility of every object from ``ego_id`` (one idx, a list, or ``"all"``) in every frame.
 
@@ -57,9 +60,12 @@ def visibility(
     ``mode="3d"`` (with ``static_occluder_heights`` and ``map_occluders``, an OpenDRIVE path) gives the 3D table of
     :func:`omega_prime_visibility.get_visibility_df` (with ``can_see``). ``occluders`` (who may block the view),
     ``targets`` (who gets rows) and ``measure`` (``"angle"`` or ``"area"``) are those of
-    :func:`~omega_prime_visibility.get_visibility_df`.
+    :func:`~omega_prime_visibility.get_visibility_df`. ``query`` (a :class:`~omega_prime_visibility.Query`) gives
+    the whole question as one value instead (its observers, or ``ego_id``).
     """
     # ValueError, not TypeError: omega-prime relabels a metric's TypeError as "Missing parameter"
+    if query is not None and ego_id is None and ego_idx is None:
+        ego_id = query.observers
     if (ego_id is None) == (ego_idx is None):
         given = "both" if ego_id is not None else "neither"
         raise ValueError(
@@ -81,6 +87,8 @@ def visibility(
         occluders=occluders,
         targets=targets,
         measure=measure,
+        static_meshes=static_meshes,
+        query=query,
     )
     return df, {"visibility": table.lazy()}
 

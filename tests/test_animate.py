@@ -8,6 +8,7 @@ import pytest
 from conftest import interrupted_writer
 from PIL import Image
 
+from omega_prime_visibility import Query
 from omega_prime_visibility.plot import animate
 from omega_prime_visibility.plot.data import load_source
 
@@ -66,9 +67,9 @@ def test_mp4_reads_back(tmp_path) -> None:
 
 def test_ego_speed_from_positions_or_velocity_columns() -> None:
     table = moving_table()
-    assert load_source(table).ego_speed(0, 11) == pytest.approx(20.0)
+    assert load_source(table, Query(observers=0)).ego_speed(0, 11) == pytest.approx(20.0)
     with_velocity = table.with_columns(vel_x=pl.lit(3.0), vel_y=pl.lit(4.0))
-    assert load_source(with_velocity).ego_speed(0, 11) == pytest.approx(5.0)
+    assert load_source(with_velocity, Query(observers=0)).ego_speed(0, 11) == pytest.approx(5.0)
 
 
 @pytest.mark.parametrize(

@@ -215,7 +215,8 @@ def test_osi_trace_without_host_vehicle_asks_for_ego(tmp_path, shared_data) -> N
     assert summary["status"][0] == "failed"
     assert (
         summary["error"][0]
-        == "pedestrian.osi names no host vehicle: give an ego (--ego IDX or --ego all; idx present: [0, 1])"
+        == "pedestrian.osi names no host vehicle: give an ego (--ego IDX or --ego all; present: VEHICLE idx [0]; "
+        "PEDESTRIAN idx [1])"
     )
 
 

@@ -139,7 +139,8 @@ def test_cli_unknown_ego_lists_idx() -> None:
 
 def test_cli_osi_without_host_vehicle_lists_idx(shared_data) -> None:
     out = cli(shared_data / "pedestrian.osi", "--map", shared_data / "fabriksgatan.xodr", "--no-progress")
-    assert_error(out, "pedestrian.osi names no host vehicle", "pass --ego IDX", "idx present: [0, 1]")
+    # which idx is the vehicle and which the pedestrian: the types tell
+    assert_error(out, "pedestrian.osi names no host vehicle", "pass --ego IDX", "VEHICLE idx [0]; PEDESTRIAN idx [1]")
 
 
 def test_cli_osi_with_map_and_ego_runs(shared_data, tmp_path) -> None:

@@ -155,3 +155,39 @@ def test_pictures_take_who_may_block(tmp_path) -> None:
     out = cli("animate", MCAP, "--frames", "30:32", "--occluders", "walkers", "-o", tmp_path / "x.gif")
     assert_error(out, "--occluders", "unknown object kind 'walkers'")
     assert not (tmp_path / "x.gif").exists()
+
+
+def test_the_picture_commands_take_every_table_option_run_takes(tmp_path) -> None:
+    # the report of targets 2 and 5 by their footprints' area: its scene shows those numbers (the others are
+    # context, without a number) and its subtitle states the choices
+    import json
+    import re
+    import warnings
+
+    import polars as pl
+
+    from omega_prime_visibility import get_visibility_df
+    from omega_prime_visibility.inputs.io import read_recording
+
+    page_path = tmp_path / "r.html"
+    out = cli("report", MCAP, "--frames", "0:201:40", "--targets", "2,5", "--measure", "area", "--no-progress",
+              "-o", page_path)  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    page = page_path.read_text()
+    assert "engine area, visibility as a share of the area, whom to look for: 2, 5" in page
+    scene = json.loads(re.search(r'<script id="scene-data" type="application/json">(.*?)</script>', page, re.S)[1])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        want = get_visibility_df(read_recording(MCAP), 0, targets=[2, 5], measure="area", progress=False)
+    got = {(f["frame"], o["idx"]): o["vis"] for f in scene["frames"] for o in f["objects"] if not o["ego"]}
+    frames = [f["frame"] for f in scene["frames"]]
+    rows = want.filter(pl.col("frame").is_in(frames)).select("frame", "idx", "visibility").rows()
+    assert {k: v for k, v in got.items() if v is not None} == pytest.approx({(f, i): v for f, i, v in rows}, abs=1e-4)
+    assert {i for (_, i), v in got.items() if v is None} == {1, 3, 4, 6}  # context: no row, no number
+    for command, suffix in (("animate", "a.gif"), ("report", "b.html")):
+        bad = cli(command, MCAP, "--targets", "lorries", "--no-progress", "-o", tmp_path / suffix)
+        assert_error(bad, "--targets: unknown object kind 'lorries'")
+        lone = cli(command, MCAP, "--map-occluders", "--no-progress", "-o", tmp_path / suffix)
+        assert lone.returncode in (0, 2)  # the bundled MCAP carries no OpenDRIVE map: refused in words, or none
+        if lone.returncode == 2:
+            assert_error(lone, "--map-occluders needs a recording that carries an OpenDRIVE map")

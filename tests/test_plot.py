@@ -12,6 +12,7 @@ matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt
 import numpy as np
+import polars as pl
 import pytest
 import shapely
 from conftest import boxes_table
@@ -19,6 +20,7 @@ from matplotlib.colors import to_rgb
 from matplotlib.patches import Circle, Wedge
 
 import omega_prime_visibility
+from omega_prime_visibility import Query
 from omega_prime_visibility.plot import plot_frame
 from omega_prime_visibility.plot._optional import require
 from omega_prime_visibility.sensors import Sensor
@@ -139,7 +141,7 @@ def test_plot_frame_rejects_unknown_frame_and_absent_ego() -> None:
     df = boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 4, 0)])
     with pytest.raises(ValueError, match="frame 3 does not occur"):
         plot_frame(df, 0, 3)
-    with pytest.raises(ValueError, match="ego idx 7 never occurs"):
+    with pytest.raises(ValueError, match=r"ego idx \[7\] never occurs"):
         plot_frame(df, 7, 0)
     with pytest.raises(ValueError, match="cmap 'sunset' is not a matplotlib colour map"):
         plot_frame(df, 0, 0, cmap="sunset")
@@ -238,7 +240,7 @@ def test_a_table_of_several_observers_gives_each_its_own_numbers() -> None:
     cars = boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 2, 0), (20, 0, 4, 2, 0)])
     table = get_visibility_df(cars, "all")
     assert "idx_ego" in table.columns
-    source = load_source(cars, lanes=False)
+    source = load_source(cars, Query(observers=0), lanes=False)
     for ego in (0, 2):
         view = FrameViewer(source, ego, table=table).view(0)
         own = table.filter(pl.col("idx_ego") == ego)
@@ -268,8 +270,9 @@ def test_objects_that_may_not_block_hide_nothing_in_the_picture(mode: str) -> No
     )
     behind = shapely.Point(6.0, 0.0)
     for occluders, car in ((None, None), ("vehicles", 1.0)):
-        source = load_source(df, lanes=False, occluders=occluders)
-        viewer = picture_viewer(df, source, 0, None, np.array([0]), 80.0, mode=mode, occluders=occluders)
+        question = Query(observers=0, mode=mode, occluders=occluders)
+        source = load_source(df, question, lanes=False)
+        viewer = picture_viewer(df, source, question, np.array([0]), 80.0)
         view = viewer.view(0)
         assert view.region.contains(behind) == (occluders is not None)
         table = get_visibility_df(df, 0, mode=mode, occluders=occluders)
@@ -281,12 +284,13 @@ def test_objects_that_may_not_block_hide_nothing_in_the_picture(mode: str) -> No
     assert ax is not None
     plt.close("all")
     with pytest.raises(ValueError, match="occluders"):
-        load_source(df, lanes=False, occluders="walkers")
+        load_source(df, Query(observers=0, occluders="walkers"), lanes=False)
     # an idx of the recording that the frames drawn do not hold is no error (as for get_visibility_df)
     later = df.with_columns(frame=pl.lit(1, pl.Int64), total_nanos=pl.lit(10**8, pl.Int64), idx=pl.col("idx") + 10)
     both = pl.concat([df, later])
-    source = load_source(both, lanes=False, occluders=[0, 12])
-    view = picture_viewer(both, source, 0, None, np.array([0]), 80.0, mode=mode, occluders=[0, 12]).view(0)
+    question = Query(observers=0, mode=mode, occluders=[0, 12])
+    source = load_source(both, question, lanes=False)
+    view = picture_viewer(both, source, question, np.array([0]), 80.0).view(0)
     assert view.region.contains(behind)  # in frame 0 only the ego may block
 
 
@@ -312,3 +316,35 @@ def test_through_sensors_the_outlines_follow_the_number_shown() -> None:
     df = boxes_table([(0, 0, 1, 1, 0), (10, 2, 1, 1, 0), (20, 0, 1, 2, 0), (10, -1.5, 1, 1, 0)])
     ax = plot_frame(df, 0, 0, target=2, sensors=sensors)
     assert by_gid(ax, "object 1")[0].get_linewidth() == 2.5 or by_gid(ax, "object 3")[0].get_linewidth() == 2.5
+
+
+def test_a_picture_of_some_targets_draws_the_others_as_context() -> None:
+    # targets=[2]: the table has a row of 2 only; 1 is drawn grey with its idx, never "1: nan%"
+    from omega_prime_visibility.plot.style import visibility_colour
+
+    df = boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 4, 0), (20, 0, 4, 2, 0)])
+    ax = plot_frame(df, 0, 0, targets=[2])
+    labels = set(texts(ax))
+    assert "2: 0%" in labels and "1" in labels and not any("nan" in t for t in labels)
+    (context,) = by_gid(ax, "object 1")
+    assert context.get_facecolor()[:3] == pytest.approx(to_rgb(visibility_colour(float("nan"))))
+    # the same picture from one value of the question
+    again = plot_frame(df, None, 0, query=omega_prime_visibility.Query(observers=0, targets=[2]))
+    assert set(texts(again)) == labels
+
+
+def test_a_picture_in_3d_takes_its_numbers_from_the_3d_table() -> None:
+    # a 0.8 m rail between the ego and a car: the eye (1.25 m) sees over it in 3D; in 2D the rail is left out
+    from omega_prime_visibility import Query, get_visibility_df
+
+    df = boxes_table([(0, 0, 4, 2, 0), (20, 0, 4, 2, 0)]).with_columns(
+        z=pl.lit(0.75), height=pl.lit(1.5), roll=pl.lit(0.0), pitch=pl.lit(0.0)
+    )
+    rail = [shapely.box(10, -5, 10.5, 5)]
+    question = Query(observers=0, mode="3d", static_occluders=rail, static_heights=0.8)
+    seen = get_visibility_df(df, query=question)["visibility"][0]
+    assert 0.0 < seen < 1.0
+    ax = plot_frame(df, None, 0, query=question)
+    assert f"1: {seen:.0%}" in texts(ax)
+    (car,) = by_gid(ax, "object 1")
+    assert tuple(car.get_facecolor()) == pytest.approx(CMAP(seen))

@@ -294,7 +294,7 @@ def test_a_passive_target_of_two_arms_is_counted_once() -> None:
 @pytest.mark.parametrize(
     ("targets", "said"),
     [
-        ("animals", "targets='animals' matches no object of the recording"),
+        ("animals", "targets=['animals'] matches no object of the recording"),
         ([0], "targets=[0] matches only the observer(s) [0]"),
         (pl.col("length") > 100, "targets='expression: "),
     ],

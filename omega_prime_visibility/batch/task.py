@@ -86,12 +86,11 @@ def _one_line(message: str, limit: int = 500) -> str:
 def _compute_and_write(task: FileTask) -> int:
     from importlib.metadata import version
 
-    import numpy as np
     import pyarrow.parquet as pq
 
     from ..api import get_visibility_df
     from ..inputs.io import read_recording
-    from ..inputs.observers import describe_idx
+    from ..inputs.roles import kinds_present
     from ..table.output import atomic_write
 
     options = task.options
@@ -100,10 +99,9 @@ def _compute_and_write(task: FileTask) -> int:
     ego = options.ego
     if ego is None:
         if recording.host_vehicle_idx is None:
-            present = np.unique(recording._df["idx"].to_numpy())
             raise ValueError(
                 f"{Path(task.recording).name} names no host vehicle: give an ego (--ego IDX or --ego all; "
-                f"idx present: {describe_idx(present)})"
+                f"present: {kinds_present(recording._df)})"
             )
         ego = int(recording.host_vehicle_idx)
     statics = None if options.static is None else _static_occluders(options.static, os.stat(options.static).st_mtime_ns)

@@ -61,6 +61,45 @@ def parse_choice(spec: str | None, option: str) -> list[str] | list[int] | None:
     return parts
 
 
+def shell_query(
+    recording: Path | None,
+    *,
+    ego: str = "",
+    engine: str | None = None,
+    static: Path | None = None,
+    sensors: str | None = None,
+    mode: str = "2d",
+    map_path: Path | None = None,
+    map_occluders: bool = False,
+    occluders: str | None = None,
+    targets: str | None = None,
+    measure: str = "angle",
+):
+    """The question of a command (:class:`~omega_prime_visibility.Query`) from the shell's table options, which
+    ``run``, ``animate`` and ``report`` take alike; a bad value exits with one line naming the option, before any
+    recording is read."""
+    from ..query import OptionError, Query
+
+    observers = parse_ego(ego) if ego else None
+    choices = {"occluders": parse_choice(occluders, "occluders"), "targets": parse_choice(targets, "targets")}
+    statics = load_static(static) or ()
+    if map_occluders:
+        map_occluders = (resolve_map(recording, map_path) if recording is not None else map_path) or True
+    try:
+        return Query(
+            observers=observers,
+            engine=engine,
+            mode=mode,
+            measure=measure,
+            sensors=sensors,
+            static_occluders=statics,
+            map_occluders=map_occluders or None,
+            **choices,
+        )
+    except OptionError as e:
+        raise fail(str(e)) from None
+
+
 def fail(message: str) -> typer.Exit:
     """Print ``error: message`` (in a shell user's words) to stderr; return the exit to raise (status 2)."""
     typer.echo(f"error: {shell_words(message)}", err=True)

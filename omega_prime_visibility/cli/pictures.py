@@ -11,17 +11,19 @@ import typer
 from ..engines import ENGINES, ENGINES_3D
 from .app import app
 from .common import (
+    MapOccluders,
+    Measure,
     Mode,
     Occluders,
     Progress,
     Recording,
     Static,
+    Targets,
     fail,
     load_recording,
-    load_static,
-    parse_choice,
     parse_ego,
-    parse_sensors,
+    resolve_map,
+    shell_query,
 )
 
 
@@ -53,33 +55,28 @@ def single_ego(ego: str) -> int | None:
     return value
 
 
-def picture_inputs(
-    recording: Path,
-    output: Path,
-    suffixes: tuple[str, ...],
-    engine: str | None,
-    frames: str,
-    ego: str,
-    map_path: Path | None,
-    mode: str = "2d",
-):
-    """A picture command's checks that need no computing (mode and engine, output path, frames, ego), then the
-    recording and its ego (``--ego``, else the host vehicle): ``(recording, ego_idx, frames, engine)``."""
+def picture_inputs(recording: Path, output: Path, suffixes: tuple[str, ...], frames: str, ego: str,
+                   map_path: Path | None, **table_options):  # fmt: skip
+    """A picture command's checks that need no computing (the question of ``table_options``, as ``run`` takes
+    them; the output path, frames, ego), then the recording and its observer (``--ego``, else the host vehicle):
+    ``(recording, question, frames)``."""
+    from ..inputs.roles import kinds_present
     from ..table.output import check_output_path
-    from ..threed.mode import check_mode, resolve_engine
 
+    span, ego_idx = parse_frames(frames), single_ego(ego)
+    map_path = resolve_map(recording, map_path)
+    question = shell_query(recording, ego="" if ego_idx is None else str(ego_idx), map_path=map_path,
+                           **table_options)  # fmt: skip
     try:
-        engine = resolve_engine(engine, check_mode(mode))
         check_output_path(output, suffixes)
     except ValueError as e:
         raise fail(str(e)) from None
-    span, ego_idx = parse_frames(frames), single_ego(ego)
     r = load_recording(recording, map_path)
-    if ego_idx is None:
+    if question.observers is None:
         if r.host_vehicle_idx is None:
-            raise fail("the recording names no host vehicle: pass --ego IDX")
-        ego_idx = int(r.host_vehicle_idx)
-    return r, ego_idx, span, engine
+            raise fail(f"the recording names no host vehicle: pass --ego IDX (present: {kinds_present(r._df)})")
+        question = question.replace(observers=int(r.host_vehicle_idx))
+    return r, question, span
 
 
 FramesOption = Annotated[
@@ -122,15 +119,17 @@ def animate(
     static: Static = None,
     mode: Mode = "2d",
     occluders: Occluders = None,
+    targets: Targets = None,
+    measure: Measure = "angle",
+    map_occluders: MapOccluders = False,
     progress: Progress = True,
 ) -> None:
     """Render the scene seen from the ego, frame by frame, to an animated GIF or an MP4 video."""
     from ..plot import animate as render
 
-    parse_sensors(sensors)  # a bad layout or file fails here; a layout name is fitted to the ego later
-    blocking = parse_choice(occluders, "occluders")
-    statics = load_static(static)
-    r, ego_idx, span, engine = picture_inputs(recording, output, (".gif", ".mp4"), engine, frames, ego, map_path, mode)
+    table_options = {"engine": engine, "static": static, "sensors": sensors, "mode": mode, "occluders": occluders,
+                     "targets": targets, "measure": measure, "map_occluders": map_occluders}  # fmt: skip
+    r, question, span = picture_inputs(recording, output, (".gif", ".mp4"), frames, ego, map_path, **table_options)
     if target is not None:
         from ..inputs.observers import describe_idx
 
@@ -138,9 +137,8 @@ def animate(
         if target not in present:
             raise fail(f"target idx {target} never occurs in the recording (idx present: {describe_idx(present)})")
     try:
-        render(r, ego_idx, output, statics, frames=span, fps=fps, follow=follow, view_range=view_range,
-               target=target, sensors=sensors, engine=engine, mode=mode, progress=progress,
-               occluders=blocking)  # fmt: skip
+        render(r, None, output, frames=span, fps=fps, follow=follow, view_range=view_range, target=target,
+               progress=progress, query=question)  # fmt: skip
     except (ValueError, ImportError) as e:
         raise fail(str(e)) from None
     typer.echo(f"wrote {output}")
@@ -170,6 +168,9 @@ def report(
     static: Static = None,
     mode: Mode = "2d",
     occluders: Occluders = None,
+    targets: Targets = None,
+    measure: Measure = "angle",
+    map_occluders: MapOccluders = False,
     progress: Progress = True,
 ) -> None:
     """Write an interactive HTML report (frame slider, timeline, per-target summary) that works offline; for a batch
@@ -178,19 +179,19 @@ def report(
 
     if recording.is_dir():
         given = {"--ego": ego, "--frames": frames, "--sensors": sensors, "--engine": engine, "--map": map_path,
-                 "--static": static, "--mode": mode != "2d", "--occluders": occluders}  # fmt: skip
+                 "--static": static, "--mode": mode != "2d", "--occluders": occluders, "--targets": targets,
+                 "--measure": measure != "angle", "--map-occluders": map_occluders}  # fmt: skip
         used = [flag for flag, value in given.items() if value]
         if used:
             raise fail(f"{' and '.join(used)} apply to one recording; {recording} is a folder (a campaign page)")
         return _campaign_page(recording, output)
 
-    parse_sensors(sensors)  # a bad layout or file fails here; a layout name is fitted to the ego later
-    blocking = parse_choice(occluders, "occluders")
-    statics = load_static(static)
-    r, ego_idx, span, engine = picture_inputs(recording, output, (".html",), engine, frames, ego, map_path, mode)
+    table_options = {"engine": engine, "static": static, "sensors": sensors, "mode": mode, "occluders": occluders,
+                     "targets": targets, "measure": measure, "map_occluders": map_occluders}  # fmt: skip
+    r, question, span = picture_inputs(recording, output, (".html",), frames, ego, map_path, **table_options)
     try:
-        write_report(r, ego_idx, output, statics, frames=span, view_range=view_range, engine=engine, mode=mode,
-                     progress=progress, title=recording.name, sensors=sensors, occluders=blocking)  # fmt: skip
+        write_report(r, None, output, frames=span, view_range=view_range, progress=progress, title=recording.name,
+                     query=question)  # fmt: skip
     except (ValueError, ImportError) as e:
         raise fail(str(e)) from None
     typer.echo(f"wrote {output}")

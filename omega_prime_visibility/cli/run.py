@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated
 
-import numpy as np
 import polars as pl
 import typer
 
@@ -26,11 +25,8 @@ from .common import (
     Targets,
     fail,
     load_recording,
-    load_static,
-    parse_choice,
-    parse_ego,
-    parse_sensors,
     resolve_map,
+    shell_query,
 )
 
 
@@ -57,17 +53,10 @@ def run(
     """Compute the visibility table of one recording; print it with a per-target summary, or write it."""
     from ..analysis.summary import DEFINITION, target_summary
     from ..api import get_visibility_df
-    from ..inputs.observers import describe_idx
+    from ..inputs.roles import kinds_present
     from ..table.output import check_dataset_path, check_output_path, write_csv
 
     # every check that needs no computing comes first, so a typo never costs a long run
-    from ..threed.mode import check_mode, resolve_measure
-
-    try:
-        mode = check_mode(mode)
-        resolve_measure(measure, engine, mode)
-    except ValueError as e:
-        raise fail(str(e)) from None
     if workers is not None and workers < 1:
         raise fail(f"--workers takes a number of processes, at least 1, not {workers}")
     if rows < 0:
@@ -79,33 +68,16 @@ def run(
                 check_dataset_path(output)
         except ValueError as e:
             raise fail(str(e)) from None
-    ego_idx = parse_ego(ego) if ego else None
-    sensor_set = parse_sensors(sensors)
-    choices = {"occluders": parse_choice(occluders, "occluders"), "targets": parse_choice(targets, "targets")}
-    statics = load_static(static)
     map_path = resolve_map(recording, map_path)
+    question = shell_query(recording, ego=ego, engine=engine, static=static, sensors=sensors, mode=mode,
+                           map_path=map_path, map_occluders=map_occluders, occluders=occluders, targets=targets,
+                           measure=measure)  # fmt: skip
     r = load_recording(recording, map_path)
-    if ego_idx is None and r.host_vehicle_idx is None:
-        present = np.unique(r._df["idx"].to_numpy())
-        raise fail(f"{recording} names no host vehicle: pass --ego IDX (idx present: {describe_idx(present)})")
-    if ego_idx is None:
-        ego_idx = int(r.host_vehicle_idx)
+    if question.observers is None and r.host_vehicle_idx is None:
+        raise fail(f"{recording} names no host vehicle: pass --ego IDX (present: {kinds_present(r._df)})")
     stream = output if output is not None and output.suffix == ".parquet" else None
     try:
-        table = get_visibility_df(
-            r,
-            ego_idx,
-            statics,
-            engine=engine,
-            progress=progress,
-            workers=workers,
-            output=stream,
-            sensors=sensor_set,
-            mode=mode,
-            map_occluders=(map_path if map_path is not None else True) if map_occluders else None,
-            measure=measure,
-            **choices,
-        )
+        table = get_visibility_df(r, query=question, progress=progress, workers=workers, output=stream)
         if output is not None and stream is None:
             write_csv(table, output)
     except ValueError as e:

@@ -11,9 +11,10 @@ import numpy as np
 import shapely
 from tqdm.auto import tqdm
 
+from ..query import Query
 from ..table.output import atomic_write, check_output_path
 from ._optional import require
-from .data import FrameSpec, load_source
+from .data import FrameSpec, load_source, picture_question
 from .frame import FramePainter, check_target, picture_viewer
 from .style import OKABE_ITO
 from .window import path_limits, scene_window
@@ -24,7 +25,7 @@ PROGRESS_MIN_FRAMES = 200
 
 def animate(
     df: Any,
-    ego_idx: int,
+    ego_idx: int | None,
     output: str | os.PathLike,
     static_occluder_polys: Sequence[shapely.Geometry] | None = None,
     *,
@@ -39,9 +40,11 @@ def animate(
     dpi: int = 100,
     colours: int = 64,
     engine: str | None = None,
-    mode: str = "2d",
+    mode: str | None = None,
     progress: bool | None = None,
     occluders: Any = None,
+    query: Query | None = None,
+    **question: Any,
 ) -> Path:
     """Render frames seen from ``ego_idx`` to an animated GIF or an MP4 video; return the path written.
 
@@ -83,6 +86,9 @@ def animate(
         seen honour it (give the choice a ``table=`` was computed with). Default: everything blocks.
     progress : bool, optional
         Show a progress bar while rendering; by default for ``PROGRESS_MIN_FRAMES`` frames or more.
+    query : Query, optional
+        The whole question as one value, and the other table keywords of ``get_visibility_df``, as for
+        :func:`~.frame.plot_frame`.
 
     Examples
     --------
@@ -103,11 +109,12 @@ def animate(
         require("imageio_ffmpeg", "writing MP4")
     else:
         require("PIL", "writing GIF")
-    source = load_source(df, static_occluder_polys, lanes, occluders)
+    asked = picture_question(query, ego_idx, static_occluder_polys, engine=engine, mode=mode, sensors=sensors,
+                             occluders=occluders, **question)  # fmt: skip
+    source = load_source(df, asked, lanes)
     positions = source.positions(frames)
     check_target(source, target, positions)
-    viewer = picture_viewer(df, source, ego_idx, static_occluder_polys, positions, view_range, sensors=sensors,
-                            engine=engine, mode=mode, occluders=occluders)  # fmt: skip
+    viewer = picture_viewer(df, source, asked, positions, view_range)
     pictures = render(
         source, viewer, positions, follow=follow, view_range=view_range, target=target, size=size, dpi=dpi,
         progress=len(positions) >= PROGRESS_MIN_FRAMES if progress is None else progress,

@@ -19,9 +19,10 @@ import shapely
 from ..engines import get_engine
 from ..engines.visilibity import VisiLibityEngine
 from ..inputs.objects import ObjectTable
-from ..inputs.scene import as_polars, load_objects, observer_sizes
-from ..inputs.sensors import Sensor, fitted_layout, is_layout, resolve_sensors
-from ..inputs.statics import StaticOccluders, load_static_occluders
+from ..inputs.scene import as_polars
+from ..inputs.sensors import Sensor
+from ..inputs.statics import StaticOccluders
+from ..query import Query, Resolved, fold_keywords, resolve
 from ..table.pipeline import ContainmentLog, observe_frame, observer_rows
 from ..table.schema import TableBuilder, to_polars
 from .lanes import Lanes, prepared_lanes
@@ -50,6 +51,8 @@ class Source:
     statics: StaticOccluders
     table: pl.DataFrame
     lanes: Lanes = field(default_factory=Lanes)
+    scene: Resolved | None = None
+    """The question resolved against the recording (its sensors fitted to the ego, its engine, its statics)."""
 
     @property
     def frames(self) -> np.ndarray:
@@ -106,28 +109,66 @@ class Source:
         return float(math.hypot(ego["x"][b] - ego["x"][a], ego["y"][b] - ego["y"][a]) / dt)
 
 
-def load_source(
-    df: Any, static_occluder_polys: Sequence[shapely.Geometry] | None = None, lanes: Any = True, occluders: Any = None
-) -> Source:
-    """Load a recording (``omega_prime.Recording``, polars table or MCAP path) for pictures.
+def load_source(df: Any, question: Query, lanes: Any = True) -> Source:
+    """Load a recording (``omega_prime.Recording``, polars table or MCAP path) for pictures of ``question`` (a
+    :class:`~omega_prime_visibility.Query` with one observer): the objects as the question reads them (who may
+    block, whom to look for), the static occluders its engines see (the map's road objects, the 2D height rule).
 
     ``lanes``: True takes the lanes of the recording's map where it has one, False none; a map object (with a
-    ``lanes`` dict) or a sequence of shapely geometries gives them explicitly. ``occluders``: who may block the
-    view, as for :func:`~omega_prime_visibility.get_visibility_df` (None: everything).
+    ``lanes`` dict) or a sequence of shapely geometries gives them explicitly.
     """
     if isinstance(df, str) or hasattr(df, "__fspath__"):
         from ..inputs.io import read_recording
 
         df = read_recording(df)
     table = as_polars(df)
-    objects = load_objects(table, occluders=occluders)
-    if objects.n_frames == 0:
+    scene = resolve(question, df)
+    if scene.objects.n_frames == 0:
         raise ValueError("the table has no usable object rows: there is nothing to draw")
-    statics = load_static_occluders(static_occluder_polys)
     keep = [c for c in ("frame", "total_nanos", "idx", "x", "y", "vel_x", "vel_y") if c in table.columns]
     if lanes is True:
         lanes = getattr(df, "map", None)
-    return Source(objects, statics, table.select(keep), prepared_lanes(lanes))
+    return Source(scene.objects, scene.statics, table.select(keep), prepared_lanes(lanes), scene)
+
+
+def picture_question(query: Query | None, ego_idx: int | None, static_occluder_polys: Any, **keywords: Any) -> Query:
+    """The question of a picture: ``query`` with the picture's table keywords folded in (as
+    ``get_visibility_df`` folds them); one observer.
+
+    >>> picture_question(None, 3, None, engine="sweep").observers
+    3
+    """
+    question = fold_keywords(query, ego_idx=ego_idx, static_occluder_polys=static_occluder_polys, **keywords)
+    if not isinstance(question.observers, int):
+        raise ValueError(f"a picture is seen from one observer: give ego_idx as one idx, not {question.observers!r}")
+    return question
+
+
+def describe_question(question: Query) -> str:
+    """The choices of ``question`` in a few words, for a picture's title or a page's subtitle.
+
+    >>> describe_question(Query(observers=0, mode="3d", targets="pedestrians"))
+    'engine silhouette3d, 3D, whom to look for: pedestrians'
+    """
+    words = [f"engine {question.engine}"]
+    if question.three_d:
+        words.append("3D")
+    if question.measure != "angle":
+        words.append(f"visibility as a share of the {question.measure}")
+    for name, label in (("occluders", "who may block"), ("targets", "whom to look for")):
+        value = getattr(question, name)
+        if value is not None:
+            text = f"expression {value}" if isinstance(value, pl.Expr) else ", ".join(map(str, value))
+            words.append(f"{label}: {text}")
+    if question.map_occluders is not None:
+        words.append("the map's road objects block")
+    return ", ".join(words)
+
+
+def needs_table(question: Query) -> bool:
+    """Whether the views cannot compute the numbers of ``question`` frame by frame themselves (they run a 2D
+    angle engine from the ego's centre), so the table of the drawn frames is computed first."""
+    return question.three_d or question.measure != "angle"
 
 
 @dataclass
@@ -290,34 +331,34 @@ def of_best_sensor(column: str) -> pl.Expr:
     return pl.col(column).sort_by(order, descending=[True, False]).first()
 
 
-def frames_table(
-    df: Any,
-    ego_idx: int,
-    static_occluder_polys: Sequence[shapely.Geometry] | None,
-    frame_numbers: Sequence[int],
-    *,
-    sensors: Sequence[Sensor] = (),
-    mode: str = "2d",
-    engine: str | None = None,
-    occluders: Any = None,
-) -> pl.DataFrame:
-    """The visibility table of ``ego_idx`` in the frames ``frame_numbers`` only, by ``get_visibility_df`` (for
-    what the per-frame views do not compute themselves, such as ``mode="3d"``)."""
-    from ..api import get_visibility_df
-    from ..inputs.roles import within_frames
+def frames_table(df: Any, question: Query, frame_numbers: Sequence[int]) -> pl.DataFrame:
+    """The visibility table of ``question`` in the frames ``frame_numbers`` only (for what the per-frame views
+    do not compute themselves, such as ``mode="3d"`` or the area measure)."""
+    from ..api import compute, within_recording
 
     table = as_polars(df)
     rows = table.filter(pl.col("frame").is_in(list(frame_numbers)))
-    occluders = within_frames(occluders, table["idx"].unique().to_numpy(), "occluders")  # idx of the recording
-    return get_visibility_df(rows, ego_idx, static_occluder_polys, engine=engine, sensors=list(sensors) or None,
-                             mode=mode, occluders=occluders, progress=False)  # fmt: skip
+    part = within_recording(question, table.lazy())  # idx of the whole recording
+    with warnings.catch_warnings():  # told for the whole recording, not again for its frames
+        warnings.filterwarnings("ignore", r"targets=.* matches no object")
+        return compute(resolve(part, rows if not hasattr(df, "map") else _with_rows(df, rows)), progress=False)
 
 
-def sensor_list(sensors: Any, source: Source, ego_idx: int) -> tuple[Sensor, ...]:
-    """``sensors`` as given to the plotting functions (layout name, JSON path, Sensor(s)); a layout name is fitted
-    to the ego's own size, as :func:`~omega_prime_visibility.get_visibility_df` fits it."""
+def _with_rows(recording: Any, rows: pl.DataFrame) -> Any:
+    """A stand-in for an omega-prime Recording holding only ``rows`` but its map (for the map's road objects)."""
+
+    class Part:
+        map = getattr(recording, "map", None)
+        host_vehicle_idx = getattr(recording, "host_vehicle_idx", None)
+        _df = rows
+
+    return Part()
+
+
+def sensor_list(source: Source, ego_idx: int) -> tuple[Sensor, ...]:
+    """The ego's sensors of the picture's question (a layout fitted to the ego's own size, as
+    :func:`~omega_prime_visibility.get_visibility_df` fits it)."""
+    sensors = None if source.scene is None else source.scene.sensors
     if sensors is None:
         return ()
-    if is_layout(sensors):
-        return fitted_layout(sensors, observer_sizes(source.objects, np.array([ego_idx])))[int(ego_idx)]
-    return resolve_sensors(sensors)
+    return tuple(sensors[int(ego_idx)] if isinstance(sensors, dict) else sensors)

@@ -16,8 +16,18 @@ from typing import Any
 import numpy as np
 import shapely
 
+from ..query import Query
 from ._optional import require
-from .data import FrameView, FrameViewer, Source, frames_table, load_source, sensor_list
+from .data import (
+    FrameView,
+    FrameViewer,
+    Source,
+    frames_table,
+    load_source,
+    needs_table,
+    picture_question,
+    sensor_list,
+)
 from .labels import place_labels
 from .painting import ScaleBar, draw_lanes, draw_sensor, draw_statics, legend_handles
 from .style import (
@@ -29,6 +39,7 @@ from .style import (
     TARGET_EDGE,
     VISIBILITY_CMAP,
     sensor_colour,
+    visibility_colour,
 )
 from .window import Window, scene_window
 
@@ -143,7 +154,9 @@ class FramePainter:
             if i == view.ego_row:
                 face, edge, lw, ls, gid = EGO_FACE, EGO_EDGE, 1.0, "-", "ego"
             else:
-                face, edge, lw, ls, gid = self.cmap(self.norm(view.visibility[i])), "#333333", 0.6, "-", f"object {idx}"
+                seen = view.visibility[i]  # NaN: the table has no row of it (not among the targets): context
+                face = self.cmap(self.norm(seen)) if np.isfinite(seen) else visibility_colour(seen)
+                edge, lw, ls, gid = "#333333", 0.6, "-", f"object {idx}"
             if idx in occluders:
                 edge, lw = OCCLUDER_EDGE, 2.5
             elif idx == self.target:
@@ -177,7 +190,8 @@ class FramePainter:
         boxes, sizes, texts = [], [], []
         for i in order:
             idx = int(view.idx[i])
-            text = f"ego {idx}" if i == view.ego_row else f"{idx}: {view.visibility[i]:.0%}"
+            seen = view.visibility[i]
+            text = f"ego {idx}" if i == view.ego_row else f"{idx}: {seen:.0%}" if np.isfinite(seen) else f"{idx}"
             px = to_pixels(view.rings[i])
             boxes.append((px[:, 0].min(), px[:, 1].min(), px[:, 0].max(), px[:, 1].max()))
             sizes.append((0.62 * points * len(text) + 2, 1.25 * points))
@@ -198,36 +212,21 @@ class FramePainter:
 
 
 def picture_viewer(
-    df: Any,
-    source: Source,
-    ego_idx: int,
-    static_occluder_polys: Sequence[shapely.Geometry] | None,
-    positions: np.ndarray,
-    view_range: float | None,
-    *,
-    sensors: Any = None,
-    engine: str | None = None,
-    mode: str = "2d",
-    table: Any = None,
-    occluders: Any = None,
+    df: Any, source: Source, question: Query, positions: np.ndarray, view_range: float | None, table: Any = None
 ) -> FrameViewer:
-    """The :class:`~.data.FrameViewer` of a picture: sensors fitted to the ego, the engine of ``mode``; in 3D
-    (where views cannot compute their numbers themselves) the table of the frames at ``positions`` computed first."""
-    from ..threed.mode import check_mode, resolve_engine
-
+    """The :class:`~.data.FrameViewer` of a picture of ``question``: its sensors fitted to the ego, its engine;
+    where the views cannot compute its numbers themselves (3D, the area measure), the table of the frames at
+    ``positions`` computed first."""
     if view_range is not None and not (isinstance(view_range, numbers.Real) and 0 < view_range < math.inf):
         raise ValueError(f"view_range must be a positive number of metres, not {view_range!r}")
-    mode = check_mode(mode)
-    engine = resolve_engine(engine, mode)
-    own = sensor_list(sensors, source, ego_idx)
+    ego_idx = int(question.observers)
+    own = sensor_list(source, ego_idx)
     margin = 2 * (view_range or 100.0)
-    if table is None and mode == "3d":
+    if table is None and needs_table(question):
         FrameViewer(source, ego_idx, "visilibity", margin)  # an absent ego fails before the long computation
-        frames = source.frames[positions].tolist()
-        table = frames_table(
-            df, ego_idx, static_occluder_polys, frames, sensors=own, mode=mode, engine=engine, occluders=occluders
-        )
-    return FrameViewer(source, ego_idx, engine if mode == "2d" else "visilibity", margin, sensors=own, table=table)
+        table = frames_table(df, question, source.frames[positions].tolist())
+    engine = "visilibity" if table is not None or needs_table(question) else question.engine
+    return FrameViewer(source, ego_idx, engine, margin, sensors=own, table=table)
 
 
 def check_target(source: Source, target: int | None, positions: np.ndarray | None = None) -> None:
@@ -249,10 +248,11 @@ def check_target(source: Source, target: int | None, positions: np.ndarray | Non
 
 def plot_frame(
     df: Any,
-    ego_idx: int,
+    ego_idx: int | None,
     frame: int,
     static_occluder_polys: Sequence[shapely.Geometry] | None = None,
     *,
+    query: Query | None = None,
     target: int | None = None,
     sensors: Any = None,
     lanes: Any = True,
@@ -261,9 +261,10 @@ def plot_frame(
     cmap: str = VISIBILITY_CMAP,
     legend: bool = True,
     engine: str | None = None,
-    mode: str = "2d",
+    mode: str | None = None,
     table: Any = None,
     occluders: Any = None,
+    **question: Any,
 ) -> Any:
     """Draw one frame seen from ``ego_idx``; return the matplotlib ``Axes``.
 
@@ -304,6 +305,11 @@ def plot_frame(
     occluders : str, sequence or polars expression, optional
         Who may block the view, as for ``get_visibility_df``: the numbers computed here and the region shaded as
         seen honour it (give the choice a ``table=`` was computed with). Default: everything blocks.
+    query : Query, optional
+        The whole question as one value, as for ``get_visibility_df`` (its observer draws the picture); the other
+        table keywords of ``get_visibility_df`` (``targets``, ``measure``, ``map_occluders``,
+        ``static_occluder_heights``, ``static_meshes``) are taken too. Objects the question has no row of (not
+        among ``targets``) are drawn grey, as context, with their idx.
 
     Objects are filled by their visibility (colour bar 0..1) and labelled ``idx: visibility`` where the label has
     room; the region visible from the ego is shaded pale blue, and a scale bar gives metres.
@@ -321,11 +327,13 @@ def plot_frame(
     ['object 1', 'object 2']
     """
     plt = require("matplotlib.pyplot")
-    source = load_source(df, static_occluder_polys, lanes, occluders)
+    asked = picture_question(query, ego_idx, static_occluder_polys, engine=engine, mode=mode, sensors=sensors,
+                             occluders=occluders, **question)  # fmt: skip
+    ego_idx = asked.observers
+    source = load_source(df, asked, lanes)
     k = source.position_of(frame)
     check_target(source, target, np.array([k]))
-    viewer = picture_viewer(df, source, ego_idx, static_occluder_polys, np.array([k]), view_range, sensors=sensors,
-                            engine=engine, mode=mode, table=table, occluders=occluders)  # fmt: skip
+    viewer = picture_viewer(df, source, asked, np.array([k]), view_range, table=table)
     view = viewer.view(k)
     window = None
     if view_range is not None:

@@ -21,12 +21,20 @@ import polars as pl
 import shapely
 from tqdm.auto import tqdm
 
-from ..analysis.classes import EXACT, class_shares, describe
+from ..query import Query
 from ..table.output import atomic_write, check_output_path
-from ..table.schema import static_names
 from ._optional import require
-from .data import FrameSpec, FrameView, listed_once, load_source, of_best_sensor
+from .data import (
+    FrameSpec,
+    FrameView,
+    describe_question,
+    frames_table,
+    load_source,
+    needs_table,
+    picture_question,
+)
 from .frame import picture_viewer
+from .report_tables import summary_html, with_any_sensor
 from .style import EGO_FACE, REGION_FACE, sensor_colour, visibility_colour
 from .timeline import chart_spec, timeline_chart
 from .window import Window, scene_window
@@ -37,10 +45,11 @@ SCENE_ASPECT = (1.0, 2.6)  # the scene's width / height, at least and at most
 
 def write_report(
     df: Any,
-    ego_idx: int,
+    ego_idx: int | None,
     output: str | os.PathLike,
     static_occluder_polys: Sequence[shapely.Geometry] | None = None,
     *,
+    query: Query | None = None,
     frames: FrameSpec = None,
     table: pl.DataFrame | None = None,
     sensors: Any = None,
@@ -48,9 +57,10 @@ def write_report(
     view_range: float = 60.0,
     title: str | None = None,
     engine: str | None = None,
-    mode: str = "2d",
+    mode: str | None = None,
     progress: bool | None = None,
     occluders: Any = None,
+    **question: Any,
 ) -> Path:
     """Write an interactive, self-contained HTML report of what ``ego_idx`` sees; return its path.
 
@@ -87,30 +97,30 @@ def write_report(
         Who may block the view, as for ``get_visibility_df`` (the numbers computed here and the seen region).
     progress : bool, optional
         Show a progress bar while computing; by default for ``PROGRESS_MIN_FRAMES`` frames or more.
+    query : Query, optional
+        The whole question as one value, and the other table keywords of ``get_visibility_df``, as for
+        :func:`~.frame.plot_frame`; the subtitle states it (engine, mode, measure, who may block, whom to look for).
     """
     output = check_output_path(output, (".html",))
     vlc = require("vl_convert", "the HTML report")
     if table is not None and sensors is not None:
         raise ValueError("give either table= or sensors=, not both")
+    asked = picture_question(query, ego_idx, static_occluder_polys, engine=engine, mode=mode, sensors=sensors,
+                             occluders=occluders, **question)  # fmt: skip
+    ego_idx = asked.observers
     if isinstance(df, str | os.PathLike):
         from ..inputs.io import read_recording
 
         title = Path(df).name if title is None else title
         df = read_recording(df)
     title = "recording" if title is None else title
-    source = load_source(df, static_occluder_polys, lanes, occluders)
+    source = load_source(df, asked, lanes)
     positions = source.positions(frames)
-    if sensors is not None:  # the table the scene, the timeline and the summary all show
-        from .data import frames_table, sensor_list
-
-        own = sensor_list(sensors, source, ego_idx)
-        frame_numbers = source.frames[positions].tolist()
-        table = frames_table(df, ego_idx, static_occluder_polys, frame_numbers, sensors=own, mode=mode,
-                             engine=engine, occluders=occluders)  # fmt: skip
+    if asked.sensors is not None or (table is None and needs_table(asked)):  # the table every part shows
+        table = frames_table(df, asked, source.frames[positions].tolist())
     if table is not None:
         table = _own_rows(table, ego_idx, pl.Series(source.frames[positions]))
-    viewer = picture_viewer(df, source, ego_idx, static_occluder_polys, positions, view_range, sensors=sensors,
-                            engine=engine, mode=mode, table=table, occluders=occluders)  # fmt: skip
+    viewer = picture_viewer(df, source, asked, positions, view_range, table=table)
     show = len(positions) >= PROGRESS_MIN_FRAMES if progress is None else progress
     views = [viewer.view(k) for k in tqdm(positions.tolist(), desc="frames", unit="frame", disable=not show)]
     computed = views_table(views)
@@ -123,7 +133,7 @@ def write_report(
         title=html.escape(f"Visibility report: {title}"),
         subtitle=html.escape(
             f"seen from idx {ego_idx}; {len(views)} frames ({views[0].frame} to {views[-1].frame}), "
-            f"{len(np.unique(np.concatenate([v.idx for v in views]))) - 1} other objects, engine {engine}"
+            f"{len(np.unique(np.concatenate([v.idx for v in views]))) - 1} other objects; {describe_question(asked)}"
         ),
         style=_asset("report.css"),
         bundle=_script_safe(vlc.javascript_bundle()),
@@ -209,47 +219,6 @@ def _coords(geometry: Any, digits: int = 2) -> list[list[float]]:
     return np.round(np.asarray(geometry), digits).ravel().tolist()
 
 
-def with_any_sensor(table: pl.DataFrame) -> pl.DataFrame:
-    """A per-sensor table with, per (frame, target), one more row: sensor ``"any sensor"``, the best visibility
-    over the sensors (as ``seen_by_any`` gives it, the number the scene shows), the occluders of that best sensor
-    (what the scene outlines), and
-    a status: visible or partly visible by that visibility, else occluded if some sensor is occluded, else out
-    of range if some sensor is, else out of view. A table without ``sensor`` is returned as it is."""
-    if "sensor" not in table.columns:
-        return table
-    reason = pl.col("status").cast(pl.String)
-    combined = (
-        table.group_by("frame", "total_nanos", "idx")
-        .agg(
-            pl.col("visibility").max(),
-            pl.col("in_view").max(),
-            of_best_sensor("occluder_idxs"),
-            of_best_sensor("static_occluder_idxs"),
-            (reason == "occluded").any().alias("occluded"),
-            (reason == "out_of_range").any().alias("far"),
-        )
-        .with_columns(
-            sensor=pl.lit(ANY_SENSOR),
-            status=pl.when(pl.col("visibility") >= 1.0)
-            .then(pl.lit("visible"))
-            .when(pl.col("visibility") > 0.0)
-            .then(pl.lit("partly_visible"))
-            .when(pl.col("occluded"))
-            .then(pl.lit("occluded"))
-            .when(pl.col("far"))
-            .then(pl.lit("out_of_range"))
-            .otherwise(pl.lit("out_of_fov")),
-        )
-    )
-    columns = [c for c in table.columns if c in combined.columns]
-    per_sensor = table.select(columns).with_columns(pl.col("sensor").cast(pl.String), pl.col("status").cast(pl.String))
-    both = pl.concat([combined.select(columns), per_sensor], how="vertical_relaxed")
-    return both.sort("frame", "idx", pl.col("sensor") != ANY_SENSOR, maintain_order=True)
-
-
-ANY_SENSOR = "any sensor"
-
-
 def scene_data(views: list[FrameView], source, ego_idx: int, window: Window, sensors: Sequence[Any] = ()) -> dict:
     """What the page's script draws: per frame the objects (outline, colour, label), the visible region (cut to
     a box around the ego) and the sensors' poses; once the window, the sensors, the static occluders and lanes."""
@@ -310,52 +279,6 @@ def scene_data(views: list[FrameView], source, ego_idx: int, window: Window, sen
         "surfaces": [_coords(c) for c in source.lanes.surfaces],
         "sensors": sensor_info,
     }
-
-
-def summary_html(table: pl.DataFrame, partly: tuple[float, float] = EXACT) -> str:
-    """The per-target summary as an HTML table: frames, mean and least visibility, the share of frames visible,
-    partly hidden, hidden and (through sensors) out of view by the one definition of
-    :mod:`~omega_prime_visibility.analysis.classes`, stated under the table, and every object and static occluder
-    that hid it at some time (static occluders named ``static #k`` by their position in the list given)."""
-    by = [c for c in ("idx", "sensor") if c in table.columns]
-    shares = class_shares(table.columns, partly)
-    aggregations = [
-        pl.len().cast(pl.Int64).alias("frames"),
-        pl.col("visibility").mean().alias("mean visibility"),
-        pl.col("visibility").min().alias("least visibility"),
-        shares["visible"].alias("visible"),
-        shares["partly_hidden"].alias("partly hidden"),
-        shares["hidden"].alias("hidden"),
-    ]
-    if "in_view" in table.columns:
-        aggregations.append(shares["out_of_view"].alias("out of view"))
-    if "occluder_idxs" in table.columns:
-        aggregations.append(listed_once("occluder_idxs").alias("hidden by (idx)"))
-    if "static_occluder_idxs" in table.columns:
-        aggregations.append(listed_once("static_occluder_idxs").alias("hidden by static occluders"))
-    summary = table.group_by(by).agg(aggregations).sort(by)
-    head = "".join(f"<th>{html.escape(c)}</th>" for c in summary.columns)
-    body = []
-    for row in summary.iter_rows(named=True):
-        cells = []
-        for name, value in row.items():
-            if name in ("visible", "partly hidden", "hidden", "out of view"):
-                text = f"{value:.0%}"
-            elif isinstance(value, float):
-                text = f"{value:.3f}"
-            elif name == "hidden by static occluders":
-                text = static_names(value)
-            elif isinstance(value, list):
-                text = ", ".join(map(str, value)) or "none"
-            else:
-                text = str(value)
-            cells.append(f"<td>{html.escape(text)}</td>")
-        body.append(f"<tr>{''.join(cells)}</tr>")
-    note = html.escape(f"Shares of the target's frames; {describe(partly)}.")
-    return (
-        f'<table id="summary"><thead><tr>{head}</tr></thead><tbody>{"".join(body)}</tbody></table>'
-        f'<p class="definition">{note}</p>'
-    )
 
 
 PAGE = """<!DOCTYPE html>
