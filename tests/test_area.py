@@ -148,3 +148,23 @@ def test_bad_frame_and_ego() -> None:
         visible_area(table, 7, 0)
     with pytest.raises(ValueError, match="one idx"):
         visible_area(table, [0, 1], 0)
+
+
+def test_the_area_follows_the_whole_question() -> None:
+    # a 0.8 m rail is below the driver's eye: the table leaves it out in 2D, and so does the seen region; a 3 m
+    # wall stays; the same from one value of the question; 3D has no region on the ground
+    from omega_prime_visibility import OptionError, Query, visible_area
+
+    objects = pl.DataFrame({"frame": [0, 0], "total_nanos": [0, 0], "idx": [0, 1], "x": [0.0, -30.0],
+                            "y": [0.0, 0.0], "length": [4.0, 4.0], "width": [2.0, 2.0], "yaw": [0.0, 0.0]})  # fmt: skip
+    wall = [shapely.box(10, -5, 10.5, 5)]
+    cam = Sensor("cam", fov=math.pi / 2, range=20.0)
+    open_view = visible_area(objects, 0, 0, sensors=cam)
+    rail = visible_area(objects, 0, 0, sensors=cam, static_occluder_polys=wall, static_occluder_heights=0.8)
+    assert rail.symmetric_difference(open_view).area < 1e-9
+    high = visible_area(objects, 0, 0, sensors=cam, static_occluder_polys=wall, static_occluder_heights=3.0)
+    assert high.area < open_view.area - 1.0
+    question = Query(observers=0, sensors=cam, static_occluders=wall, static_heights=3.0)
+    assert visible_area(objects, None, 0, query=question).symmetric_difference(high).area < 1e-9
+    with pytest.raises(OptionError, match=r"no region on the ground|has none"):
+        visible_area(objects, None, 0, query=question.replace(mode="3d", engine=None))

@@ -36,11 +36,11 @@ from ..engines.sweep import SweepEngine
 from ..geometry.star_union import star_union_area
 from ..geometry.union_rings import star_union
 from ..inputs.objects import FrameObjects, ObjectTable, OnInvalid
-from ..inputs.observers import SensorSpec, observers_with_heading, resolve_egos
+from ..inputs.observers import SensorSpec
 from ..inputs.roles import RoleSpec
-from ..inputs.scene import load_objects, observer_sizes
-from ..inputs.sensors import Sensor, fitted_layout, is_layout, resolve_sensors
-from ..inputs.statics import StaticOccluders, load_static_occluders
+from ..inputs.sensors import Sensor
+from ..inputs.statics import StaticOccluders
+from ..query import OptionError, Query, fold_keywords, resolve
 from ..table.pipeline import observer_rows, viewpoints
 
 ARC_STEP = math.radians(1.0)
@@ -132,31 +132,33 @@ def _union(outlines: list[tuple[np.ndarray, Viewpoint]], origin: np.ndarray) -> 
     return _regions(outlines)
 
 
-def _prepare(
-    df: Any, ego_idx: int, sensors: SensorSpec, static_occluder_polys, on_invalid: OnInvalid, occluders: RoleSpec
-):
-    if isinstance(ego_idx, bool) or not isinstance(ego_idx, int | np.integer):
+def _prepare(df: Any, ego_idx: Any, static_occluder_polys: Any, query: Query | None, keywords: dict):
+    """The objects, static occluders and the ego's sensors of the question (as ``get_visibility_df`` reads it:
+    the map's road objects and the 2D height rule included); one observer, 2D."""
+    if ego_idx is not None and (isinstance(ego_idx, bool) or not isinstance(ego_idx, int | np.integer)):
         raise ValueError(f"ego_idx must be one idx (an int), not {ego_idx!r}")
-    sensor_set = resolve_sensors(sensors)  # a bad layout name or file fails before the table is read
-    objects = load_objects(df, on_invalid=on_invalid, occluders=occluders)
-    egos, _ = resolve_egos(int(ego_idx), objects)
-    if sensors is not None:  # sensors turn with their observer
-        objects = observers_with_heading(objects, egos, on_invalid)
-    statics = load_static_occluders(static_occluder_polys)
-    if is_layout(sensors):  # fitted to the ego's own size, as get_visibility_df does
-        sensor_set = fitted_layout(sensors, observer_sizes(objects, egos))[int(ego_idx)]
-    return objects, statics, sensor_set
+    question = fold_keywords(query, ego_idx=ego_idx, static_occluder_polys=static_occluder_polys, **keywords)
+    if question.three_d:
+        raise OptionError("mode", "the visible area is a region on the ground: mode='3d' has none; use mode='2d'")
+    if question.observers is not None and not isinstance(question.observers, int):
+        raise OptionError("ego_idx", f"ego_idx must be one idx (an int), not {question.observers!r}")
+    scene = resolve(question, df)
+    ego = int(scene.egos[0])
+    sensors = scene.sensors[ego] if isinstance(scene.sensors, dict) else scene.sensors
+    return scene.objects, scene.statics, sensors, ego
 
 
 def visible_area(
     df: Any,
-    ego_idx: int,
+    ego_idx: int | None,
     frame: int,
     sensors: SensorSpec = None,
     static_occluder_polys: Sequence[shapely.Geometry] | None = None,
     *,
-    on_invalid: OnInvalid = "warn",
+    query: Query | None = None,
+    on_invalid: OnInvalid | None = None,
     occluders: RoleSpec = None,
+    **question: Any,
 ) -> shapely.Geometry:
     """The region the ego's sensors see in one frame (world frame, metres).
 
@@ -172,6 +174,10 @@ def visible_area(
         None: the ego's centre, all around (up to :data:`UNBOUNDED_MARGIN` beyond the farthest road user).
     occluders : optional
         Which objects may block the view, as for :func:`~omega_prime_visibility.get_visibility_df` (None: all).
+    query : Query, optional
+        The whole question as one value, and the other table keywords of ``get_visibility_df``
+        (``map_occluders``, ``static_occluder_heights``: static occluders lower than the driver's eye are left
+        out, as the table leaves them out); 2D only.
 
     Returns
     -------
@@ -191,7 +197,8 @@ def visible_area(
     >>> round(seen.area / (math.pi * 100 / 4), 3)
     1.0
     """
-    objects, statics, sensor_set = _prepare(df, ego_idx, sensors, static_occluder_polys, on_invalid, occluders)
+    keywords = {"sensors": sensors, "on_invalid": on_invalid, "occluders": occluders, **question}
+    objects, statics, sensor_set, ego_idx = _prepare(df, ego_idx, static_occluder_polys, query, keywords)
     if isinstance(frame, bool) or not isinstance(frame, numbers.Integral):
         raise ValueError(f"frame takes a frame number (a whole number), not {frame!r}")
     k = np.searchsorted(objects.frame[objects.frame_starts[:-1]], frame)
@@ -206,25 +213,28 @@ def visible_area(
 
 def visible_area_over_time(
     df: Any,
-    ego_idx: int,
+    ego_idx: int | None,
     sensors: SensorSpec = None,
     static_occluder_polys: Sequence[shapely.Geometry] | None = None,
     *,
     road: shapely.Geometry | None = None,
-    on_invalid: OnInvalid = "warn",
+    query: Query | None = None,
+    on_invalid: OnInvalid | None = None,
     occluders: RoleSpec = None,
+    **question: Any,
 ) -> pl.DataFrame:
     """Per frame where the ego exists: ``frame, total_nanos, visible_area`` (square metres, see
     :func:`visible_area`) and, with a road outline (``road``, or the lane polygons of the recording's map),
-    ``hidden_road_area``: the road's area outside the seen region (square metres). ``occluders`` as for
-    :func:`visible_area`.
+    ``hidden_road_area``: the road's area outside the seen region (square metres). ``occluders``, ``query`` and
+    the other table keywords as for :func:`visible_area`.
     """
     if road is None:
         road = road_outline(df)
     elif not isinstance(road, shapely.Polygon | shapely.MultiPolygon):
         raise ValueError(f"road must be a shapely Polygon or MultiPolygon (the road's outline, metres), not {road!r}")
+    keywords = {"sensors": sensors, "on_invalid": on_invalid, "occluders": occluders, **question}
     objects: ObjectTable
-    objects, statics, sensor_set = _prepare(df, ego_idx, sensors, static_occluder_polys, on_invalid, occluders)
+    objects, statics, sensor_set, ego_idx = _prepare(df, ego_idx, static_occluder_polys, query, keywords)
     engine = SweepEngine(statics)
     frames, nanos, areas, hidden = [], [], [], []
     ego = np.array([ego_idx], dtype=np.int64)
