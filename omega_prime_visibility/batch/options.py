@@ -12,14 +12,15 @@ from pathlib import Path
 from typing import Any
 
 from ..inputs.sensors import LAYOUTS
+from ..query import Query
 
 
 @dataclass(frozen=True)
 class FileOptions:
     """What every recording of a batch is computed with; stored in each result, so other options recompute it.
 
-    Adding an option: a field here (``metadata={"file": True}`` for a path whose content matters), its keyword in
-    :meth:`api_kwargs`, and the matching ``batch`` command-line option.
+    Adding an option: a field here (``metadata={"file": True}`` for a path whose content matters), its place in
+    :meth:`question`, and the matching ``batch`` command-line option.
 
     Attributes
     ----------
@@ -96,17 +97,21 @@ class FileOptions:
                     raise ValueError(f"the {f.name} file {path} {what}")
                 object.__setattr__(self, f.name, os.path.abspath(path))  # as given: a link stays the link
 
-    def api_kwargs(self, map_path: str | None = None) -> dict[str, Any]:
-        """Keywords for ``get_visibility_df`` besides the recording, the ego and the static occluders, for a
-        recording read with ``map_path``."""
+    def question(self, ego: Any, statics: Any, map_path: str | None = None) -> Query:
+        """The question of one recording read with ``map_path``: these options with its observer(s) and static
+        occluders (:class:`~omega_prime_visibility.Query`)."""
         map_occluders = (map_path or True) if self.map_occluders else None
-        choices = {"occluders": _listed(self.occluders), "targets": _listed(self.targets), "measure": self.measure}
-        return {
-            "engine": self.engine,
-            "sensors": self.sensors,
-            "mode": self.mode,
-            "map_occluders": map_occluders,
-        } | choices
+        return Query(
+            observers=ego,
+            engine=self.engine,
+            mode=self.mode,
+            measure=self.measure,
+            sensors=self.sensors,
+            occluders=self.occluders,
+            targets=self.targets,
+            static_occluders=statics or (),
+            map_occluders=map_occluders,
+        )
 
     def fingerprint(self) -> str:
         """JSON of the options, with the SHA-256 of every file option's content (an edited file recomputes)."""
@@ -167,10 +172,6 @@ def _choice(value: Any, option: str) -> str | tuple | None:
         f"{option} in a batch takes a name, a list of names or a list of idx (a polars expression cannot be stored "
         f"with the results), not {value!r}"
     )
-
-
-def _listed(value: str | tuple | None) -> str | list | None:
-    return list(value) if isinstance(value, tuple) else value
 
 
 def is_int(value: object) -> bool:

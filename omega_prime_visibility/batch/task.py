@@ -106,9 +106,8 @@ def _compute_and_write(task: FileTask) -> int:
         ego = int(recording.host_vehicle_idx)
     statics = None if options.static is None else _static_occluders(options.static, os.stat(options.static).st_mtime_ns)
     ego_idx = list(ego) if isinstance(ego, tuple) else ego
-    table = get_visibility_df(
-        recording, ego_idx, statics, workers=task.workers, progress=False, **options.api_kwargs(map_path)
-    )
+    question = options.question(ego_idx, statics, map_path)
+    table = get_visibility_df(recording, query=question, workers=task.workers, progress=False)
     arrow = table.to_arrow()
     metadata = {
         **(arrow.schema.metadata or {}),
