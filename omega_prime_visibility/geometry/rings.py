@@ -20,7 +20,7 @@ import numba
 import numpy as np
 import shapely
 
-TWO_PI = 2.0 * np.pi
+from .kernels import TWO_PI
 
 
 @dataclass(frozen=True, slots=True)

@@ -31,7 +31,8 @@ from pathlib import Path
 
 import numpy as np
 
-TWO_PI = 2.0 * math.pi
+from ..geometry.kernels import TWO_PI
+
 DRIVER_EYE_HEIGHT = 1.25
 """Metres above the ground: the default eye point of the 3D mode."""
 

@@ -10,16 +10,13 @@ Bodies are numbered objects first (``0..n-1``), then static sources (``n + sourc
 
 from __future__ import annotations
 
-import math
-
 import numba
 import numpy as np
 
-from ...geometry.kernels import copy_rows, insertion_sort, wrap_positive
+from ...geometry.kernels import TWO_PI, copy_rows, insertion_sort, wrap_positive
 from ...geometry.occlusion import MIN_PIECE, RELATIVE_TOLERANCE, _edge_line_distance, _nearest_edge
 from .pieces import R_HI, R_LO
 
-TWO_PI = 2.0 * math.pi
 CANDIDATE_EPS = 1e-9  # radians; intervals this close count as overlapping (the exact test decides)
 
 

@@ -22,13 +22,12 @@ from collections import namedtuple
 import numba
 import numpy as np
 
-from ...geometry.kernels import argsort_stable, counting_sort, group_by_key, prefix_sum, reserve
+from ...geometry.kernels import TWO_PI, argsort_stable, counting_sort, group_by_key, prefix_sum, reserve
 from ...geometry.occlusion import MIN_PIECE
 from .decide import CANDIDATE_EPS, decided_pairs
 from .pieces import R_HI, R_LO
 
 PI = math.pi
-TWO_PI = 2.0 * math.pi
 STATIC_ACCEPT_ANGLE = 1e-9  # radians of overlap needed to accept a static edge without the exact test
 STATIC_ACCEPT_RELATIVE = 1e-7  # ... and it must lie nearer than (1 - this) times the target's nearest distance
 

@@ -23,10 +23,9 @@ from collections import namedtuple
 import numba
 import numpy as np
 
-from ...geometry.kernels import copy_into, group_by_key, prefix_sum, segment_distance2
+from ...geometry.kernels import TWO_PI, copy_into, group_by_key, prefix_sum, segment_distance2
 
 PI = math.pi
-TWO_PI = 2.0 * math.pi
 
 #: One frame's object edges, shared by all its observers. ``coords`` (m, 2) metres and ``offsets`` (n + 1,) are
 #: the ragged object rings; edge ``j`` runs from vertex ``j`` to vertex ``following[j]`` and belongs to ring

@@ -23,9 +23,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...geometry.kernels import argsort_stable, ray_line_distance, reserve_rows
+from ...geometry.kernels import TWO_PI, argsort_stable, ray_line_distance, reserve_rows
 
-TWO_PI = 2.0 * np.pi
 MIN_SPAN = 1e-12  # radians; edges subtending less point at the observer and bound nothing
 # radians; narrower shared intervals are not compared: where a body's silhouette ends, the polygon's radial edge
 # starts at the same bearing up to rounding, and a sliver this thin changes a visible angle by nothing that counts
