@@ -1,4 +1,5 @@
-"""Shared fixtures: scene builders and the real recordings in ../shared/data (skipped when absent)."""
+"""Shared fixtures: scene builders and the real recordings (the folder named by $OMEGA_PRIME_VISIBILITY_DATA, by
+default ../shared/data; skipped when absent)."""
 
 from __future__ import annotations
 
@@ -19,7 +20,10 @@ settings.register_profile("ci", print_blob=True, derandomize=True)
 settings.load_profile("ci" if os.environ.get("CI") else "dev")
 
 REPO = Path(__file__).resolve().parent.parent
-SHARED_DATA = REPO.parent / "shared" / "data"
+DATA_VARIABLE = "OMEGA_PRIME_VISIBILITY_DATA"
+"""The environment variable naming the folder of real recordings (esmini traces with their maps, the upstream
+``highway_merge.mcap``); by default ``../shared/data`` beside the repository."""
+SHARED_DATA = Path(os.environ.get(DATA_VARIABLE) or REPO.parent / "shared" / "data")
 
 
 def boxes_table(boxes: list[tuple[float, float, float, float, float]], frame: int = 0) -> pl.DataFrame:
@@ -41,9 +45,9 @@ def boxes_table(boxes: list[tuple[float, float, float, float, float]], frame: in
 
 @pytest.fixture(scope="session")
 def shared_data() -> Path:
-    """The folder of real esmini recordings; tests using it are skipped where it is absent."""
+    """The folder of real esmini recordings (:data:`DATA_VARIABLE`); tests using it are skipped where it is absent."""
     if not (SHARED_DATA / "highway_merge.mcap").exists():
-        pytest.skip(f"real recordings not available at {SHARED_DATA}")
+        pytest.skip(f"real recordings not available at {SHARED_DATA} (set {DATA_VARIABLE} to their folder)")
     return SHARED_DATA
 
 

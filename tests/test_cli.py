@@ -400,3 +400,21 @@ def test_engines_lists_the_defaults() -> None:
     lines = out.stdout.splitlines()
     assert "visilibity (--mode 2d, the default)" in lines and "silhouette3d (--mode 3d, the default)" in lines
     assert "raycast3d (--mode 3d, the default with static meshes)" in lines and lines[-1].startswith("area")
+
+
+def test_help_reads_as_a_shell_user_expects() -> None:
+    # usage lines name arguments as click does (RECORDING, INPUTS...), never in braces; the main help names every
+    # command; no jargon in the options
+    from omega_prime_visibility.cli.app import ORDER
+
+    main = subprocess.run(
+        [sys.executable, "-m", "omega_prime_visibility.cli", "--help"], capture_output=True, text=True
+    )
+    words = " ".join(main.stdout.split())
+    assert all(f"'{name}" in words for name in ORDER), words
+    for command, usage in (("run", "[OPTIONS] RECORDING"), ("batch", "[OPTIONS] INPUTS..."), ("report", "RECORDING")):
+        out = subprocess.run([sys.executable, "-m", "omega_prime_visibility.cli", command, "--help"],
+                             capture_output=True, text=True)  # fmt: skip
+        first = out.stdout.splitlines()[0]
+        assert usage in first and "{" not in first, first
+        assert "sampled" not in out.stdout

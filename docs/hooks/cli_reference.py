@@ -10,6 +10,7 @@ import click
 import typer
 
 MARKER = "<!-- cli-reference -->"
+WIDTH = 76  # columns: the help blocks fit the content column of the site (about 80 characters of code)
 
 
 def cli_reference() -> str:
@@ -18,11 +19,11 @@ def cli_reference() -> str:
 
     command = typer.main.get_command(app)
     parts = []
-    with click.Context(command, info_name="omega-prime-visibility", terminal_width=88) as ctx:
+    with click.Context(command, info_name="omega-prime-visibility", terminal_width=WIDTH) as ctx:
         parts.append(f"```text\n{command.get_help(ctx)}\n```")
         for name in command.list_commands(ctx):
             sub = command.get_command(ctx, name)
-            with click.Context(sub, info_name=name, parent=ctx, terminal_width=88) as sub_ctx:
+            with click.Context(sub, info_name=name, parent=ctx, terminal_width=WIDTH) as sub_ctx:
                 parts.append(f"## `{name}`\n\n```text\n{sub.get_help(sub_ctx)}\n```")
     return "\n\n".join(parts)
 

@@ -14,8 +14,9 @@ from .common import show_warning
 # text in square brackets is printed as written
 HELP = (
     "Exact visibility of road users in traffic recordings. 'run RECORDING' prints or writes the visibility table"
-    " of one recording; 'batch INPUTS -o FOLDER' computes many, locally or on a dask cluster; 'animate' renders a"
-    " GIF or MP4 and 'report' an interactive HTML page. Add --help after a command for its options."
+    " of one recording; 'batch INPUTS -o FOLDER' computes many, locally or on a dask cluster, and 'statistics"
+    " FOLDER' sums them up; 'animate' renders a GIF or MP4 and 'report' an interactive HTML page; 'engines' lists"
+    " the engines and 'compile' prepares them (make run does). Add --help after a command for its options."
 )
 ORDER = ("run", "batch", "statistics", "animate", "report", "engines", "compile")
 
@@ -30,6 +31,17 @@ class CommandsInOrder(typer.core.TyperGroup):
 app = typer.Typer(cls=CommandsInOrder, add_completion=False, no_args_is_help=True, help=HELP, rich_markup_mode=None)
 # an argument's metavar names it (RECORDING, INPUTS); typer would add its type as a tag (<path>, <list[str]>)
 typer.core.TyperArgument.display_type_rich = lambda self, ctx: None
+
+
+def _usage_name(self) -> str:
+    """An argument in the usage line as click writes it, RECORDING or [RECORDING] (typer writes a required one in
+    braces, {RECORDING}, which reads as a placeholder to type with its braces)."""
+    name = self.display_name_raw if self.required else f"[{self.display_name_raw}]"
+    return name + ("..." if self.nargs != 1 else "")
+
+
+if hasattr(typer.core.TyperArgument, "_usage_display_name"):
+    typer.core.TyperArgument._usage_display_name = _usage_name
 
 
 def _print_version(asked: bool) -> None:

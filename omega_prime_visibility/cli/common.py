@@ -177,8 +177,8 @@ Mode = Annotated[
     str,
     typer.Option(
         metavar="2d|3d",
-        help="2d (bird's-eye view) or 3d (boxes with heights, solid angles from the eye); both exact, 3d sampled"
-        " only with static meshes",
+        help="2d (bird's-eye view) or 3d (boxes with heights, solid angles from the eye); both exact (the API's"
+        " 3D meshes are ray-cast instead)",
     ),
 ]
 MapOccluders = Annotated[

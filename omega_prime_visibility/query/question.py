@@ -82,7 +82,7 @@ class Query:
     static_occluders : tuple of shapely geometries
     static_heights : float, tuple of float or None
         Tops of ``static_occluders`` (metres).
-    static_meshes : tuple of paths or ``trimesh.Trimesh``
+    static_meshes : tuple of paths or trimesh.Trimesh
         3D only.
     map_occluders : path, True or None
         An OpenDRIVE map (True: the recording's own) whose road objects block.
@@ -155,6 +155,8 @@ class Query:
         """A stable JSON text of the question: equal questions give equal texts, whatever the spelling (names of
         groups and types in one case, lists sorted); files and geometries by the SHA-256 of their content.
 
+        Examples
+        --------
         >>> Query(observers=[1, 0], targets=["CAR", "pedestrians"]).text() == Query(observers=(0, 1),
         ...     targets=["Pedestrians", "car"]).text()
         True
