@@ -13,37 +13,43 @@ PYTEST_ARGS ?= -n 2
 	python3 -m venv .tools
 	.tools/bin/python -m pip install --quiet uv
 
-run: | $(UV_DEP)
-	$(UV) run omega-prime-visibility compile
-	$(UV) run omega-prime-visibility run highway_merge.mcap --ego 0
+# the environment, installed once per change of the dependencies; later commands run in it without syncing again
+.venv/.installed: pyproject.toml uv.lock | $(UV_DEP)
+	@echo "installing into .venv/ and compiling its Python files once (the first time: a minute or two)"
+	$(UV) sync --compile-bytecode
+	@touch $@
+
+run: .venv/.installed
+	$(UV) run --no-sync omega-prime-visibility compile
+	$(UV) run --no-sync omega-prime-visibility run highway_merge.mcap --ego 0
 	@echo "the command line: source .venv/bin/activate, then omega-prime-visibility --help"
 
-lint: | $(UV_DEP)
-	$(UV) run ruff check .
-	$(UV) run ruff format --check .
+lint: .venv/.installed
+	$(UV) run --no-sync ruff check .
+	$(UV) run --no-sync ruff format --check .
 
-test: lint docs | $(UV_DEP)
-	$(UV) run pytest $(PYTEST_ARGS)
+test: lint docs
+	$(UV) run --no-sync pytest $(PYTEST_ARGS)
 
 # the documentation site (docs/ -> site/), warnings as errors; open site/index.html
-docs: | $(UV_DEP)
-	NO_MKDOCS_2_WARNING=1 $(UV) run mkdocs build --strict --quiet
+docs: .venv/.installed
+	NO_MKDOCS_2_WARNING=1 $(UV) run --no-sync mkdocs build --strict --quiet
 
-bench: | $(UV_DEP)
-	$(UV) run python benchmarks/bench.py --long 30000
-	$(UV) run python benchmarks/bench_sensors.py
-	$(UV) run python benchmarks/pictures.py
-	$(UV) run python benchmarks/agreement.py
-	$(UV) run python benchmarks/first_call.py
-	$(UV) run python benchmarks/bench_campaign.py
-	$(UV) run python benchmarks/bench_choices.py --frames 300
-	$(UV) run python benchmarks/bench_3d.py --quick
+bench: .venv/.installed
+	$(UV) run --no-sync python benchmarks/bench.py --long 30000
+	$(UV) run --no-sync python benchmarks/bench_sensors.py
+	$(UV) run --no-sync python benchmarks/pictures.py
+	$(UV) run --no-sync python benchmarks/agreement.py
+	$(UV) run --no-sync python benchmarks/first_call.py
+	$(UV) run --no-sync python benchmarks/bench_campaign.py
+	$(UV) run --no-sync python benchmarks/bench_choices.py --frames 300
+	$(UV) run --no-sync python benchmarks/bench_3d.py --quick
 
-bench-batch: | $(UV_DEP)
-	$(UV) run python benchmarks/bench_batch.py
+bench-batch: .venv/.installed
+	$(UV) run --no-sync python benchmarks/bench_batch.py
 
-scenario: | $(UV_DEP)
-	$(UV) run python scenarios/highway_merge.py -o highway_merge.mcap
+scenario: .venv/.installed
+	$(UV) run --no-sync python scenarios/highway_merge.py -o highway_merge.mcap
 
-pictures: | $(UV_DEP)
-	$(UV) run python scripts/make_pictures.py
+pictures: .venv/.installed
+	$(UV) run --no-sync python scripts/make_pictures.py

@@ -16,6 +16,8 @@ import inspect
 import os
 import re
 import sys
+import threading
+import time
 from pathlib import Path
 
 import numba
@@ -176,6 +178,38 @@ def announce_compilation(name: str, engine_class: type, path_key: str | None = N
         flush=True,
     )
     return True
+
+
+HEARTBEAT_S = 5.0
+"""Seconds between the lines that tell a first call is still compiling (never silent longer)."""
+
+
+class Heartbeat:
+    """A line on stderr every :data:`HEARTBEAT_S` seconds, from :meth:`start` until :meth:`stop`, saying that
+    ``what`` is still compiling (a first call's progress bar stays at 0 % meanwhile)."""
+
+    def __init__(self, what: str) -> None:
+        self.what = what
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+
+    def start(self) -> Heartbeat:
+        started = time.perf_counter()
+
+        def beat() -> None:
+            while not self._stop.wait(HEARTBEAT_S):
+                print(f"omega-prime-visibility: ... {time.perf_counter() - started:.0f} s, still compiling {self.what}",
+                      file=sys.stderr, flush=True)  # fmt: skip
+
+        self._thread = threading.Thread(target=beat, name="compile-heartbeat", daemon=True)
+        self._thread.start()
+        return self
+
+    def stop(self) -> None:
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join(timeout=1.0)
+            self._thread = None
 
 
 def mark_compiled(path_key: str) -> None:

@@ -16,7 +16,7 @@ import polars as pl
 import shapely
 from tqdm.auto import tqdm
 
-from ._compiled import announce_compilation, mark_compiled
+from ._compiled import Heartbeat, announce_compilation, mark_compiled
 from .inputs.objects import ObjectTable, OnInvalid, VisibilityInputWarning
 from .inputs.observers import EgoSpec, SensorSpec, describe_idx  # noqa: F401 (describe_idx: public here too)
 from .inputs.roles import RoleSpec, within_frames
@@ -250,7 +250,9 @@ def compute(
     path_key = engine if sensor_set is None else f"{engine}+sensors"  # the sensors' path compiles more kernels
     if objects.chosen and not passive_in_place(objects, scene.engine_class):  # so do the views of the choices
         path_key += "+views"
-    announce_compilation(engine, scene.engine_class, path_key)  # (the checks are done: work starts here)
+    beat = Heartbeat(f"the {engine} engine's kernels")
+    if announce_compilation(engine, scene.engine_class, path_key):  # (the checks are done: work starts here)
+        beat.start()  # a line every few seconds until the first frames are done: a first call is never silent
     show = objects.n_frames >= PROGRESS_MIN_FRAMES if progress is None else progress
     bar = tqdm(total=objects.n_frames, disable=not show, desc="visibility", unit="frame")
     containment = ContainmentLog()
@@ -272,6 +274,7 @@ def compute(
                              **spread)  # fmt: skip
                 written = 0
                 for n_frames, result, log in frames:
+                    beat.stop()
                     containment.merge(log)
                     if sink is not None:
                         written += result
@@ -279,6 +282,7 @@ def compute(
                         tables.append(with_can_see(to_polars(finish.columns(result), with_ego, names), mode))
                     bar.update(n_frames)
         finally:
+            beat.stop()
             bar.close()
         if sink is not None and not written:
             sink.write_empty()

@@ -147,3 +147,19 @@ def test_a_first_run_says_it_compiles_and_a_later_one_does_not(monkeypatch, caps
         get_visibility_df(table, 0, engine="visilibity")
     assert "compiling the visilibity engine's kernels" in capsys.readouterr().err
     assert not (tmp_path / ".ran-visilibity").exists()
+
+
+def test_a_first_call_is_never_silent_while_it_compiles(monkeypatch, capsys) -> None:
+    # the heartbeat says every HEARTBEAT_S seconds that the kernels are still compiling, and stops when told
+    import time
+
+    from omega_prime_visibility import _compiled
+
+    monkeypatch.setattr(_compiled, "HEARTBEAT_S", 0.05)
+    beat = _compiled.Heartbeat("the sweep engine's kernels").start()
+    time.sleep(0.3)
+    beat.stop()
+    said = capsys.readouterr().err.splitlines()
+    assert len(said) >= 3 and all("still compiling the sweep engine's kernels" in line for line in said)
+    time.sleep(0.15)
+    assert capsys.readouterr().err == ""  # stopped: silent
