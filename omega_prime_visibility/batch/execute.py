@@ -155,8 +155,11 @@ def _init_worker(parent_pid: int) -> None:
 
 
 def _terminate(signum, frame) -> None:
-    if file_task.BUSY:
-        raise file_task.WorkerTerminated  # unwinds through atomic_write, which removes the temporary file
+    """Stopped by the batch: remove what this worker was writing (its temporary files; a result already renamed
+    into place is complete and stays) and exit at once. No exception is raised to unwind: one raised inside a
+    finaliser that runs at that moment would be printed and swallowed, and the worker would go on."""
+    if file_task.CURRENT is not None:
+        remove_leftovers(Path(file_task.CURRENT))
     os._exit(143)
 
 

@@ -41,31 +41,26 @@ class FileResult:
 WARNING_SEPARATOR = " | "
 """Between the warnings of one recording in the summary's ``warnings`` column."""
 
-BUSY = False  # whether this process is inside process_file (a pool worker's SIGTERM handler asks)
-
-
-class WorkerTerminated(BaseException):
-    """Raised in a pool worker by SIGTERM, so a result being written is removed before the process ends."""
+CURRENT: str | None = None
+"""The result this process is computing (a pool worker's SIGTERM handler removes its temporary files)."""
 
 
 def process_file(task: FileTask) -> FileResult:
     """Compute one recording's visibility table and write it atomically to ``task.result`` with the options in its
     parquet metadata; every error becomes a failed :class:`FileResult` with a one-line message."""
-    global BUSY
+    global CURRENT
     start = time.perf_counter()
     caught: list[warnings.WarningMessage] = []
     try:
-        BUSY = True
+        CURRENT = task.result
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             rows = _compute_and_write(task)
-    except WorkerTerminated:
-        os._exit(143)  # atomic_write has removed the temporary file on the way here
     except Exception as e:
         message = str(e) if isinstance(e, ValueError) else f"{type(e).__name__}: {e}"
         return FileResult(task.recording, task.result, "failed", None, time.perf_counter() - start, _one_line(message))
     finally:
-        BUSY = False
+        CURRENT = None
     notes = sorted({_one_line(str(w.message)) for w in caught if not issubclass(w.category, DeprecationWarning)})
     return FileResult(
         task.recording,
