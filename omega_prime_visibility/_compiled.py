@@ -20,9 +20,6 @@ import threading
 import time
 from pathlib import Path
 
-import numba
-from numba.core.caching import UserProvidedCacheLocator
-
 PACKAGE = Path(__file__).resolve().parent
 USES_NUMBA = re.compile(rb"^\s*(?:import numba|from numba[ .])", re.MULTILINE)
 
@@ -114,10 +111,20 @@ def remembered_sources_key(root: Path = PACKAGE) -> str:
     return key
 
 
+OWN_FOLDER = "OMEGA_PRIME_VISIBILITY_NUMBA_CACHE"
+"""Set beside ``NUMBA_CACHE_DIR`` when this package chose that folder, so that a worker process inheriting both
+knows the folder is the package's own and not the user's choice."""
+
+
 def use_versioned_cache() -> str | None:
-    """Point numba's cache at :func:`cache_folder` of the current sources (unless ``NUMBA_CACHE_DIR`` is set);
-    return the folder used, or ``None`` when numba's default applies."""
-    if os.environ.get("NUMBA_CACHE_DIR") or numba.config.CACHE_DIR:
+    """Point numba's cache at :func:`cache_folder` of the current sources (unless the user chose a folder with
+    ``NUMBA_CACHE_DIR``); return the folder used, or ``None`` when the user's folder or numba's default applies.
+
+    numba itself is not imported here (importing the package stays quick): where it is not imported yet, the folder
+    goes into ``NUMBA_CACHE_DIR``, which numba reads when it is imported; where it is, into its config."""
+    numba = sys.modules.get("numba")
+    chosen = numba.config.CACHE_DIR if numba is not None else os.environ.get("NUMBA_CACHE_DIR", "")
+    if chosen and chosen != os.environ.get(OWN_FOLDER):  # the user's own folder
         return None
     try:
         folder = cache_folder(remembered_sources_key())
@@ -127,13 +134,18 @@ def use_versioned_cache() -> str | None:
         probe.unlink()
     except (OSError, RuntimeError, KeyError):  # no home, a read-only file system: numba's default
         return None
-    numba.config.CACHE_DIR = str(folder)
+    os.environ["NUMBA_CACHE_DIR"] = os.environ[OWN_FOLDER] = str(folder)
+    if numba is not None:
+        numba.config.CACHE_DIR = str(folder)
     return str(folder)
 
 
 def compiled_before(source: Path) -> bool:
     """Whether numba's cache holds kernels of the module ``source`` (a ``.py`` file), or of any module in it (a
     folder)."""
+    import numba
+    from numba.core.caching import UserProvidedCacheLocator
+
     folder = source if source.is_dir() else source.parent
     if numba.config.CACHE_DIR:
         cached = Path(numba.config.CACHE_DIR) / UserProvidedCacheLocator.get_suitable_cache_subpath(str(folder / "_"))
@@ -150,6 +162,8 @@ ANNOUNCE = True
 def marker(path_key: str) -> Path | None:
     """The file saying that one path of an engine (``path_key``, e.g. ``"sweep"`` or ``"sweep+sensors"``) ran to the
     end with the current cache, so its kernels are there; None where numba caches next to the sources."""
+    import numba
+
     folder = numba.config.CACHE_DIR
     return Path(folder) / f".ran-{path_key}" if folder else None
 

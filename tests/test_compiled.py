@@ -85,6 +85,22 @@ def test_kernels_are_cached_under_a_folder_keyed_by_the_sources(tmp_path: Path) 
     assert list(expected.rglob("*.nbi")), "the kernel called was not cached there"
 
 
+def test_importing_the_package_is_quick_and_sets_the_cache_before_numba_loads(tmp_path: Path) -> None:
+    # the package imported first: numba is not loaded by it (import stays quick), and when a kernel loads numba
+    # later, numba caches in the package's folder all the same
+    probe = (
+        "import sys, omega_prime_visibility as o; print('numba' in sys.modules, 'polars' in sys.modules);"
+        " from omega_prime_visibility.geometry.kernels import wrap_positive; import numba; wrap_positive(-1.0);"
+        " print(numba.config.CACHE_DIR); print(o._compiled.CACHE_FOLDER)"
+    )
+    clean = {k: v for k, v in os.environ.items() if k not in ("NUMBA_CACHE_DIR", "XDG_CACHE_HOME")}
+    out = subprocess.run([sys.executable, "-c", probe], env={**clean, "XDG_CACHE_HOME": str(tmp_path)},
+                         capture_output=True, text=True, check=True).stdout.split()  # fmt: skip
+    expected = tmp_path / "omega-prime-visibility" / "numba" / sources_key()
+    assert out == ["False", "False", str(expected), str(expected)]
+    assert list(expected.rglob("*.nbi"))
+
+
 def test_a_cache_folder_the_user_chose_is_left_alone(tmp_path: Path) -> None:
     cache_dir, folder = run_probe(NUMBA_CACHE_DIR=str(tmp_path / "mine"))
     assert cache_dir == str(tmp_path / "mine") and folder == "None"
