@@ -156,3 +156,30 @@ def test_headings_within_a_turn_say_nothing() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         load_objects(df)
+
+
+def test_a_part_of_the_table_keeps_every_per_row_field() -> None:
+    # frames 1..2 of three, and some rows: every per-row field comes along (the heading flags were once dropped)
+    from dataclasses import fields
+
+    import numpy as np
+
+    boxes = [shapely.box(x, -1, x + 4, 1) for x in (0.0, 10.0, 20.0)]
+    df = pl.DataFrame(
+        {"frame": [0, 0, 0, 1, 1, 1, 2, 2, 2], "total_nanos": [0, 0, 0, 1, 1, 1, 2, 2, 2], "idx": [0, 1, 2] * 3,
+         "x": [2.0, 12.0, 22.0] * 3, "y": [0.0] * 9, "yaw": [0.0, float("nan"), 0.0] * 3,
+         "polygon": pl.Series(boxes * 3, dtype=pl.Object)}
+    )  # fmt: skip
+    objects = load_objects(df, occluders=[1], targets=[2])
+    assert objects.heading_known is not None and objects.blocks is not None and objects.wanted is not None
+    s, e = int(objects.frame_starts[1]), int(objects.frame_starts[3])
+    for part, rows in (
+        (objects.frame_range(1, 3), np.arange(s, e)),
+        (objects.take_rows(np.array([1, 4, 7])), [1, 4, 7]),
+    ):
+        for f in fields(objects):
+            whole, got = getattr(objects, f.name), getattr(part, f.name)
+            if f.name == "rings":
+                assert [got.ring(k).tolist() for k in range(len(rows))] == [whole.ring(r).tolist() for r in rows]
+            elif f.name != "frame_starts" and whole is not None:
+                assert np.array_equal(got, whole[rows]), f.name

@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Literal
 
 import numpy as np
@@ -98,18 +98,7 @@ class ObjectTable:
     def frame_range(self, start: int, stop: int) -> ObjectTable:
         """Frames ``start`` to ``stop - 1`` (0-based positions) as a table of their own."""
         s, e = int(self.frame_starts[start]), int(self.frame_starts[stop])
-        return ObjectTable(
-            self.frame[s:e],
-            self.total_nanos[s:e],
-            self.idx[s:e],
-            self.position[s:e],
-            self.yaw[s:e],
-            self.rings.slice(s, e),
-            self.frame_starts[start : stop + 1] - s,
-            None if self.boxes3d is None else self.boxes3d[s:e],
-            None if self.blocks is None else self.blocks[s:e],
-            None if self.wanted is None else self.wanted[s:e],
-        )
+        return self._with_rows(slice(s, e), self.rings.slice(s, e), self.frame_starts[start : stop + 1] - s)
 
     def take_rows(self, rows: np.ndarray) -> ObjectTable:
         """The rows ``rows`` (ascending positions) as a table of their own (frames left empty drop out)."""
@@ -118,14 +107,19 @@ class ObjectTable:
         frame_starts = np.concatenate([[0], np.flatnonzero(np.diff(frame)) + 1, [len(frame)]]).astype(np.int64)
         if len(frame) == 0:
             frame_starts = np.zeros(1, dtype=np.int64)
-        return ObjectTable(
-            frame,
-            self.total_nanos[rows],
-            self.idx[rows],
-            self.position[rows],
-            self.yaw[rows],
-            self.rings.take(rows),
-            frame_starts,
-            *(None if values is None else values[rows] for values in (self.boxes3d, self.blocks, self.wanted)),
-            None if self.heading_known is None else self.heading_known[rows],
-        )
+        return self._with_rows(rows, self.rings.take(rows), frame_starts)
+
+    def _with_rows(self, rows: slice | np.ndarray, rings: Rings, frame_starts: np.ndarray) -> ObjectTable:
+        """The table of ``rows`` (a slice or positions) with their ``rings`` and ``frame_starts``: every per-row
+        field taken by name, so a field added to the table is never dropped here."""
+        values = {}
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.name == "rings":
+                value = rings
+            elif f.name == "frame_starts":
+                value = frame_starts
+            elif value is not None:
+                value = value[rows]
+            values[f.name] = value
+        return ObjectTable(**values)
