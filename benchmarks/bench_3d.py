@@ -28,7 +28,8 @@ import numpy as np
 import polars as pl
 
 from omega_prime_visibility import get_visibility_df
-from omega_prime_visibility.engines import Reason, Viewpoint, get_engine
+from omega_prime_visibility.engines import Reason, Viewpoint
+from omega_prime_visibility.engines.registry import get_engine
 from omega_prime_visibility.engines.silhouette3d import box_visibility
 from omega_prime_visibility.geometry.rings import box_rings
 from omega_prime_visibility.inputs.objects import FrameObjects

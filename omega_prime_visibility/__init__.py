@@ -18,8 +18,8 @@ except PackageNotFoundError:  # (the sources used without installing them)
     __version__ = "0+unknown"
 
 _WHERE = {
-    "ENGINES": "engines",
-    "ENGINES_3D": "engines",
+    "ENGINES": "engines.registry",
+    "ENGINES_3D": "engines.registry",
     "Observation": "engines",
     "Reason": "engines",
     "Viewpoint": "engines",

@@ -153,7 +153,7 @@ def test_a_first_run_says_it_compiles_and_a_later_one_does_not(monkeypatch, caps
         get_visibility_df(boxes, 0, mode="3d", engine="silhouette3d")
         assert ("compiling the silhouette3d engine's kernels" in capsys.readouterr().err) == cold
     # a run that fails half-way leaves no marker: the next one still announces
-    from omega_prime_visibility import api
+    from omega_prime_visibility.table import compute as api
 
     def broken(*args, **kwargs):
         raise RuntimeError("killed half-way")

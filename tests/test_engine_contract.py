@@ -229,3 +229,16 @@ def test_a_target_seen_only_along_a_line_through_wall_corners_is_occluded(engine
     df = get_visibility_df(table, 0, walls, engine=engine, sensors=[Sensor("all_round")])
     assert row(df, 1)["visibility"] == 0.0 and row(df, 1)["status"] == "occluded"
     assert row(df, 1)["static_occluder_idxs"] == ([0, 1, 2, 3] if beyond else [0, 1, 2])
+
+
+def test_every_registered_engine_declares_the_contract() -> None:
+    # the contract is explicit: every engine says its name, measure, whether it measures passive targets itself and
+    # whether it offers observe_chunk (the pipeline asks these, never probes with hasattr)
+    from omega_prime_visibility.engines.registry import ENGINES, ENGINES_3D, ENGINES_AREA, get_engine
+
+    for name in [*ENGINES, *ENGINES_3D, *ENGINES_AREA]:
+        engine = get_engine(name)
+        for attribute in ("name", "measure", "passive_targets", "chunked"):
+            assert attribute in {k for c in engine.__mro__ for k in vars(c)}, (name, attribute)
+        assert engine.chunked == callable(getattr(engine, "observe_chunk", None)), name
+        assert isinstance(engine.passive_targets, bool) and isinstance(engine.chunked, bool)

@@ -10,8 +10,8 @@ import pytest
 import shapely
 
 from omega_prime_visibility.engines import Reason, Viewpoint
-from omega_prime_visibility.engines import get_engine as get_engine_class
 from omega_prime_visibility.engines.raycast3d import FastRaycastEngine, HighRaycastEngine, RaycastEngine
+from omega_prime_visibility.engines.registry import get_engine as get_engine_class
 from omega_prime_visibility.engines.silhouette3d import box_visibility
 from omega_prime_visibility.geometry.rings import box_rings
 from omega_prime_visibility.inputs.objects import FrameObjects

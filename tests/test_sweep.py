@@ -29,7 +29,8 @@ from reference import (
 from shapely import affinity
 
 from omega_prime_visibility import get_visibility_df
-from omega_prime_visibility.engines import Viewpoint, get_engine
+from omega_prime_visibility.engines import Viewpoint
+from omega_prime_visibility.engines.registry import get_engine
 from omega_prime_visibility.engines.sweep import SweepEngine
 from omega_prime_visibility.engines.sweep.crossings import prepare_frame
 from omega_prime_visibility.geometry.rings import angular_extent, box_rings

@@ -18,7 +18,7 @@ import shapely
 from conftest import REPO
 
 from omega_prime_visibility import VisibilityInputWarning, get_visibility_df
-from omega_prime_visibility.engines import get_engine
+from omega_prime_visibility.engines.registry import get_engine
 from omega_prime_visibility.inputs.scene import load_objects
 from omega_prime_visibility.inputs.statics import load_static_occluders
 from omega_prime_visibility.table.pipeline import viewpoints

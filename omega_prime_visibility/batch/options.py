@@ -71,8 +71,8 @@ class FileOptions:
     measure: str = "angle"
 
     def __post_init__(self) -> None:
+        from ..engines.registry import check_mode, resolve_engine, resolve_measure
         from ..inputs.sensors import resolve_sensors
-        from ..threed.mode import check_mode, resolve_engine, resolve_measure
 
         ego = self.ego
         if isinstance(ego, list | tuple) and ego and all(is_int(v) for v in ego):

@@ -8,7 +8,7 @@ import sys
 
 import typer
 
-from ..engines import ENGINES, ENGINES_3D
+from ..engines.registry import ENGINES, ENGINES_3D
 from . import batch, compile_kernels, pictures, run, statistics  # noqa: F401  (each registers its commands on the app)
 from .app import HELP, app
 from .batch import print_summary
@@ -20,7 +20,7 @@ __all__ = ["HELP", "app", "fail", "main", "print_summary"]
 @app.command(short_help="list the available engines")
 def engines() -> None:
     """List the available engines, each mode's default marked, and the area measure's own."""
-    from ..threed.mode import DEFAULT_ENGINES, MESH_ENGINE
+    from ..engines.registry import DEFAULT_ENGINES, MESH_ENGINE
 
     for name in sorted(ENGINES):
         typer.echo(f"{name} (--mode 2d{', the default' if name == DEFAULT_ENGINES['2d'] else ''})")

@@ -9,7 +9,7 @@ from typing import Annotated
 
 import typer
 
-from ..engines import ENGINES, ENGINES_3D
+from ..engines.registry import ENGINES, ENGINES_3D
 
 
 def show_warning(message, category, filename, lineno, file=None, line=None) -> None:

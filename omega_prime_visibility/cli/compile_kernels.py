@@ -18,7 +18,7 @@ import polars as pl
 import typer
 
 from .. import _compiled
-from ..engines import ENGINES, ENGINES_3D
+from ..engines.registry import ENGINES, ENGINES_3D
 from .app import app
 from .common import fail
 

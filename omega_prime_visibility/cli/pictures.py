@@ -8,7 +8,7 @@ from typing import Annotated
 import numpy as np
 import typer
 
-from ..engines import ENGINES, ENGINES_3D
+from ..engines.registry import ENGINES, ENGINES_3D
 from .app import app
 from .common import (
     MapOccluders,

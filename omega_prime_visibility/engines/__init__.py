@@ -8,23 +8,24 @@ Every engine has the same contract, so the front end never asks which one it run
 - ``Engine.passive_targets`` says whether it measures targets that may not block (``occluders=``) itself;
 - ``Engine.measure`` says what its angles are: ``"radians"`` for the 2D engines (a 3D engine measures solid
   angles, ``"steradians"``, with the same occluder layout);
-- optionally, ``engine.observe_chunk(objects, viewpoints)`` observes a whole chunk of frames at once from
-  :class:`ChunkViewpoints` that see all around without range, returning one :class:`ChunkObservation` with the
-  same numbers ``observe`` gives frame by frame (an engine with a compiled loop over frames offers it, so that
-  small scenes pay no per-frame Python).
+- ``Engine.chunked`` says whether it offers ``engine.observe_chunk(objects, viewpoints)``: a whole chunk of frames
+  at once from :class:`ChunkViewpoints` that see all around without range, returning one :class:`ChunkObservation`
+  with the same numbers ``observe`` gives frame by frame (an engine with a compiled loop over frames offers it, so
+  that small scenes pay no per-frame Python).
 
 An engine that cannot compute a frame exactly raises :class:`EngineFailure`; the pipeline then computes that frame
 with :data:`FALLBACK_ENGINE` and says so in a warning.
 
 What the numbers mean in the table (the policy keyed on the :class:`Reason` codes) lives in :mod:`..table`.
-A new engine is one module and one line in :data:`ENGINES`.
+Which engines exist, and which one a question takes, lives in :mod:`.registry` (engines never import it): a new
+engine is one module and one line in :data:`.registry.ENGINES`.
 """
 
 from __future__ import annotations
 
 import enum
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import ClassVar, Protocol
 
@@ -273,69 +274,14 @@ class Engine(Protocol):
     passive_targets: ClassVar[bool]
     """Whether the engine measures :attr:`Viewpoint.passive` targets itself (else the front end gives each group
     of them a view of its own, see :mod:`..table.selection`)."""
+    chunked: ClassVar[bool]
+    """Whether the engine offers ``observe_chunk`` (a whole chunk of frames at once, see the module docstring)."""
 
     def __init__(self, statics: StaticOccluders) -> None: ...
 
     def observe(self, objects: FrameObjects, viewpoints: Sequence[Viewpoint]) -> list[Observation]:
         """One observation per viewpoint of this frame."""
         ...
-
-
-def _visilibity() -> type:
-    from .visilibity import VisiLibityEngine
-
-    return VisiLibityEngine
-
-
-def _sweep() -> type:
-    from .sweep import SweepEngine
-
-    return SweepEngine
-
-
-ENGINES: dict[str, Callable[[], type]] = {"visilibity": _visilibity, "sweep": _sweep}
-
-
-def _raycast3d(setting: str) -> Callable[[], type]:
-    def load() -> type:
-        from .raycast3d import FastRaycastEngine, HighRaycastEngine, RaycastEngine
-
-        return {"default": RaycastEngine, "high": HighRaycastEngine, "fast": FastRaycastEngine}[setting]
-
-    return load
-
-
-def _silhouette3d() -> type:
-    from .silhouette3d import SilhouetteEngine
-
-    return SilhouetteEngine
-
-
-ENGINES_3D: dict[str, Callable[[], type]] = {
-    "raycast3d": _raycast3d("default"),
-    "raycast3d-high": _raycast3d("high"),
-    "raycast3d-fast": _raycast3d("fast"),
-    "silhouette3d": _silhouette3d,
-}
-"""The 3D engines (``mode="3d"``): Embree ray casting at three settings, and the exact box engine."""
-
-
-def _area() -> type:
-    from .area import AreaEngine
-
-    return AreaEngine
-
-
-ENGINES_AREA: dict[str, Callable[[], type]] = {"area": _area}
-"""The engine of the area measure (``measure="area"``): exact polygon clipping of footprints and shadows."""
-
-
-def get_engine(name: str) -> type[Engine]:
-    """The engine class registered under ``name`` (2D, 3D or the area measure's)."""
-    try:
-        return {**ENGINES, **ENGINES_3D, **ENGINES_AREA}[name]()
-    except KeyError:
-        raise ValueError(f"unknown engine {name!r}; available: {sorted(ENGINES)} (3D: {sorted(ENGINES_3D)})") from None
 
 
 def group_pairs(key: np.ndarray, value: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -349,3 +295,16 @@ def group_pairs(key: np.ndarray, value: np.ndarray, n: int) -> tuple[np.ndarray,
     offsets = np.zeros(n + 1, dtype=np.int64)
     np.cumsum(np.bincount(key, minlength=n), out=offsets[1:])
     return offsets, value.astype(np.int64)
+
+
+REGISTRY_NAMES = ("ENGINES", "ENGINES_3D", "ENGINES_AREA", "get_engine")
+"""Names of :mod:`.registry` importable from here too (documented paths): loaded on first use, so that this
+contract never imports the registry."""
+
+
+def __getattr__(name: str):
+    if name in REGISTRY_NAMES:
+        from . import registry
+
+        return getattr(registry, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -41,6 +41,7 @@ class AreaEngine:
     name = "area"
     measure = "square metres"
     passive_targets = False
+    chunked = False
     compiled = True
     """Whether frames without static occluders take the compiled path (:mod:`.area_pieces`); the general path
     (polygon clipping) takes them when False, as the tests compare."""

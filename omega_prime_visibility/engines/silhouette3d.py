@@ -309,6 +309,7 @@ class SilhouetteEngine:
     name: ClassVar[str] = "silhouette3d"
     measure: ClassVar[str] = "steradians"
     passive_targets: ClassVar[bool] = False
+    chunked: ClassVar[bool] = False
 
     def __init__(self, statics: StaticOccluders, meshes_elsewhere: bool = False) -> None:
         solids = getattr(statics, "solids", None)

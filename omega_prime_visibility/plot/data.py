@@ -16,7 +16,7 @@ import numpy as np
 import polars as pl
 import shapely
 
-from ..engines import get_engine
+from ..engines.registry import get_engine
 from ..engines.visilibity import VisiLibityEngine
 from ..inputs.objects import ObjectTable
 from ..inputs.scene import as_polars
@@ -334,7 +334,8 @@ def of_best_sensor(column: str) -> pl.Expr:
 def frames_table(df: Any, question: Query, frame_numbers: Sequence[int]) -> pl.DataFrame:
     """The visibility table of ``question`` in the frames ``frame_numbers`` only (for what the per-frame views
     do not compute themselves, such as ``mode="3d"`` or the area measure)."""
-    from ..api import compute, within_recording
+    from ..api import within_recording
+    from ..table.compute import compute
 
     table = as_polars(df)
     rows = table.filter(pl.col("frame").is_in(list(frame_numbers)))

@@ -34,10 +34,10 @@ import numpy as np
 import polars as pl
 import shapely
 
+from ..engines.registry import check_mode, resolve_measure
 from ..inputs.roles import RoleSpec, canonical_name, check_names
 from ..inputs.sensors import Sensor, is_layout, resolve_sensors
 from ..inputs.statics import load_static_occluders
-from ..threed.mode import check_mode, resolve_measure
 from ..threed.statics import check_heights
 
 

@@ -19,7 +19,8 @@ from typing import Any
 import numpy as np
 import polars as pl
 
-from ..engines import Engine, get_engine
+from ..engines import Engine
+from ..engines.registry import get_engine
 from ..inputs.objects import ObjectTable, VisibilityInputWarning
 from ..inputs.observers import describe_idx, observers_with_heading, resolve_egos
 from ..inputs.roles import describe as describe_choice

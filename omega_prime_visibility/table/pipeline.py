@@ -17,8 +17,9 @@ from typing import Any
 
 import numpy as np
 
-from ..engines import FALLBACK_ENGINE, ChunkViewpoints, Engine, EngineFailure, Viewpoint, get_engine
+from ..engines import FALLBACK_ENGINE, ChunkViewpoints, Engine, EngineFailure, Viewpoint
 from ..engines.observe3d import holding_eye, static_heights, statics_holding_eye
+from ..engines.registry import get_engine
 from ..inputs.containment import covers_points, covers_points_by_frame
 from ..inputs.objects import FrameObjects, ObjectTable
 from ..inputs.sensors import TWO_PI, Sensor, sensor_poses
@@ -243,7 +244,7 @@ def run_chunk(
     """All frames of ``objects`` with a fresh engine; plain arrays by column name, and the containment log."""
     eng = get_engine(engine)(statics)
     containment = ContainmentLog()
-    if hasattr(eng, "observe_chunk") and unlimited(sensors):  # the whole chunk in compiled loops
+    if eng.chunked and unlimited(sensors):  # the whole chunk in compiled loops
         views, owners = chunk_viewpoints(objects, egos, statics, sensors)
         per_observer = sensors_per_observer(sensors)
         sensor_codes = None if sensors is None else np.tile(np.arange(per_observer), len(views) // per_observer)

@@ -213,7 +213,7 @@ def _fill_views(target_offsets, transparent, blocks, group, counts, centre, half
 def passive_in_place(objects: ObjectTable | FrameObjects, engine: type | object) -> bool:
     """Whether the choices are ``occluders=`` alone and the engine measures passive targets itself: then the
     viewpoints go to it as they are (:func:`with_passive_targets`), with no views."""
-    return objects.wanted is None and objects.blocks is not None and bool(getattr(engine, "passive_targets", False))
+    return objects.wanted is None and objects.blocks is not None and bool(engine.passive_targets)
 
 
 def with_passive_targets(views: ChunkViewpoints, owners: np.ndarray, objects: ObjectTable) -> ChunkViewpoints:

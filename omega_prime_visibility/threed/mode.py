@@ -22,64 +22,13 @@ import numpy as np
 import polars as pl
 import shapely
 
-from ..engines import ENGINES, ENGINES_3D
 from ..inputs.objects import VisibilityInputWarning
 from ..inputs.sensors import DRIVER_EYE_HEIGHT
 from ..inputs.statics import StaticOccluders, load_static_occluders
 from .statics import blocks_in_2d, check_heights, static_solids
 
 Mode = Literal["2d", "3d"]
-DEFAULT_ENGINES = {"2d": "visilibity", "3d": "silhouette3d"}
-"""Each mode's default engine; in 3D the exact engine, or the ray engine when meshes are given (:data:`MESH_ENGINE`)."""
-MESH_ENGINE = "raycast3d"
-"""The 3D default where static meshes are given: meshes are not convex prisms, so they are ray-cast."""
-
-
-def check_mode(mode: str) -> Mode:
-    """``mode`` if it is "2d" or "3d" (any case), else a ValueError."""
-    m = str(mode).lower()
-    if m not in DEFAULT_ENGINES:
-        raise ValueError(f"mode must be '2d' or '3d', not {mode!r}")
-    return m  # type: ignore[return-value]
-
-
-def resolve_engine(engine: str | None, mode: Mode, meshes: bool = False) -> str:
-    """The engine for ``mode``: the given name (checked against that mode's registry) or the mode's default
-    (in 3D with static meshes, :data:`MESH_ENGINE`)."""
-    if engine is None:
-        return MESH_ENGINE if meshes and mode == "3d" else DEFAULT_ENGINES[mode]
-    names = ENGINES_3D if mode == "3d" else ENGINES
-    if engine not in names:
-        other = "3d" if mode == "2d" else "2d"
-        hint = f" ({engine!r} is a {other} engine: pass mode={other!r})" if engine in {**ENGINES, **ENGINES_3D} else ""
-        raise ValueError(f"unknown engine {engine!r} for mode {mode!r}; available: {sorted(names)}{hint}")
-    return engine
-
-
-MEASURES = ("angle", "area")
-"""What ``visibility`` measures: the share of the target's angular extent (``"angle"``, the default) or of its
-footprint's area (``"area"``, 2D only, :mod:`..engines.area`)."""
-
-
-def resolve_measure(measure: str, engine: str | None, mode: Mode, meshes: bool = False) -> str:
-    """The engine for ``measure`` (and ``engine``, ``mode``): the area measure has its own engine, ``"area"``.
-
-    Raises
-    ------
-    ValueError
-        An unknown measure, the area measure in 3D or with another engine, or an unknown engine.
-    """
-    if measure not in MEASURES:
-        raise ValueError(f"unknown measure {measure!r}; use 'angle' (the default) or 'area'")
-    if measure == "angle":
-        return resolve_engine(engine, mode, meshes)
-    if mode == "3d":
-        raise ValueError("measure='area' measures footprints in 2D; use mode='2d' (or measure='angle' in 3D)")
-    if engine not in (None, "area"):
-        raise ValueError(
-            f"measure='area' has its own exact engine (polygon clipping); leave engine unset, not {engine!r}"
-        )
-    return "area"
+"""Bird's-eye view or boxes with heights."""
 
 
 def load_statics(

@@ -83,6 +83,7 @@ class RaycastEngine:
     name: ClassVar[str] = "raycast3d"
     measure: ClassVar[str] = "steradians"
     passive_targets: ClassVar[bool] = False
+    chunked: ClassVar[bool] = False
     setting: ClassVar[str] = "default"
 
     def __init__(self, statics: StaticOccluders) -> None:

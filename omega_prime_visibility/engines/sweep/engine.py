@@ -25,6 +25,7 @@ class SweepEngine:
     name = "sweep"
     measure = "radians"
     passive_targets = True  # measured against the blocking bodies' sweep (see .passive)
+    chunked = True  # observe_chunk: a chunk of frames in two compiled calls
 
     def __init__(self, statics: StaticOccluders) -> None:
         self.statics = statics

@@ -55,6 +55,7 @@ class VisiLibityEngine:
     name = "visilibity"
     measure = "radians"
     passive_targets = False
+    chunked = True  # observe_chunk: a chunk of frames in compiled loops around VisiLibity's calls
 
     def __init__(
         self,
