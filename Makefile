@@ -44,6 +44,7 @@ bench: .venv/.installed
 	$(UV) run --no-sync python benchmarks/bench_campaign.py
 	$(UV) run --no-sync python benchmarks/bench_choices.py --frames 300
 	$(UV) run --no-sync python benchmarks/bench_3d.py --quick
+	$(UV) run --no-sync python benchmarks/bench_urban.py
 
 bench-batch: .venv/.installed
 	$(UV) run --no-sync python benchmarks/bench_batch.py
