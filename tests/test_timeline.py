@@ -123,11 +123,23 @@ def test_an_interrupted_export_keeps_the_previous_file(tmp_path, monkeypatch) ->
     assert [p.name for p in tmp_path.iterdir()] == ["t.svg"] and target.read_bytes() == old
 
 
-def test_status_colours_are_okabe_ito_and_tell_every_status_apart() -> None:
-    from omega_prime_visibility.plot.style import OKABE_ITO
+def test_status_colours_tell_every_status_apart_and_dark_means_hidden() -> None:
+    from matplotlib.colors import to_rgb
+
+    from omega_prime_visibility.plot.style import CIVIDIS, CLASS_COLOURS
 
     colours = list(STATUS_COLOURS.values())
     assert len(set(colours)) == len(colours) == 5
-    # visible, partly visible and occluded from the colour-blind-safe palette; the two "not in view" statuses grey
-    assert {STATUS_COLOURS[s] for s in ("visible", "partly_visible", "occluded")} <= set(OKABE_ITO.values())
+
+    def lightness(colour: str) -> float:
+        r, g, b = to_rgb(colour)
+        return 0.2126 * r + 0.7152 * g + 0.0722 * b
+
+    # one colour meaning everywhere: the visibility scale's ends and middle (dark = hidden), as the timelines by
+    # visibility colour them; the two "not in view" statuses light greys
+    assert (STATUS_COLOURS["occluded"], STATUS_COLOURS["visible"]) == (CIVIDIS[0], CIVIDIS[-1])
+    assert lightness(STATUS_COLOURS["occluded"]) < lightness(STATUS_COLOURS["partly_visible"]) < 0.6
     assert all(c[1:3] == c[3:5] == c[5:7] for c in (STATUS_COLOURS["out_of_fov"], STATUS_COLOURS["out_of_range"]))
+    assert lightness(STATUS_COLOURS["out_of_fov"]) > 0.6 and lightness(STATUS_COLOURS["out_of_range"]) > 0.6
+    # the campaign page's classes take the same colours
+    assert (CLASS_COLOURS["hidden"], CLASS_COLOURS["visible"]) == (CIVIDIS[0], CIVIDIS[-1])

@@ -15,14 +15,7 @@ from ..analysis.classes import EXACT, describe
 from ..table.output import atomic_write, check_output_path
 from ._optional import require
 from .report import _json_for_script, _script_safe
-from .style import OKABE_ITO
-
-CLASS_COLOURS = {
-    "visible": OKABE_ITO["blue"],
-    "partly": OKABE_ITO["sky blue"],
-    "hidden": OKABE_ITO["vermillion"],
-    "out_of_view": "#bbbbbb",
-}
+from .style import CLASS_COLOURS, OKABE_ITO
 
 
 def write_campaign_page(

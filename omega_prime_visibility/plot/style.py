@@ -34,13 +34,23 @@ SENSOR_COLOURS = tuple(OKABE_ITO[c] for c in ("orange", "blue", "bluish green", 
 ego's) and black (the outlines of a target and what hides it)."""
 
 STATUS_COLOURS = {
-    "visible": OKABE_ITO["blue"],
-    "partly_visible": OKABE_ITO["sky blue"],
-    "occluded": OKABE_ITO["vermillion"],
-    "out_of_fov": "#8c8c8c",
-    "out_of_range": "#d0d0d0",
+    "visible": CIVIDIS[-1],
+    "partly_visible": CIVIDIS[5],
+    "occluded": CIVIDIS[0],
+    "out_of_fov": "#bdbdbd",
+    "out_of_range": "#e3e3e3",
 }
-"""Colour of each ``status`` value (the sensors' verdict per target), in the legend's order."""
+"""Colour of each ``status`` value (the sensors' verdict per target), in the legend's order: the ends and the middle
+of the visibility scale, so that dark means hidden in every chart and page (timelines by visibility or by status,
+the campaign page), and light greys for a target out of view (nothing hides it)."""
+
+CLASS_COLOURS = {
+    "visible": STATUS_COLOURS["visible"],
+    "partly": STATUS_COLOURS["partly_visible"],
+    "hidden": STATUS_COLOURS["occluded"],
+    "out_of_view": STATUS_COLOURS["out_of_fov"],
+}
+"""Colour of each class of :mod:`~omega_prime_visibility.analysis.classes` on the campaign page (as the statuses)."""
 
 EGO_FACE, EGO_EDGE = OKABE_ITO["vermillion"], "#5a2800"
 REGION_FACE = "#cfe8f7"  # the region the ego sees: a pale sky blue under everything
