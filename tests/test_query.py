@@ -85,6 +85,13 @@ def test_old_keywords_fold_into_the_value() -> None:
     for keyword, value in (("engine", "visilibity"), ("ego_idx", 1), ("targets", "vehicles"), ("mode", "3d")):
         with pytest.raises(OptionError, match=keyword):
             fold_keywords(given, **{keyword: value})
+    # expressions compare by their text (never with ==, which builds another expression)
+    cars = Query(observers=0, occluders=pl.col("type") == 2)
+    assert fold_keywords(cars, occluders=pl.col("type") == 2) is cars
+    with pytest.raises(OptionError, match=r"occluders=<expression .*3.*> contradicts the query's occluders=<expr"):
+        fold_keywords(cars, occluders=pl.col("type") == 3)
+    with pytest.raises(OptionError, match="contradicts"):
+        fold_keywords(cars, occluders="vehicles")
     with pytest.raises(TypeError, match=r"must be an omega_prime_visibility\.Query"):
         fold_keywords({"engine": "sweep"})
     with pytest.raises(TypeError, match="unexpected keyword argument 'speed'"):

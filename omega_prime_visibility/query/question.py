@@ -267,14 +267,19 @@ def fold_keywords(query: Query | None, **keywords: Any) -> Query:
         raise TypeError(f"query must be an omega_prime_visibility.Query, not {type(query).__name__}")
     other = Query(**{f.name: getattr(query, f.name) for f in fields(query)} | given)
     for field_name in given:
-        if getattr(other, field_name) != getattr(query, field_name) and not _same(other, query, field_name):
+        if not _same(other, query, field_name):
             keyword = next(k for k, v in TABLE_KEYWORDS.items() if v == field_name)
             raise OptionError(
                 keyword,
-                f"{keyword}={keywords[keyword]!r} contradicts the query's {field_name}={getattr(query, field_name)!r}; "
-                "give one of them",
+                f"{keyword}={_shown(keywords[keyword])} contradicts the query's {field_name}="
+                f"{_shown(getattr(query, field_name))}; give one of them",
             )
     return query
+
+
+def _shown(value: Any) -> str:
+    """A value as a message shows it (an expression by its text)."""
+    return f"<expression {value}>" if isinstance(value, pl.Expr) else repr(value)
 
 
 def _empty(value: Any) -> bool:
@@ -283,10 +288,11 @@ def _empty(value: Any) -> bool:
 
 
 def _same(a: Query, b: Query, name: str) -> bool:
-    """Whether two values of one field say the same (expressions and geometries compare by their text)."""
+    """Whether two values of one field say the same (expressions by their text, geometries exactly; an expression
+    is never compared with ``==``, which builds another expression)."""
     x, y = getattr(a, name), getattr(b, name)
     if isinstance(x, pl.Expr) or isinstance(y, pl.Expr):
-        return str(x) == str(y)
+        return isinstance(x, pl.Expr) and isinstance(y, pl.Expr) and str(x) == str(y)
     if name == "static_occluders":
         return len(x) == len(y) and all(g.equals_exact(h, 0.0) for g, h in zip(x, y, strict=True))
-    return False
+    return bool(x == y)
