@@ -348,3 +348,19 @@ def test_a_picture_in_3d_takes_its_numbers_from_the_3d_table() -> None:
     assert f"1: {seen:.0%}" in texts(ax)
     (car,) = by_gid(ax, "object 1")
     assert tuple(car.get_facecolor()) == pytest.approx(CMAP(seen))
+
+
+def test_a_small_road_user_keeps_its_fill_and_the_legend_lists_only_what_is_drawn() -> None:
+    # a 0.5 m pedestrian 60 m away in a wide picture spans a few pixels: it is drawn as a marker filled with its
+    # colour (its outline alone would cover its fill); a car near the ego keeps its outline. Nothing hides the
+    # pedestrian, so the legend says nothing of what hides it.
+    df = boxes_table([(0, 0, 4, 2, 0), (10, 6, 4, 2, 0), (60, 0, 0.5, 0.5, 0)])
+    ax = plot_frame(df, 0, 0, target=2, view_range=200)
+    (walker,) = by_gid(ax, "object 2")
+    (marker,) = by_gid(ax, "object 2 marker")
+    assert walker.get_linewidth() == 0.0
+    assert to_rgb(marker.get_markerfacecolor()) == pytest.approx(CMAP(1.0)[:3])
+    assert by_gid(ax, "object 1")[0].get_linewidth() > 0 and not by_gid(ax, "object 1 marker")
+    legend = ax.figure.legends[0] if ax.figure.legends else ax.get_legend()
+    labels = [t.get_text() for t in legend.get_texts()]
+    assert "target 2" in labels and "hides 2" not in labels

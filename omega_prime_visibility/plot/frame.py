@@ -44,6 +44,16 @@ from .style import (
 from .window import Window, scene_window
 
 LABEL_SIZE = 7  # points
+SMALL_PX = 7.0
+"""Pixels: a road user drawn smaller than this across (a pedestrian, a bicycle far out) is shown as a marker of this
+size filled with its colour, as its outline alone would cover its fill."""
+
+
+def drawn_sizes(ax: Any, rings: Sequence[np.ndarray]) -> np.ndarray:
+    """How many pixels each outline spans at most on ``ax`` (after its limits are set)."""
+    ax.apply_aspect()
+    to_pixels = ax.transData.transform
+    return np.array([float(np.ptp(to_pixels(r), axis=0).max()) if len(r) else 0.0 for r in rings])
 
 
 class FramePainter:
@@ -68,6 +78,7 @@ class FramePainter:
         legend: bool = True,
         colorbar: bool = True,
         legend_columns: int = 4,
+        hiders: bool = True,
     ) -> None:
         plt = require("matplotlib.pyplot")
         colors = require("matplotlib.colors")
@@ -97,7 +108,7 @@ class FramePainter:
         ax.set_ylabel("y [m]", fontsize=8)
         ax.tick_params(labelsize=7)
         if legend:
-            handles = legend_handles(source, ego_idx, target, self.sensors)
+            handles = legend_handles(source, ego_idx, target, self.sensors, hiders=hiders)
             engine = ax.figure.get_layout_engine()
             if engine is not None and type(engine).__name__ == "ConstrainedLayoutEngine":
                 ax.figure.legend(handles=handles, loc="outside lower center", ncol=legend_columns, fontsize=7,
@@ -150,6 +161,7 @@ class FramePainter:
             colour = OCCLUDER_EDGE if k in static_occluders else STATIC_EDGE
             for a in artists:
                 (a.set_edgecolor if hasattr(a, "set_edgecolor") else a.set_color)(colour)
+        size = drawn_sizes(ax, view.rings)
         for i, idx in enumerate(view.idx.tolist()):
             if i == view.ego_row:
                 face, edge, lw, ls, gid = EGO_FACE, EGO_EDGE, 1.0, "-", "ego"
@@ -164,6 +176,12 @@ class FramePainter:
             patch = self.patches.Polygon(view.rings[i], facecolor=face, edgecolor=edge, lw=lw, ls=ls, zorder=2)
             patch.set_gid(gid)
             add(ax.add_artist(patch))
+            if size[i] < SMALL_PX:  # a pedestrian or a motorbike far out: its outline would cover its fill
+                patch.set_linewidth(0.0)
+                marker = ax.plot(*view.position[i], marker="o", ms=SMALL_PX * 72 / ax.figure.dpi, mfc=face,
+                                 mec=edge, mew=min(lw, 1.0), ls="none", zorder=2.5)[0]  # fmt: skip
+                marker.set_gid(f"{gid} marker")
+                add(marker)
         add(ax.plot(*view.observer, marker="*", color="white", mec="black", ms=10, zorder=4)[0])
         for k, s in enumerate(self.sensors):
             self._dynamic.extend(draw_sensor(ax, s, view, sensor_colour(k), limits))
@@ -342,8 +360,9 @@ def plot_frame(
         aspect = min(max(window.aspect if window else 2.0, 0.75), 2.2)
         scene = math.sqrt(40.0 * aspect), math.sqrt(40.0 / aspect)  # about 40 square inches of scene
         _, ax = plt.subplots(figsize=(scene[0] + 1.2, scene[1] + 1.3), layout="constrained")
+    hidden_by = view.occluders.get(target, []) or view.static_occluders.get(target, []) if target is not None else []
     painter = FramePainter(ax, source, ego_idx, target=target, sensors=viewer.sensors, window=window, cmap=cmap,
-                           legend=legend)  # fmt: skip
+                           legend=legend, hiders=bool(hidden_by))  # fmt: skip
     painter.fit()
     painter.draw(view)
     return ax

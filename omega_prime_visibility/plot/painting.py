@@ -125,8 +125,11 @@ def draw_sensor(ax: Any, s: Sensor, view: FrameView, colour: str, limits: tuple[
     return out
 
 
-def legend_handles(source: Source, ego_idx: int, target: int | None, sensors: Sequence[Sensor]) -> list[Any]:
-    """What each colour and outline means, in few words; sensors by name with their field of view and range."""
+def legend_handles(
+    source: Source, ego_idx: int, target: int | None, sensors: Sequence[Sensor], hiders: bool = True
+) -> list[Any]:
+    """What each colour and outline means, in few words; sensors by name with their field of view and range;
+    ``hiders`` False: the target's occluders are outlined nowhere (nothing hides it), so no "hides" entry."""
     P, Line2D = require("matplotlib.patches").Patch, require("matplotlib.lines").Line2D
     seen = "seen by the sensors" if sensors else "seen from the ego"
     handles = [
@@ -135,7 +138,8 @@ def legend_handles(source: Source, ego_idx: int, target: int | None, sensors: Se
     ]
     if target is not None:
         handles.append(P(facecolor="none", edgecolor=TARGET_EDGE, lw=2, ls="--", label=f"target {target}"))
-        handles.append(P(facecolor="none", edgecolor=OCCLUDER_EDGE, lw=2.5, label=f"hides {target}"))
+        if hiders:
+            handles.append(P(facecolor="none", edgecolor=OCCLUDER_EDGE, lw=2.5, label=f"hides {target}"))
     kinds = {type(part) for g in source.statics.geometries for part in getattr(g, "geoms", [g])}
     if shapely.Polygon in kinds:
         handles.append(P(facecolor=STATIC_FACE, edgecolor=STATIC_EDGE, hatch="///", label="static occluder"))
