@@ -34,6 +34,7 @@ from .style import (
     EGO_EDGE,
     EGO_FACE,
     OCCLUDER_EDGE,
+    REGION_ALPHA,
     REGION_FACE,
     STATIC_EDGE,
     TARGET_EDGE,
@@ -152,7 +153,8 @@ class FramePainter:
             if isinstance(part, shapely.Polygon) and not part.is_empty:  # holes stay holes (they run the other way)
                 part = shapely.geometry.polygon.orient(part, 1.0)
                 rings = [path(np.asarray(r.coords), closed=True) for r in (part.exterior, *part.interiors)]
-                patch = self.patches.PathPatch(path.make_compound_path(*rings), facecolor=REGION_FACE, lw=0, zorder=-3)
+                patch = self.patches.PathPatch(path.make_compound_path(*rings), facecolor=REGION_FACE, lw=0,
+                                               alpha=REGION_ALPHA, zorder=-3)  # fmt: skip
                 patch.set_gid("region")
                 add(ax.add_artist(patch))  # (add_artist: no data limits to update)
         occluders = set(view.occluders.get(self.target, [])) if self.target is not None else set()

@@ -32,15 +32,20 @@ LANE_DASHES = (0, (6, 6))
 
 
 def draw_lanes(ax: Any, lanes: Lanes) -> None:
-    """Lane surfaces in translucent grey (the visible region shows through) and centre lines dashed, under the
-    objects, as two collections (fast to draw whatever the map's size; they do not change the axes' limits)."""
+    """The road surface in grey *under* the visible region (which is drawn translucent over it, so a shadow on the
+    carriageway shows as grey against the seen region's blue, as clearly as one beside the road shows as white),
+    its edges as thin lines and centre lines dashed above the region, under the objects; as collections (fast to
+    draw whatever the map's size; they do not change the axes' limits)."""
     collections = require("matplotlib.collections")
     if lanes.surfaces:  # one compound path: holes stay holes (they run the other way round)
         path = require("matplotlib.path").Path
         road = path.make_compound_path(*[path(ring, closed=True) for ring in lanes.surfaces])
-        surfaces = collections.PathCollection([road], facecolors=LANE_FACE, linewidths=0, alpha=0.6, zorder=-2)
+        surfaces = collections.PathCollection([road], facecolors=LANE_FACE, linewidths=0, zorder=-4)
         surfaces.set_gid("lane")
         ax.add_collection(surfaces, autolim=False)
+        edges = collections.LineCollection(lanes.surfaces, colors=LANE_COLOUR, linewidths=0.5, zorder=-1)
+        edges.set_gid("road edge")
+        ax.add_collection(edges, autolim=False)
     if lanes.centres:
         lines = collections.LineCollection(lanes.centres, colors=LANE_COLOUR, linewidths=0.8, linestyles=LANE_DASHES,
                                            zorder=-1)  # fmt: skip

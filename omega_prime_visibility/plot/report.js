@@ -29,11 +29,15 @@
   el("rect", { width: 1.2, height: 1.2, fill: "#e4e4e4" }, hatch);
   el("line", { x1: 0, y1: 0, x2: 0, y2: 1.2, stroke: "#777", "stroke-width": 0.5 }, hatch);
   const world = el("g", { id: "world" }, svg);
-  const regionLayer = el("g", { id: "region" }, world);
+  // the road surface under the seen region (drawn translucent over it): a shadow on the carriageway is grey against
+  // the region's blue, as clear as one beside the road; its edges above the region
+  const roadLayer = el("g", { id: "road" }, world);
+  const regionLayer = el("g", { id: "region", "fill-opacity": 0.85 }, world);
   const staticLayer = el("g", { id: "statics" }, world);
-  if (data.surfaces.length) {  // the road surface: one path, its holes by the even-odd rule
+  if (data.surfaces.length) {  // one path, its holes by the even-odd rule
     const d = data.surfaces.map((ring) => "M " + pts(ring).split(" ").join(" L ") + " Z").join(" ");
-    el("path", { d: d, fill: "#b4b4b4", "fill-opacity": 0.6, "fill-rule": "evenodd", stroke: "none" }, staticLayer);
+    el("path", { d: d, fill: "#a8a8a8", "fill-rule": "evenodd", stroke: "none" }, roadLayer);
+    el("path", { d: d, fill: "none", stroke: "#7a7a7a", "stroke-width": 0.1 }, staticLayer);
   }
   for (const lane of data.lanes) {
     el("polyline", { points: pts(lane), fill: "none", stroke: "#9a9a9a", "stroke-width": 0.15,

@@ -53,11 +53,12 @@ CLASS_COLOURS = {
 """Colour of each class of :mod:`~omega_prime_visibility.analysis.classes` on the campaign page (as the statuses)."""
 
 EGO_FACE, EGO_EDGE = OKABE_ITO["vermillion"], "#5a2800"
-REGION_FACE = "#cfe8f7"  # the region the ego sees: a pale sky blue under everything
+REGION_FACE = "#cfe8f7"  # the region the ego sees: a pale sky blue under everything but the road surface
+REGION_ALPHA = 0.85  # ... drawn over the road surface, which shows through faintly where seen
 TARGET_EDGE = "black"  # dashed; the target's occluders are outlined solid
 OCCLUDER_EDGE = "black"
 STATIC_FACE, STATIC_EDGE = "#bbbbbb", "#555555"
-LANE_FACE, LANE_COLOUR = "#b4b4b4", "#7a7a7a"
+LANE_FACE, LANE_COLOUR = "#a8a8a8", "#7a7a7a"  # the road surface (opaque, under the seen region), its lines
 
 
 def visibility_colour(v: float) -> str:
