@@ -5,7 +5,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...geometry.kernels import TWO_PI, argsort_stable, reserve_rows
+from ...geometry.kernels import TWO_PI, argsort_stable, reserve_rows, wrap_positive
 from ...geometry.occlusion import MIN_PIECE, hidden_span
 from ...geometry.view import limited_angle
 from .polygon_check import on_edge
@@ -92,6 +92,11 @@ def attribute_visible_angles(
                 if span[i] <= 0.0 or visited[i] == t:  # (the windows overlap for extents over half a turn)
                     continue
                 visited[i] = t
+                # the window holds half the polygon: skip at once an edge whose bearings miss the target's extent
+                # (it starts neither inside the extent nor before it and reaching into it), 1e-9 rad to spare
+                rel0 = wrap_positive(bearing[i] - s0)
+                if not (rel0 < extent_width[t] + 1e-9 or rel0 + span[i] > two_pi - 1e-9):
+                    continue
                 j = (i + 1) % m
                 px, py, qx, qy = pts[i, 0], pts[i, 1], pts[j, 0], pts[j, 1]
                 n_credited = 0
