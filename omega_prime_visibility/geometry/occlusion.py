@@ -15,10 +15,14 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .kernels import TWO_PI, nearest_offset, ray_line_distance, reserve, sorted_values, wrap_positive
+from .candidates import MIN_PIECE, candidate_pairs
+from .kernels import (
+    ray_line_distance,
+    sorted_values,
+    wrap_positive,
+)
 
 RELATIVE_TOLERANCE = 1e-9  # J must be nearer by this fraction of T's distance to count as in front
-MIN_PIECE = 1e-12  # radians; thinner pieces are ignored
 # sine of the angle between two edges' lines under which the relative tolerance lets them tie along the bearings
 # where they lie that near; lines meeting at a wider angle (at a corner two bodies share) are ordered exactly
 TIE_PARALLEL = 1e-3
@@ -256,64 +260,6 @@ def occludes(
     )
 
 
-@numba.njit(cache=True)
-def _candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_objects):
-    """Pairs (body, target) where some edge of a blocking body overlaps the target's extent and comes nearer
-    than the target's farthest point, each pair once; and whether the pair is certainly occluding (an object
-    entirely nearer than the target's nearest point, with overlapping extents)."""
-    n_bodies = len(blocking)
-    m = len(seg)
-    e_start = np.empty(m)
-    e_width = np.empty(m)
-    e_near = np.empty(m)
-    near = np.full(n_bodies, np.inf)
-    far = np.zeros(n_bodies)
-    for j in range(m):
-        ax, ay = seg[j, 0, 0] - ox, seg[j, 0, 1] - oy
-        bx, by = seg[j, 1, 0] - ox, seg[j, 1, 1] - oy
-        span = np.arctan2(ax * by - ay * bx, ax * bx + ay * by)
-        ta = np.arctan2(ay, ax)
-        e_start[j] = ta if span >= 0 else ta + span
-        e_width[j] = abs(span)
-        dx, dy = nearest_offset(-ax, -ay, bx - ax, by - ay)
-        e_near[j] = np.hypot(dx, dy)
-        b = seg_body[j]
-        near[b] = min(near[b], e_near[j])
-        far[b] = max(far[b], np.hypot(ax, ay), np.hypot(bx, by))
-    cap = 8 * len(targets) + 16
-    out_body = np.empty(cap, dtype=np.int64)
-    out_target = np.empty(cap, dtype=np.int64)
-    out_certain = np.empty(cap, dtype=np.bool_)
-    hidden = np.zeros(n_bodies, dtype=np.bool_)
-    k = 0
-    seen = np.full(n_bodies, -1, dtype=np.int64)
-    for t in targets:
-        for j in range(m):
-            b = seg_body[j]
-            if b == t or not blocking[b] or seen[b] == t or e_near[j] >= far[t]:
-                continue
-            rel = wrap_positive(e_start[j] - start[t])
-            if rel < width[t] or rel + e_width[j] > TWO_PI:
-                seen[b] = t
-                out_body = reserve(out_body, k, k + 1)
-                out_target = reserve(out_target, k, k + 1)
-                out_certain = reserve(out_certain, k, k + 1)
-                out_body[k] = b
-                out_target[k] = t
-                certain = False
-                if b < n_objects and far[b] < near[t]:
-                    # the body's whole extent is nearer; it occludes iff the two extents overlap
-                    rel2 = wrap_positive(start[b] - start[t])
-                    certain = rel2 < width[t] - MIN_PIECE or rel2 + width[b] > TWO_PI + MIN_PIECE
-                    # the target's whole extent inside the body's: the target is hidden behind it
-                    rel3 = wrap_positive(start[t] - start[b])
-                    if rel3 + width[t] <= width[b]:
-                        hidden[t] = True
-                out_certain[k] = certain
-                k += 1
-    return out_body[:k], out_target[:k], out_certain[:k], hidden
-
-
 def occluding_pairs(
     observer: np.ndarray,
     segments: np.ndarray,
@@ -353,7 +299,7 @@ def occluding_pairs(
     if len(targets) == 0 or len(segments) == 0:
         return empty, empty, np.zeros(n_bodies, dtype=bool)
     seg_body = np.repeat(np.arange(n_bodies), np.diff(segment_offsets))
-    body, target, certain, hidden = _candidate_pairs(
+    body, target, certain, hidden = candidate_pairs(
         float(observer[0]),
         float(observer[1]),
         np.ascontiguousarray(segments, dtype=np.float64),

@@ -25,8 +25,9 @@ from typing import Any
 import numba
 import numpy as np
 
+from ...geometry.candidates import candidate_pairs
 from ...geometry.kernels import copy_into, reserve, unique_values
-from ...geometry.occlusion import _candidate_pairs, _occludes_pairs
+from ...geometry.occlusion import _occludes_pairs
 from ...geometry.rings import Rings
 from ...inputs.objects import ObjectTable
 from .. import ChunkObservation, ChunkViewpoints, Observation, Viewpoint, reason_of
@@ -123,7 +124,7 @@ def occlusion_by_view(
             hidden = np.zeros(n + n_sources, dtype=np.bool_)
             codes = np.empty(0, dtype=np.int64)
             if len(targets) and len(seg):
-                body, target, certain, hidden = _candidate_pairs(
+                body, target, certain, hidden = candidate_pairs(
                     ox, oy, seg, seg_body, blocking, targets, start[t0 : t0 + n], width[t0 : t0 + n], n
                 )
                 check = np.flatnonzero(~certain)
