@@ -63,3 +63,27 @@ def test_the_page_in_a_headless_browser(results, tmp_path) -> None:
         # the stacked bars: three classes in each of the three bands, per type and for all
         assert browser.evaluate("document.querySelectorAll('#bands svg .mark-rect path').length") == 18
         assert browser.console_errors() == []
+
+
+def test_every_bar_says_its_rows_and_an_empty_band_says_so() -> None:
+    # pedestrians only near: their far bands have no rows, which the chart says ("no rows") instead of drawing a bar
+    import polars as pl
+
+    from omega_prime_visibility.plot.campaign import _bands_chart
+
+    by_band = pl.DataFrame(
+        {"band": ["< 20 m", "< 20 m", ">= 20 m"], "target_type": ["all", "pedestrian", "all"], "rows": [5, 2, 3],
+         "visible": [0.6, 0.5, 1.0], "partly": [0.2, 0.5, 0.0], "hidden": [0.2, 0.0, 0.0], "out_of_view": [0.0] * 3}
+    )  # fmt: skip
+    spec = _bands_chart(by_band)
+    rows = [r for data in spec["datasets"].values() for r in data]
+    empty = [r for r in rows if r["band"] == ">= 20 m" and r["target_type"] == "pedestrian"]
+    assert empty and all(r["rows"] == 0 for r in empty)
+    text = json_text(spec)
+    assert "'n = ' + format(datum.rows, ',')" in text and "'no rows'" in text and "datum.rows > 0" in text
+
+
+def json_text(spec: dict) -> str:
+    import json
+
+    return json.dumps(spec)

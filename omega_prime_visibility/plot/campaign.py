@@ -52,27 +52,54 @@ def write_campaign_page(
     return output
 
 
+PAGE_WIDTH = 960
+"""Pixels the charts of the campaign page span together."""
+
+
 def _bands_chart(by_band: pl.DataFrame) -> dict:
+    """Stacked shares per distance band, one panel per target type across the page, each bar headed by its number
+    of rows; a band without rows of a type says so instead of looking like a bar."""
     alt = require("altair")
     # out of view only where some row was (tables through sensors): a class no row can be in is not listed
     shown = {c: colour for c, colour in CLASS_COLOURS.items() if c != "out_of_view" or by_band[c].max() > 0}
-    long = by_band.unpivot(index=["band", "target_type", "rows"], on=list(shown), variable_name="class")
+    bands = list(dict.fromkeys(by_band["band"]))
+    types = list(dict.fromkeys(by_band["target_type"]))
+    every = pl.DataFrame({"band": bands}).join(pl.DataFrame({"target_type": types}), how="cross")
+    full = every.join(by_band, on=["band", "target_type"], how="left").with_columns(pl.col("rows").fill_null(0))
+    long = full.unpivot(index=["band", "target_type", "rows"], on=list(shown), variable_name="class")
     colour = alt.Color("class:N", scale=alt.Scale(domain=list(shown), range=list(shown.values())))
-    chart = (
-        alt.Chart(long)
+    x = alt.X("band:N", sort=bands, title="distance to the observer", axis=alt.Axis(labelAngle=0))
+    bars = (
+        alt.Chart()
         .mark_bar()
         .encode(
-            x=alt.X("band:N", sort=list(dict.fromkeys(by_band["band"])), title="distance to the observer"),
+            x=x,
             y=alt.Y("value:Q", stack="normalize", title="share of rows", axis=alt.Axis(format="%")),
             color=colour,
             order=alt.Order("class_order:Q"),
-            column=alt.Column("target_type:N", title="target type"),
             tooltip=["band", "target_type", "class", alt.Tooltip("value:Q", format=".1%"), "rows"],
         )
+        .transform_filter("datum.rows > 0")
         .transform_calculate(class_order=f"indexof({list(shown)}, datum['class'])")
-        .properties(width=160, height=220)
     )
-    return chart.to_dict()
+    counts = (
+        alt.Chart()
+        .mark_text(baseline="bottom", dy=-3, fontSize=12)
+        .encode(x=x, y=alt.datum(1.0), text="label:N")
+        .transform_filter("datum['class'] == '" + next(iter(shown)) + "'")
+        .transform_calculate(label="datum.rows > 0 ? 'n = ' + format(datum.rows, ',') : 'no rows'")
+    )
+    width = int(min(max(PAGE_WIDTH / max(len(types), 1) - 40, 160), 320))
+    chart = (
+        alt.layer(bars, counts, data=long)
+        .properties(width=width, height=240)
+        .facet(column=alt.Column("target_type:N", title="target type", sort=types))
+    )
+    return (
+        chart.configure_axis(labelFontSize=12, titleFontSize=13)
+        .configure_legend(labelFontSize=12, titleFontSize=13)
+        .to_dict()
+    )
 
 
 def _histogram_chart(histogram: pl.DataFrame) -> dict:
@@ -86,9 +113,9 @@ def _histogram_chart(histogram: pl.DataFrame) -> dict:
             y=alt.Y("share:Q", title="share of rows", axis=alt.Axis(format="%")),
             tooltip=["bin_start", "bin_end", "rows", alt.Tooltip("share:Q", format=".1%")],
         )
-        .properties(width=420, height=200)
+        .properties(width=PAGE_WIDTH // 2, height=220)
     )
-    return chart.to_dict()
+    return chart.configure_axis(labelFontSize=12, titleFontSize=13).to_dict()
 
 
 def _occluders_chart(occluder_types: pl.DataFrame) -> dict:
