@@ -115,11 +115,12 @@ def _far(limits: tuple[float, float, float, float]) -> float:
 
 def draw_sensor(ax: Any, s: Sensor, view: FrameView, colour: str, limits: tuple[float, float, float, float]) -> list:
     """A sensor's field of view outlined in ``colour`` (its range as the arc; a circle for a 360° sensor; the two
-    edges only when unlimited) and a dot at its position."""
+    edges only when unlimited) and a dot at its position. The outline lies under the road users (zorder 1.5: a
+    field's edge never crosses a car), above the seen region and the road."""
     patches = require("matplotlib.patches")
     pos, heading = sensor_pose(s, view)
     radius = min(s.range, _far(limits))
-    style = {"fill": False, "edgecolor": colour, "lw": 1.4, "zorder": 3, "gid": f"sensor {s.name}"}
+    style = {"fill": False, "edgecolor": colour, "lw": 1.4, "zorder": 1.5, "gid": f"sensor {s.name}"}
     if s.fov >= 2 * math.pi - 1e-9:
         shape = patches.Circle(pos, radius, **style)
     else:
