@@ -56,8 +56,6 @@ _WHERE = {
 
 __all__ = sorted(_WHERE)
 
-PLOTTING = ("animate", "plot_frame", "save_timeline", "timeline_chart", "write_report")
-
 
 def __getattr__(name: str):
     if name in _WHERE:

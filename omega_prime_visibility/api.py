@@ -15,9 +15,8 @@ import shapely
 from .inputs.objects import OnInvalid, VisibilityInputWarning
 from .inputs.observers import EgoSpec, SensorSpec, describe_idx  # noqa: F401 (describe_idx: public here too)
 from .inputs.roles import RoleSpec, within_frames
-from .inputs.scene import as_lazy, load_objects
+from .inputs.scene import as_lazy
 from .query import TABLE_KEYWORDS, Query, fold_keywords, resolve
-from .query.resolve import host_vehicle
 from .table.compute import (  # noqa: F401 (the ways to run a question, importable from here as before)
     CHUNK_FRAMES,
     CHUNK_ROWS,
@@ -203,22 +202,6 @@ def get_visibility_df(
     return compute(resolve(question, df), workers=workers, chunk_frames=chunk_frames, progress=progress, output=output)
 
 
-def sensor_names(sensors: Any) -> list[str] | None:
-    """The sensors' names in order (for one sequence, or the first observer's of a per-observer mapping)."""
-    if sensors is None:
-        return None
-    first = next(iter(sensors.values())) if isinstance(sensors, dict) else sensors
-    return [s.name for s in first]
-
-
-def _has_yaw(df: Any) -> bool:
-    """Whether the moving-object input has a ``yaw`` column (a Recording always has)."""
-    try:
-        return "yaw" in as_lazy(df).collect_schema().names()
-    except (TypeError, ValueError):
-        return True
-
-
 def check_counts(**counts: Any) -> None:
     """Each of ``counts`` None or a whole number of at least 1 (``workers``, ``chunk_frames``).
 
@@ -271,8 +254,8 @@ def get_visibility_df_for_frame(
     if "idx" in names:
         question = within_recording(question, lazy)
     observers = question.observers
-    if observers is None:
-        observers = host_vehicle(df, load_objects(one, on_invalid=question.on_invalid))
+    if observers is None and getattr(df, "host_vehicle_idx", None) is not None:  # (else resolve tells)
+        observers = int(df.host_vehicle_idx)
         question = question.replace(observers=observers)
     egos = [observers] if isinstance(observers, int) else list(observers) if isinstance(observers, tuple) else []
     present = set(one["idx"].cast(pl.Int64, strict=False).to_list()) if "idx" in names else set()
@@ -289,10 +272,8 @@ def within_recording(question: Query, lazy: pl.LazyFrame) -> Query:
     """``question`` for a part of a recording (some of its frames): a list of idx in ``occluders`` or ``targets``
     is checked against the whole recording's idx and becomes an expression, so an idx absent from the part
     selects nothing there rather than being refused."""
-    changes = {}
-    for option in ("occluders", "targets"):
-        spec = getattr(question, option)
-        if spec is not None and not isinstance(spec, pl.Expr | str):
-            all_idx = lazy.select(pl.col("idx").unique()).collect()["idx"].to_numpy()
-            changes[option] = within_frames(spec, all_idx, option)
-    return question.replace(**changes) if changes else question
+    listed = [o for o in ("occluders", "targets") if not isinstance(getattr(question, o), pl.Expr | str | None)]
+    if not listed:
+        return question
+    all_idx = lazy.select(pl.col("idx").unique()).collect()["idx"].to_numpy()
+    return question.replace(**{o: within_frames(getattr(question, o), all_idx, o) for o in listed})

@@ -54,14 +54,14 @@ def read_recording(path: str | os.PathLike, map_path: str | os.PathLike | None =
         if not str(w.message).startswith(NO_MAP):
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno, source=w.source)
     if map_path is not None:
-        _check_map(map_path, recording.map, map_failures)
+        root = _check_map(map_path, recording.map, map_failures)
         if path.suffix == ".mcap":
             warnings.warn(
                 f"{path.name} is read with the map {map_path.name} given, in place of any map the recording carries",
                 MapNotice,
                 stacklevel=2,
             )
-        _check_map_covers(recording, map_path)
+        _check_map_covers(recording, map_path, root)
     return recording
 
 
@@ -73,21 +73,23 @@ FAR_FROM_ROADS = 50.0
 """Metres beyond every road of a map at which an object is *far from the map* (:func:`_check_map_covers`)."""
 
 
-def _check_map_covers(recording: Any, map_path: Path) -> None:
+def _check_map_covers(recording: Any, map_path: Path, root: ET.Element | None = None) -> None:
     """Warn when most moving objects lie far from every road of the OpenDRIVE map given: a map that is not the
     trace's own (or in another frame) would draw its lanes elsewhere and put its road objects in the wrong place.
 
     The roads' reference lines are sampled (:func:`_reference_points`); an object (its first, middle and last
     position) is *far* when every sample lies more than ``FAR_FROM_ROADS`` metres plus the sample's own reach
-    away, so a near object is never called far.
+    away, so a near object is never called far. ``root``: the map's XML, parsed already (else parsed here).
     """
     import numpy as np
     import polars as pl
 
-    odr_xml = getattr(recording.map, "odr_xml", None)
-    if not isinstance(odr_xml, str):
-        return
-    samples, reach = _reference_points(ET.fromstring(odr_xml))
+    if root is None:
+        odr_xml = getattr(recording.map, "odr_xml", None)
+        if not isinstance(odr_xml, str):
+            return
+        root = ET.fromstring(odr_xml)
+    samples, reach = _reference_points(root)
     df = recording._df.select("idx", "x", "y")
     if not len(samples) or df.height == 0:
         return
@@ -199,8 +201,9 @@ def _truncated_mcap(path: Path) -> bool:
     return head == MCAP_MAGIC and tail != MCAP_MAGIC
 
 
-def _check_map(map_path: Path, parsed: Any, failures: list[str]) -> None:
-    """Raise RecordingReadError unless omega-prime read ``map_path`` as a map."""
+def _check_map(map_path: Path, parsed: Any, failures: list[str]) -> ET.Element | None:
+    """Raise RecordingReadError unless omega-prime read ``map_path`` as a map; return an OpenDRIVE map's parsed XML
+    (None for other maps)."""
     if parsed is None or failures:
         detail = failures[0][len(NO_MAP) :].strip(": ") if failures else ""
         no_reader = detail in ("", "{}")  # omega-prime found no reader for this kind of file
@@ -215,6 +218,8 @@ def _check_map(map_path: Path, parsed: Any, failures: list[str]) -> None:
             raise RecordingReadError(f"cannot read map {map_path} as OpenDRIVE (XML error: {e})") from None
         if root.tag != "OpenDRIVE":
             raise RecordingReadError(f"cannot read map {map_path}: its XML root is <{root.tag}>, not <OpenDRIVE>")
+        return root
+    return None
 
 
 def read_static_occluders(path: str | os.PathLike) -> list[Any]:

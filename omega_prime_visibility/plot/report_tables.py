@@ -7,9 +7,10 @@ import html
 
 import polars as pl
 
-from ..analysis.classes import EXACT, class_shares, describe
+from ..analysis.classes import EXACT, describe
+from ..analysis.summary import target_summary
 from ..table.schema import static_names
-from .data import listed_once, of_best_sensor
+from .data import of_best_sensor
 
 
 def with_any_sensor(table: pl.DataFrame) -> pl.DataFrame:
@@ -53,28 +54,30 @@ def with_any_sensor(table: pl.DataFrame) -> pl.DataFrame:
 ANY_SENSOR = "any sensor"
 
 
+HEADINGS = {
+    "mean_visibility": "mean visibility",
+    "min_visibility": "least visibility",
+    "visible_share": "visible",
+    "partly_hidden_share": "partly hidden",
+    "hidden_share": "hidden",
+    "out_of_view_share": "out of view",
+    "occluders": "hidden by (idx)",
+    "static_occluders": "hidden by static occluders",
+}
+"""The columns of :func:`~omega_prime_visibility.target_summary` as the report heads them."""
+
+
 def summary_html(table: pl.DataFrame, partly: tuple[float, float] = EXACT) -> str:
-    """The per-target summary as an HTML table: frames, mean and least visibility, the share of frames visible,
+    """The per-target summary (:func:`~omega_prime_visibility.target_summary`) as an HTML table: frames, mean and
+    least visibility, the share of frames visible,
     partly hidden, hidden and (through sensors) out of view by the one definition of
     :mod:`~omega_prime_visibility.analysis.classes`, stated under the table, and every object and static occluder
     that hid it at some time (static occluders named ``static #k`` by their position in the list given)."""
-    by = [c for c in ("idx", "sensor") if c in table.columns]
-    shares = class_shares(table.columns, partly)
-    aggregations = [
-        pl.len().cast(pl.Int64).alias("frames"),
-        pl.col("visibility").mean().alias("mean visibility"),
-        pl.col("visibility").min().alias("least visibility"),
-        shares["visible"].alias("visible"),
-        shares["partly_hidden"].alias("partly hidden"),
-        shares["hidden"].alias("hidden"),
-    ]
-    if "in_view" in table.columns:
-        aggregations.append(shares["out_of_view"].alias("out of view"))
-    if "occluder_idxs" in table.columns:
-        aggregations.append(listed_once("occluder_idxs").alias("hidden by (idx)"))
-    if "static_occluder_idxs" in table.columns:
-        aggregations.append(listed_once("static_occluder_idxs").alias("hidden by static occluders"))
-    summary = table.group_by(by).agg(aggregations).sort(by)
+    summary = (
+        target_summary(table, partly=partly)
+        .drop("idx_ego", "partly_out_of_view_share", strict=False)
+        .rename(HEADINGS, strict=False)
+    )
     head = "".join(f"<th>{html.escape(c)}</th>" for c in summary.columns)
     body = []
     for row in summary.iter_rows(named=True):
