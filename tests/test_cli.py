@@ -334,7 +334,7 @@ def test_cli_choices_give_the_api_table(tmp_path) -> None:
 @pytest.mark.parametrize(
     ("args", "fragments"),
     [
-        (["--occluders", "lorries"], ["--occluders: unknown object kind 'lorries'", "vehicles", "or idx, comma-sep"]),
+        (["--occluders", "lorries"], ["--occluders: unknown object kind 'lorries'", "vehicles", "or idx"]),
         (["--targets", "1,CAR"], ["--targets takes comma-separated names", "'1,CAR'"]),
         (["--targets", "99"], ["--targets: idx [99] never occur"]),
         (["--measure", "area", "--mode", "3d"], ["--measure area measures footprints in 2D", "--mode 2d"]),

@@ -35,12 +35,13 @@ from ..engines import Viewpoint
 from ..engines.sweep import SweepEngine
 from ..geometry.star_union import star_union_area
 from ..geometry.union_rings import star_union
+from ..inputs.errors import OptionError, Setting
 from ..inputs.objects import FrameObjects, ObjectTable, OnInvalid
 from ..inputs.observers import SensorSpec
 from ..inputs.roles import RoleSpec
 from ..inputs.sensors import Sensor
 from ..inputs.statics import StaticOccluders
-from ..query import OptionError, Query, fold_keywords, resolve
+from ..query import Query, fold_keywords, resolve
 from ..table.pipeline import observer_rows, viewpoints
 
 ARC_STEP = math.radians(1.0)
@@ -139,9 +140,14 @@ def _prepare(df: Any, ego_idx: Any, static_occluder_polys: Any, query: Query | N
         raise ValueError(f"ego_idx must be one idx (an int), not {ego_idx!r}")
     question = fold_keywords(query, ego_idx=ego_idx, static_occluder_polys=static_occluder_polys, **keywords)
     if question.three_d:
-        raise OptionError("mode", "the visible area is a region on the ground: mode='3d' has none; use mode='2d'")
+        raise OptionError(
+            "mode",
+            "the visible area is a region on the ground: {three_d} has none; use {two_d}",
+            three_d=Setting("mode", "3d"),
+            two_d=Setting("mode", "2d"),
+        )
     if question.observers is not None and not isinstance(question.observers, int):
-        raise OptionError("ego_idx", f"ego_idx must be one idx (an int), not {question.observers!r}")
+        raise OptionError.plain("ego_idx", f"ego_idx must be one idx (an int), not {question.observers!r}")
     scene = resolve(question, df)
     ego = int(scene.egos[0])
     sensors = scene.sensors[ego] if isinstance(scene.sensors, dict) else scene.sensors

@@ -22,7 +22,6 @@ from .common import (
     fail,
     parse_choice,
     parse_ego,
-    shell_words,
 )
 
 
@@ -101,7 +100,7 @@ def batch(
         typer.echo("interrupted: run the same command again to continue where it stopped", err=True)
         raise typer.Exit(130) from None
     except ValueError as e:
-        raise fail(str(e)) from None
+        raise fail(e) from None
     print_summary(summary, output / SUMMARY_NAME)
     if (summary["status"] == "failed").any():
         raise typer.Exit(1)
@@ -116,7 +115,7 @@ def print_summary(summary: pl.DataFrame, path: Path) -> None:
         typer.echo(shown)
     for recording, error in summary.filter(pl.col("status") == "failed").select("recording", "error").iter_rows():
         # each failed path named once: most messages name their file already
-        error, name = shell_words(str(error)), Path(recording).name
+        error, name = str(error), Path(recording).name
         if str(recording) in error:
             typer.echo(f"failed: {error}")
         elif error.startswith(f"{name} "):  # a message that names the file by its name alone: the whole path

@@ -10,6 +10,7 @@ from typing import Annotated
 import typer
 
 from ..engines.registry import ENGINES, ENGINES_3D
+from ..inputs.errors import UNSET, OptionError, Setting
 
 
 def show_warning(message, category, filename, lineno, file=None, line=None) -> None:
@@ -38,7 +39,7 @@ def parse_sensors(spec: str | None):
     try:
         return resolve_sensors(spec)
     except ValueError as e:
-        raise fail(str(e)) from None
+        raise fail(e) from None
 
 
 def parse_choice(spec: str | None, option: str) -> list[str] | list[int] | None:
@@ -57,7 +58,7 @@ def parse_choice(spec: str | None, option: str) -> list[str] | list[int] | None:
     try:
         check_names(parts, option)
     except ValueError as e:
-        raise fail(str(e)) from None
+        raise fail(e) from None
     return parts
 
 
@@ -78,7 +79,7 @@ def shell_query(
     """The question of a command (:class:`~omega_prime_visibility.Query`) from the shell's table options, which
     ``run``, ``animate`` and ``report`` take alike; a bad value exits with one line naming the option, before any
     recording is read."""
-    from ..query import OptionError, Query
+    from ..query import Query
 
     observers = parse_ego(ego) if ego else None
     choices = {"occluders": parse_choice(occluders, "occluders"), "targets": parse_choice(targets, "targets")}
@@ -97,26 +98,42 @@ def shell_query(
             **choices,
         )
     except OptionError as e:
-        raise fail(str(e)) from None
+        raise fail(e) from None
 
 
-def fail(message: str) -> typer.Exit:
-    """Print ``error: message`` (in a shell user's words) to stderr; return the exit to raise (status 2)."""
-    typer.echo(f"error: {shell_words(message)}", err=True)
+FLAGS = {
+    "ego_idx": "--ego",
+    "observers": "--ego",
+    "static_occluder_polys": "--static",
+    "static_occluders": "--static",
+    "map_occluders": "--map-occluders",
+}
+"""The shell's flag of each API option whose name differs (the others: ``--`` and the name, ``_`` as ``-``)."""
+
+
+def flag(option: str) -> str:
+    """The shell's flag of the API option ``option``: ``ego_idx`` is ``--ego``."""
+    return FLAGS.get(option, "--" + option.replace("_", "-"))
+
+
+def shell_spelling(setting: Setting) -> str:
+    """A setting as the shell spells it: ``--mode 2d``, ``--map-occluders``, ``--engine`` alone."""
+    if setting.value is UNSET or setting.value is True:
+        return flag(setting.option)
+    if setting.option == "map_occluders":
+        return f"--map-occluders --map {setting.value}"
+    return f"{flag(setting.option)} {setting.value}"
+
+
+def fail(error: str | Exception) -> typer.Exit:
+    """Print ``error: ...`` to stderr (an :class:`~omega_prime_visibility.OptionError` in the shell's words,
+    ``--mode 2d`` for ``mode='2d'``); return the exit to raise (status 2)."""
+    if isinstance(error, OptionError):
+        message = error.words(shell_spelling, flag(error.option))
+    else:
+        message = str(error)
+    typer.echo(f"error: {message}", err=True)
     return typer.Exit(2)
-
-
-def shell_words(message: str) -> str:
-    """An API message in a shell user's words: ``mode='3d'`` becomes ``--mode 3d``."""
-    message = re.sub(r"\bmode='(2d|3d)'", r"--mode \1", message)
-    message = re.sub(r"\bmeasure='(angle|area)'", r"--measure \1", message)
-    message = message.replace("leave engine unset", "leave --engine unset")
-    message = message.replace(
-        "map_occluders=True needs a recording that carries an OpenDRIVE map; pass the .xodr path",
-        "--map-occluders needs a recording that carries an OpenDRIVE map; give one with --map FILE.xodr",
-    )
-    message = message.replace(", a list of idx, or a polars expression", ", or idx, comma-separated")
-    return re.sub(r"^(occluders|targets)\b", r"--\1", message)
 
 
 def resolve_map(path: Path, map_path: Path | None) -> Path | None:
@@ -133,7 +150,7 @@ def resolve_map(path: Path, map_path: Path | None) -> Path | None:
     except OSError as e:
         raise fail(f"cannot read the map list {map_path}: {e.strerror or e}") from None
     except ValueError as e:
-        raise fail(str(e)) from None
+        raise fail(e) from None
     if path.name not in table:
         raise fail(f"the map list {map_path} has no map for {path.name} (it lists {', '.join(sorted(table))})")
     return Path(table[path.name])
@@ -148,7 +165,7 @@ def load_recording(path: Path, map_path: Path | None = None):
     try:
         return read_recording(path, map_path)
     except RecordingReadError as e:
-        raise fail(str(e)) from e
+        raise fail(e) from e
 
 
 RUN_OUTPUT = (
@@ -229,4 +246,4 @@ def load_static(path: Path | None) -> list | None:
     try:
         return None if path is None else read_static_occluders(path)
     except RecordingReadError as e:
-        raise fail(str(e)) from e
+        raise fail(e) from e

@@ -70,7 +70,7 @@ def picture_inputs(recording: Path, output: Path, suffixes: tuple[str, ...], fra
     try:
         check_output_path(output, suffixes)
     except ValueError as e:
-        raise fail(str(e)) from None
+        raise fail(e) from None
     r = load_recording(recording, map_path)
     if question.observers is None:
         if r.host_vehicle_idx is None:
@@ -140,7 +140,7 @@ def animate(
         render(r, None, output, frames=span, fps=fps, follow=follow, view_range=view_range, target=target,
                progress=progress, query=question)  # fmt: skip
     except (ValueError, ImportError) as e:
-        raise fail(str(e)) from None
+        raise fail(e) from None
     typer.echo(f"wrote {output}")
 
 
@@ -193,7 +193,7 @@ def report(
         write_report(r, None, output, frames=span, view_range=view_range, progress=progress, title=recording.name,
                      query=question)  # fmt: skip
     except (ValueError, ImportError) as e:
-        raise fail(str(e)) from None
+        raise fail(e) from None
     typer.echo(f"wrote {output}")
 
 
@@ -206,5 +206,5 @@ def _campaign_page(folder: Path, output: Path) -> None:
         check_output_path(output, (".html",))
         write_campaign_page(folder, output)
     except (ValueError, ImportError) as e:
-        raise fail(str(e)) from None
+        raise fail(e) from None
     typer.echo(f"wrote {output}")

@@ -67,7 +67,7 @@ def run(
             if output.suffix == ".parquet":  # a folder of parts: a single file there is refused before reading
                 check_dataset_path(output)
         except ValueError as e:
-            raise fail(str(e)) from None
+            raise fail(e) from None
     map_path = resolve_map(recording, map_path)
     question = shell_query(recording, ego=ego, engine=engine, static=static, sensors=sensors, mode=mode,
                            map_path=map_path, map_occluders=map_occluders, occluders=occluders, targets=targets,
@@ -81,7 +81,7 @@ def run(
         if output is not None and stream is None:
             write_csv(table, output)
     except ValueError as e:
-        raise fail(str(e)) from None
+        raise fail(e) from None
     except OSError as e:  # the disk filled up or the folder vanished while computing
         raise fail(f"cannot write {output}: {e}") from None
     if stream is not None:

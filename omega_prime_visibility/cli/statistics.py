@@ -45,7 +45,7 @@ def statistics(
     try:
         stats = campaign_statistics(folder, bands=bounds, partly=partly)
     except ValueError as e:
-        raise fail(str(e)) from None
+        raise fail(e) from None
     typer.echo(describe(partly))
     with pl.Config(tbl_rows=-1, tbl_cols=-1, tbl_width_chars=200, tbl_hide_dataframe_shape=True, fmt_str_lengths=80):
         for title, name in (

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from ..inputs.errors import OptionError, Setting
 from ..threed.mode import Mode
 from . import Engine
 
@@ -65,7 +66,8 @@ def get_engine(name: str) -> type[Engine]:
     try:
         return {**ENGINES, **ENGINES_3D, **ENGINES_AREA}[name]()
     except KeyError:
-        raise ValueError(f"unknown engine {name!r}; available: {sorted(ENGINES)} (3D: {sorted(ENGINES_3D)})") from None
+        known = f"available: {', '.join(sorted(ENGINES))} (3D: {', '.join(sorted(ENGINES_3D))})"
+        raise OptionError.plain("engine", f"unknown engine {name!r}; {known}") from None
 
 
 DEFAULT_ENGINES = {"2d": "visilibity", "3d": "silhouette3d"}
@@ -78,7 +80,7 @@ def check_mode(mode: str) -> Mode:
     """``mode`` if it is "2d" or "3d" (any case), else a ValueError."""
     m = str(mode).lower()
     if m not in DEFAULT_ENGINES:
-        raise ValueError(f"mode must be '2d' or '3d', not {mode!r}")
+        raise OptionError.plain("mode", f"mode must be '2d' or '3d', not {mode!r}")
     return m  # type: ignore[return-value]
 
 
@@ -90,14 +92,27 @@ def resolve_engine(engine: str | None, mode: Mode, meshes: bool = False) -> str:
     names = ENGINES_3D if mode == "3d" else ENGINES
     if engine not in names:
         other = "3d" if mode == "2d" else "2d"
-        hint = f" ({engine!r} is a {other} engine: pass mode={other!r})" if engine in {**ENGINES, **ENGINES_3D} else ""
-        raise ValueError(f"unknown engine {engine!r} for mode {mode!r}; available: {sorted(names)}{hint}")
+        hint = f" ({engine!r} is a {other} engine: pass {{other}})" if engine in {**ENGINES, **ENGINES_3D} else ""
+        raise OptionError(
+            "engine",
+            f"unknown engine {engine!r} for {{mode}}; available: {', '.join(sorted(names))}{hint}",
+            mode=Setting("mode", mode),
+            other=Setting("mode", other),
+        )
     return engine
 
 
 MEASURES = ("angle", "area")
 """What ``visibility`` measures: the share of the target's angular extent (``"angle"``, the default) or of its
 footprint's area (``"area"``, 2D only, :mod:`..engines.area`)."""
+
+
+AREA_SETTINGS = {
+    "area": Setting("measure", "area"),
+    "angle": Setting("measure", "angle"),
+    "two_d": Setting("mode", "2d"),
+    "engine": Setting("engine"),
+}
 
 
 def resolve_measure(measure: str, engine: str | None, mode: Mode, meshes: bool = False) -> str:
@@ -109,13 +124,17 @@ def resolve_measure(measure: str, engine: str | None, mode: Mode, meshes: bool =
         An unknown measure, the area measure in 3D or with another engine, or an unknown engine.
     """
     if measure not in MEASURES:
-        raise ValueError(f"unknown measure {measure!r}; use 'angle' (the default) or 'area'")
+        raise OptionError.plain("measure", f"unknown measure {measure!r}; use 'angle' (the default) or 'area'")
     if measure == "angle":
         return resolve_engine(engine, mode, meshes)
     if mode == "3d":
-        raise ValueError("measure='area' measures footprints in 2D; use mode='2d' (or measure='angle' in 3D)")
+        raise OptionError(
+            "measure", "{area} measures footprints in 2D; use {two_d} (or {angle} in 3D)", **AREA_SETTINGS
+        )
     if engine not in (None, "area"):
-        raise ValueError(
-            f"measure='area' has its own exact engine (polygon clipping); leave engine unset, not {engine!r}"
+        raise OptionError(
+            "measure",
+            f"{{area}} has its own exact engine (polygon clipping); leave {{engine}} unset, not {engine!r}",
+            **AREA_SETTINGS,
         )
     return "area"

@@ -24,6 +24,8 @@ from typing import Any
 import numpy as np
 import polars as pl
 
+from .errors import OptionError
+
 TYPES = {"UNKNOWN": 0, "OTHER": 1, "VEHICLE": 2, "PEDESTRIAN": 3, "ANIMAL": 4}
 """omega-prime's (OSI's) moving-object ``type`` values by name."""
 
@@ -71,9 +73,10 @@ def _name_expression(name: str, option: str) -> tuple[pl.Expr, set[str]]:
         return pl.col("type") == TYPES[upper], {"type"}
     if upper in SUBTYPES:
         return _subtype_in([upper]), {"type", "subtype"}
-    raise ValueError(
+    raise OptionError.plain(
+        option,
         f"{option}: unknown object kind {name!r}; use a group ({', '.join(GROUPS)}), an omega-prime type "
-        f"({', '.join(TYPES)}) or subtype (e.g. CAR, HEAVY_TRUCK, BICYCLE), a list of idx, or a polars expression"
+        f"({', '.join(TYPES)}) or subtype (e.g. CAR, HEAVY_TRUCK, BICYCLE), or idx",
     )
 
 
@@ -134,33 +137,36 @@ def role_mask(df: pl.DataFrame, spec: RoleSpec, option: str) -> np.ndarray | Non
     if isinstance(spec, np.ndarray):
         spec = spec.tolist()
     if not isinstance(spec, Sequence) or isinstance(spec, bytes) or not len(spec):
-        raise ValueError(
-            f"{option} takes a group or type name, a list of names, a list of idx or a polars expression, not {spec!r}"
+        raise OptionError.plain(
+            option,
+            f"{option} takes a group or type name, a list of names, a list of idx or a polars expression, not {spec!r}",
         )
     if all(_is_idx(v) for v in spec):
         present = np.unique(df["idx"].cast(pl.Int64).to_numpy())
         wanted = np.asarray(spec, dtype=np.int64)
         missing = sorted(set(wanted.tolist()) - set(present.tolist()))
         if missing:
-            raise ValueError(f"{option}: idx {missing[:10]} never occur(s) in the recording")
+            raise OptionError.plain(option, f"idx {missing[:10]} never occur(s) in the recording")
         return df["idx"].cast(pl.Int64).is_in(wanted.tolist()).to_numpy()
     if not all(isinstance(v, str) for v in spec):
-        raise ValueError(f"{option} takes either names or idx, not a mix: {list(spec)!r}")
+        raise OptionError.plain(option, f"{option} takes either names or idx, not a mix: {list(spec)!r}")
     expression, needed = pl.lit(False), set()
     for name in spec:
         one, columns = _name_expression(name, option)
         expression, needed = expression | one, needed | columns
     missing_columns = sorted(needed - set(df.columns))
     if missing_columns:
-        raise ValueError(
+        raise OptionError.plain(
+            option,
             f"{option}={list(spec)!r} needs the column(s) {missing_columns} of omega-prime's object table "
-            "(a Recording has them); give a list of idx or a polars expression instead"
+            "(a Recording has them); give a list of idx or a polars expression instead",
         )
     for column in sorted(needed - {"idx"}):
         if not (df.schema[column].is_integer() or df.schema[column].is_float() or df.schema[column] == pl.Null):
-            raise ValueError(
+            raise OptionError.plain(
+                option,
                 f"{option}={list(spec)!r} reads the column {column!r} as omega-prime's integer codes, but it holds "
-                f"{df.schema[column]} values"
+                f"{df.schema[column]} values",
             )
     return _expression_mask(df, expression, option)
 
@@ -177,7 +183,7 @@ def within_frames(spec: RoleSpec, all_idx: np.ndarray, option: str) -> RoleSpec:
         return spec
     missing = sorted(set(int(v) for v in spec) - set(np.asarray(all_idx).tolist()))
     if missing:
-        raise ValueError(f"{option}: idx {missing[:10]} never occur(s) in the recording")
+        raise OptionError.plain(option, f"idx {missing[:10]} never occur(s) in the recording")
     return pl.col("idx").cast(pl.Int64).is_in([int(v) for v in spec])
 
 
@@ -186,11 +192,15 @@ def _expression_mask(df: pl.DataFrame, expression: pl.Expr, option: str) -> np.n
         result = df.select(expression.alias("_mask")).to_series()
     except pl.exceptions.PolarsError as e:
         first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
-        raise ValueError(f"{option}: the expression cannot be evaluated on the object table ({first})") from None
+        raise OptionError.plain(
+            option, f"{option}: the expression cannot be evaluated on the object table ({first})"
+        ) from None
     if result.dtype != pl.Boolean:
-        raise ValueError(f"{option}: the expression must give a boolean per row, not {result.dtype}")
+        raise OptionError.plain(option, f"the expression must give a boolean per row, not {result.dtype}")
     if len(result) != df.height:
-        raise ValueError(f"{option}: the expression must give one value per row, not {len(result)} for {df.height}")
+        raise OptionError.plain(
+            option, f"{option}: the expression must give one value per row, not {len(result)} for {df.height}"
+        )
     return result.fill_null(False).to_numpy().astype(bool)
 
 

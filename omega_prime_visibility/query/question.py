@@ -15,7 +15,7 @@ one function, :func:`fold_keywords`.
 >>> Query(observers=0, mode="3d", measure="area")  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-omega_prime_visibility.query.question.OptionError: measure='area' measures footprints in 2D; ...
+omega_prime_visibility.inputs.errors.OptionError: measure='area' measures footprints in 2D; ...
 """
 
 from __future__ import annotations
@@ -35,20 +35,11 @@ import polars as pl
 import shapely
 
 from ..engines.registry import check_mode, resolve_measure
+from ..inputs.errors import OptionError
 from ..inputs.roles import RoleSpec, canonical_name, check_names
 from ..inputs.sensors import Sensor, is_layout, resolve_sensors
 from ..inputs.statics import load_static_occluders
 from ..threed.statics import check_heights
-
-
-class OptionError(ValueError):
-    """A bad value of one option of the question; ``option`` names it (as the API spells it), so each front end
-    words it itself (the shell as ``--targets``), as click's ``BadParameter(param_hint=...)`` does."""
-
-    def __init__(self, option: str, message: str) -> None:
-        super().__init__(message if option in message else f"{option}: {message}")
-        self.option = option
-        self.detail = message
 
 
 @contextmanager
@@ -59,7 +50,7 @@ def _option(name: str) -> Iterator[None]:
     except OptionError:
         raise
     except ValueError as e:
-        raise OptionError(name, str(e)) from None
+        raise OptionError.plain(name, str(e)) from None
 
 
 @dataclass(frozen=True, eq=True)
@@ -255,7 +246,7 @@ def fold_keywords(query: Query | None, **keywords: Any) -> Query:
     >>> fold_keywords(Query(observers=3, engine="sweep"), engine="visilibity")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    omega_prime_visibility.query.question.OptionError: engine='visilibity' contradicts the query's ...
+    omega_prime_visibility.inputs.errors.OptionError: engine='visilibity' contradicts the query's ...
     """
     unknown = sorted(set(keywords) - set(TABLE_KEYWORDS))
     if unknown:
@@ -269,10 +260,9 @@ def fold_keywords(query: Query | None, **keywords: Any) -> Query:
     for field_name in given:
         if not _same(other, query, field_name):
             keyword = next(k for k, v in TABLE_KEYWORDS.items() if v == field_name)
-            raise OptionError(
-                keyword,
-                f"{keyword}={_shown(keywords[keyword])} contradicts the query's {field_name}="
-                f"{_shown(getattr(query, field_name))}; give one of them",
+            given_text, query_text = _shown(keywords[keyword]), _shown(getattr(query, field_name))
+            raise OptionError.plain(
+                keyword, f"{keyword}={given_text} contradicts the query's {field_name}={query_text}; give one of them"
             )
     return query
 

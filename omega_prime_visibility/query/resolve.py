@@ -21,6 +21,7 @@ import polars as pl
 
 from ..engines import Engine
 from ..engines.registry import get_engine
+from ..inputs.errors import OptionError
 from ..inputs.objects import ObjectTable, VisibilityInputWarning
 from ..inputs.observers import describe_idx, observers_with_heading, resolve_egos
 from ..inputs.roles import describe as describe_choice
@@ -29,7 +30,7 @@ from ..inputs.scene import as_lazy, as_polars, load_objects, observer_sizes
 from ..inputs.sensors import Sensor, fitted_layout, is_layout
 from ..inputs.statics import StaticOccluders
 from ..threed.mode import load_statics
-from .question import OptionError, Query
+from .question import Query
 
 
 @dataclass(frozen=True)
@@ -88,7 +89,9 @@ def resolve(query: Query, recording: Any) -> Resolved:
         recording, on_invalid=q.on_invalid, three_d=q.three_d, occluders=q.occluders, targets=q.targets
     )
     if q.sensors is not None and not _has_yaw(recording):
-        raise OptionError("sensors", "sensors need the observers' heading: the moving-object table has no 'yaw' column")
+        raise OptionError.plain(
+            "sensors", "sensors need the observers' heading: the moving-object table has no 'yaw' column"
+        )
     statics, static_positions = load_statics(
         list(q.static_occluders) or None,
         q.mode,
@@ -125,8 +128,8 @@ def host_vehicle(recording: Any, objects: ObjectTable) -> int:
         kinds = kinds_present(as_polars(recording))
     except (TypeError, ValueError, pl.exceptions.PolarsError):
         kinds = f"idx {describe_idx(present)}"
-    raise OptionError(
-        "ego_idx", f"ego_idx: give the observer's idx; the recording names no host vehicle (present: {kinds})"
+    raise OptionError.plain(
+        "ego_idx", f"give the observer's idx; the recording names no host vehicle (present: {kinds})"
     )
 
 

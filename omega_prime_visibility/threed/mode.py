@@ -22,6 +22,7 @@ import numpy as np
 import polars as pl
 import shapely
 
+from ..inputs.errors import OptionError, Setting
 from ..inputs.objects import VisibilityInputWarning
 from ..inputs.sensors import DRIVER_EYE_HEIGHT
 from ..inputs.statics import StaticOccluders, load_static_occluders
@@ -94,10 +95,15 @@ def map_source(map_path: str | os.PathLike | bool, recording: Any) -> tuple[str 
     if map_path is True:
         xml = getattr(getattr(recording, "map", None), "odr_xml", None)
         if not isinstance(xml, str):
-            raise ValueError("map_occluders=True needs a recording that carries an OpenDRIVE map; pass the .xodr path")
+            raise OptionError(
+                "map_occluders",
+                "{given} needs a recording that carries an OpenDRIVE map; give one as {path}",
+                given=Setting("map_occluders", True),
+                path=Setting("map_occluders", "FILE.xodr"),
+            )
         return "the recording's OpenDRIVE map", xml
     if map_path is False:
-        raise ValueError("map_occluders must be a path, True (the recording's map) or None")
+        raise OptionError.plain("map_occluders", "map_occluders must be a path, True (the recording's map) or None")
     return map_path, None
 
 
