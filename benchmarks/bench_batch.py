@@ -78,7 +78,7 @@ def overhead(repeats: int) -> tuple[float, float]:
     from omega_prime_visibility.batch.options import FileOptions
     from omega_prime_visibility.inputs.io import read_recording
 
-    options = FileOptions(ego=0)
+    options = FileOptions.of(ego=0)
     recording = read_recording(MCAP)
     with tempfile.TemporaryDirectory() as tmp:
         task = FileTask(str(MCAP), str(Path(tmp) / "r.parquet"), options, options.fingerprint())

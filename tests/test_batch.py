@@ -158,12 +158,43 @@ def test_choices_options(tmp_path) -> None:
     assert run_batch(MCAP, tmp_path, ego=0, progress=False, targets=[2, 3])["status"].to_list() == ["done"]
     for bad, message in (
         ({"occluders": "lorries"}, "unknown object kind 'lorries'"),
-        ({"targets": pl.col("type") == 3}, "a polars expression cannot be stored"),
         ({"measure": "area", "engine": "sweep"}, "has its own exact engine"),
         ({"measure": "volume"}, "unknown measure"),
     ):
         with pytest.raises(ValueError, match=message):
             run_batch(MCAP, tmp_path, progress=False, **bad)
+
+
+def test_the_whole_question(tmp_path) -> None:
+    """run_batch takes a Query (with what the keywords cannot say: expressions, static heights), and its table is
+    get_visibility_df's with the same question; the same question in other words is skipped."""
+    from shapely import box
+
+    from omega_prime_visibility import Query
+
+    question = Query(
+        observers=0,
+        mode="3d",
+        targets=pl.col("type") == 2,
+        static_occluders=[box(30, -8, 40, -6), box(60, 2, 70, 4)],
+        static_heights=(0.8, 3.0),
+    )
+    first = run_batch(MCAP, tmp_path, question, progress=False)
+    assert first["status"].to_list() == ["done"], first["error"][0]
+    expected = get_visibility_df(read_recording(MCAP), query=question, progress=False)
+    assert_frame_equal(pl.read_parquet(tmp_path / "highway_merge.mcap.parquet"), expected)
+    assert run_batch(MCAP, tmp_path, question.replace(observers=[0]), progress=False)["status"][0] == "done"
+    assert run_batch(MCAP, tmp_path, question, progress=False)["status"][0] == "done"  # [0] is another table
+    same = question.replace(targets=(pl.col("type") == 2))  # an equal expression built again
+    assert run_batch(MCAP, tmp_path, same, progress=False)["status"][0] == "skipped"
+    for changed in (question.replace(static_heights=(0.8, 3.5)), question.replace(targets=pl.col("type") == 3)):
+        assert run_batch(MCAP, tmp_path, changed, progress=False)["status"][0] == "done"
+    with pytest.raises(ValueError, match="mode='2d' contradicts the query's mode='3d'"):
+        run_batch(MCAP, tmp_path, question, mode="2d", progress=False)
+    # keywords and the question they fold into are one batch
+    keywords = run_batch(MCAP, tmp_path / "k", ego=0, engine="sweep", targets="vehicles", progress=False)
+    as_query = run_batch(MCAP, tmp_path / "k", Query(observers=0, engine="sweep", targets="VEHICLES"), progress=False)
+    assert keywords["status"][0] == "done" and as_query["status"][0] == "skipped"
 
 
 def test_mode_3d_option(tmp_path, widths_as_heights_mcap) -> None:
@@ -176,7 +207,7 @@ def test_mode_3d_option(tmp_path, widths_as_heights_mcap) -> None:
     assert b'"mode": "3d"' in pq.read_metadata(tmp_path / "highway_merge.mcap.parquet").metadata[OPTIONS_KEY]
     # the 2D table is another one: recomputed
     assert run_batch(MCAP, tmp_path, ego=0, progress=False)["status"].to_list() == ["done"]
-    with pytest.raises(ValueError, match="unknown engine 'sweep' for mode '3d'"):
+    with pytest.raises(ValueError, match="unknown engine 'sweep' for mode='3d'"):
         run_batch(MCAP, tmp_path, mode="3d", engine="sweep", progress=False)
 
 
@@ -391,10 +422,10 @@ def test_bad_options(tmp_path) -> None:
     for kwargs, message in [
         ({"engine": "nope"}, "unknown engine 'nope'"),
         ({"static": tmp_path / "file.txt"}, "file.txt, line 1, as WKT"),
-        ({"static": tmp_path / "none.wkt"}, "the static file .*none.wkt does not exist"),
+        ({"static": tmp_path / "none.wkt"}, "static occluders .*none.wkt does not exist"),
         ({"workers": 2, "scheduler": "tcp://127.0.0.1:1"}, "workers counts local processes"),
         ({"scheduler": "tcp://127.0.0.1:1", "scheduler_file": "s.json"}, "give one of"),
-        ({"ego": "everyone"}, "ego must be an idx"),
+        ({"ego": "everyone"}, "ego_idx must be an int"),
         ({"sensor": "roof"}, r"unknown option\(s\) \['sensor'\]"),
     ]:
         with pytest.raises(ValueError, match=message):

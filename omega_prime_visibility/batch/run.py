@@ -10,7 +10,7 @@ from __future__ import annotations
 import os
 from dataclasses import fields
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import polars as pl
 
@@ -18,6 +18,9 @@ from . import execute
 from .files import find_recordings, is_current, prepare_output_dir, remove_leftovers
 from .options import FileOptions, is_int
 from .task import FileResult, FileTask
+
+if TYPE_CHECKING:
+    from ..query import Query
 
 SUMMARY_NAME = "_batch_summary.parquet"
 SUMMARY_SCHEMA = {
@@ -42,6 +45,7 @@ class BatchInterrupted(KeyboardInterrupt):
 def run_batch(
     inputs: str | os.PathLike | list[str | os.PathLike],
     output_dir: str | os.PathLike,
+    query: Query | None = None,
     *,
     workers: int | None = None,
     scheduler: str | None = None,
@@ -64,6 +68,10 @@ def run_batch(
     output_dir : path
         Created if missing. Results keep the recordings' paths below the folder they were found in, plus
         ``.parquet``; the summary is written to ``_batch_summary.parquet``.
+    query : Query, optional
+        The question (:class:`~omega_prime_visibility.Query`) every recording is computed with; its observers
+        None (the default) take each recording's host vehicle, its ``map_occluders=True`` the map each recording
+        is read with. The keywords below fold into it.
     workers : int, optional
         Local processes over files (default: the cores available); a batch of one file spreads its frames instead.
     scheduler, scheduler_file : str, optional
@@ -76,8 +84,11 @@ def run_batch(
     progress : bool
         Show a progress bar over files.
     **options
-        The fields of :class:`FileOptions`: ``ego`` (default: each recording's host vehicle), ``engine``,
-        ``static`` (GeoJSON or WKT file), ``map``, ``sensors``, ``mode``, ``map_occluders``.
+        ``map`` (an OpenDRIVE map for OSI traces, or a JSON list of ``[trace, map]`` pairs), ``conflicts`` (also
+        write each recording's occluded conflicts), and the question's options as keywords (see
+        :data:`~.options.BATCH_KEYWORDS`): ``ego`` (default: each recording's host vehicle), ``engine``, ``mode``,
+        ``measure``, ``sensors``, ``occluders``, ``targets``, ``static`` (a GeoJSON or WKT file),
+        ``map_occluders`` (True: the map each recording is read with).
 
     Returns
     -------
@@ -106,18 +117,8 @@ def run_batch(
 
     from ..table.output import atomic_write
 
-    try:
-        file_options = FileOptions(**options)
-    except TypeError:
-        unknown = sorted(set(options) - {f.name for f in fields(FileOptions)})
-        raise ValueError(f"unknown option(s) {unknown}; options are {[f.name for f in fields(FileOptions)]}") from None
-    if workers is not None and (not is_int(workers) or workers < 1):
-        raise ValueError(f"workers must be a whole number of at least 1, not {workers!r}")
-    remote = [k for k, v in (("scheduler", scheduler), ("scheduler_file", scheduler_file), ("client", client)) if v]
-    if len(remote) > 1:
-        raise ValueError(f"give one of scheduler, scheduler_file and client, not {' and '.join(remote)}")
-    if remote and workers is not None:
-        raise ValueError("workers counts local processes: on a dask cluster its own workers do the work")
+    file_options = FileOptions.of(query, **options)
+    remote = _check_how(workers, scheduler, scheduler_file, client)
     file_options.check()
     if Path(output_dir).is_file():
         raise ValueError(f"the output folder {output_dir} is a file")
@@ -128,6 +129,49 @@ def run_batch(
     if any(result == output_dir / SUMMARY_NAME for _, result in pairs):
         raise ValueError(f"a recording's result would overwrite the summary {output_dir / SUMMARY_NAME}")
     fingerprint = file_options.fingerprint()
+    results, tasks = _plan(pairs, file_options, fingerprint, overwrite)
+    bar = tqdm(total=len(pairs), initial=len(results), desc="recordings", unit="file", disable=not progress)
+
+    def report(result: FileResult) -> None:
+        results[result.result] = result
+        bar.update(1)
+
+    interrupted = False
+    try:
+        _execute(tasks, report, workers, remote, client, scheduler, scheduler_file)
+    except KeyboardInterrupt:
+        interrupted = True
+    finally:
+        bar.close()
+    rows = []
+    for recording, result in pairs:
+        done = results.get(str(result)) or _unreported(recording, result, fingerprint)
+        rows.append({**asdict_shallow(done), "result": result.relative_to(output_dir).as_posix()})
+    summary = pl.DataFrame(rows, schema=SUMMARY_SCHEMA)
+    with atomic_write(output_dir / SUMMARY_NAME) as temp:
+        summary.write_parquet(temp)
+    if interrupted:
+        raise BatchInterrupted(summary)
+    return summary
+
+
+def _check_how(workers: Any, scheduler: Any, scheduler_file: Any, client: Any) -> bool:
+    """Check how the batch is to run (local processes, or one way to a dask cluster); whether it is remote."""
+    if workers is not None and (not is_int(workers) or workers < 1):
+        raise ValueError(f"workers must be a whole number of at least 1, not {workers!r}")
+    remote = [k for k, v in (("scheduler", scheduler), ("scheduler_file", scheduler_file), ("client", client)) if v]
+    if len(remote) > 1:
+        raise ValueError(f"give one of scheduler, scheduler_file and client, not {' and '.join(remote)}")
+    if remote and workers is not None:
+        raise ValueError("workers counts local processes: on a dask cluster its own workers do the work")
+    return bool(remote)
+
+
+def _plan(
+    pairs: list[tuple[Path, Path]], options: FileOptions, fingerprint: str, overwrite: bool
+) -> tuple[dict[str, FileResult], list[FileTask]]:
+    """The results already current (skipped), by result path, and the tasks for the others (their leftovers
+    from a killed run removed)."""
     results: dict[str, FileResult] = {}
     tasks = []
     for recording, result in pairs:
@@ -136,15 +180,14 @@ def run_batch(
         if rows is not None:
             results[str(result)] = FileResult(str(recording), str(result), "skipped", rows)
         else:
-            tasks.append(FileTask(str(recording), str(result), file_options, fingerprint))
+            tasks.append(FileTask(str(recording), str(result), options, fingerprint))
+    return results, tasks
+
+
+def _execute(tasks, report, workers, remote, client, scheduler, scheduler_file) -> None:
+    """Compute ``tasks`` on a dask cluster or local processes, calling ``report`` with each result; SIGTERM
+    stops it as Ctrl-C does (KeyboardInterrupt)."""
     n_workers = workers or execute.available_cores()
-    bar = tqdm(total=len(pairs), initial=len(results), desc="recordings", unit="file", disable=not progress)
-
-    def report(result: FileResult) -> None:
-        results[result.result] = result
-        bar.update(1)
-
-    interrupted = False
     own_client = None
     try:
         with execute.sigterm_as_interrupt():
@@ -157,22 +200,9 @@ def run_batch(
                 execute.run_here(tasks, report)
             else:
                 execute.run_local(tasks, n_workers, report)
-    except KeyboardInterrupt:
-        interrupted = True
     finally:
-        bar.close()
         if own_client is not None:
             own_client.close()
-    rows = []
-    for recording, result in pairs:
-        done = results.get(str(result)) or _unreported(recording, result, fingerprint)
-        rows.append({**asdict_shallow(done), "result": result.relative_to(output_dir).as_posix()})
-    summary = pl.DataFrame(rows, schema=SUMMARY_SCHEMA)
-    with atomic_write(output_dir / SUMMARY_NAME) as temp:
-        summary.write_parquet(temp)
-    if interrupted:
-        raise BatchInterrupted(summary)
-    return summary
 
 
 def _unreported(recording: Path, result: Path, fingerprint: str) -> FileResult:

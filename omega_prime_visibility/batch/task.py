@@ -3,11 +3,9 @@ writes it atomically (run in the calling process, a pool worker or a dask worker
 
 from __future__ import annotations
 
-import os
 import time
 import warnings
 from dataclasses import dataclass
-from functools import lru_cache
 from pathlib import Path
 
 from .files import OPTIONS_KEY, RECORDING_KEY
@@ -85,23 +83,12 @@ def _compute_and_write(task: FileTask) -> int:
 
     from ..api import get_visibility_df
     from ..inputs.io import read_recording
-    from ..inputs.roles import kinds_present
     from ..table.output import atomic_write
 
     options = task.options
     map_path = options.map_for(Path(task.recording))
     recording = read_recording(task.recording, map_path)
-    ego = options.ego
-    if ego is None:
-        if recording.host_vehicle_idx is None:
-            raise ValueError(
-                f"{Path(task.recording).name} names no host vehicle: give an ego (--ego IDX or --ego all; "
-                f"present: {kinds_present(recording._df)})"
-            )
-        ego = int(recording.host_vehicle_idx)
-    statics = None if options.static is None else _static_occluders(options.static, os.stat(options.static).st_mtime_ns)
-    ego_idx = list(ego) if isinstance(ego, tuple) else ego
-    question = options.question(ego_idx, statics, map_path)
+    question = options.question(recording, Path(task.recording).name, map_path)
     table = get_visibility_df(recording, query=question, workers=task.workers, progress=False)
     arrow = table.to_arrow()
     metadata = {
@@ -116,21 +103,12 @@ def _compute_and_write(task: FileTask) -> int:
     with atomic_write(objects_path(task.result)) as temp:
         recording._df.select("total_nanos", "idx", "x", "y", "type").write_parquet(temp)
     if options.conflicts:
-        conflicts = _conflicts(recording, table, ego_idx)
+        conflicts = _conflicts(recording, table, question.observers)
         with atomic_write(conflicts_path(task.result)) as temp:
             conflicts.write_parquet(temp)
     with atomic_write(task.result) as temp:
         pq.write_table(arrow.replace_schema_metadata(metadata), temp)
     return table.height
-
-
-@lru_cache(maxsize=4)
-def _static_occluders(path: str, mtime_ns: int) -> list:
-    """Read once per process and file version (a worker computes many files with the same occluders, and a dask
-    worker outlives a batch)."""
-    from ..inputs.io import read_static_occluders
-
-    return read_static_occluders(path)
 
 
 def objects_path(result: str | Path) -> Path:

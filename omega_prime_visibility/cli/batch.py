@@ -20,8 +20,7 @@ from .common import (
     Static,
     Targets,
     fail,
-    parse_choice,
-    parse_ego,
+    shell_query,
 )
 
 
@@ -81,19 +80,30 @@ def batch(
     """
     from ..batch import SUMMARY_NAME, BatchInterrupted, run_batch
 
-    options = {"ego": parse_ego(ego) if ego else None, "engine": engine, "static": static, "map": map_path}
-    options.update(sensors=sensors, mode=mode, map_occluders=map_occluders, conflicts=conflicts, measure=measure)
-    options.update(occluders=parse_choice(occluders, "occluders"), targets=parse_choice(targets, "targets"))
+    question = shell_query(
+        None,
+        ego=ego,
+        engine=engine,
+        static=static,
+        sensors=sensors,
+        mode=mode,
+        map_occluders=map_occluders,  # True: the map each recording is read with
+        occluders=occluders,
+        targets=targets,
+        measure=measure,
+    )
     try:
         summary = run_batch(
             inputs,
             output,
+            question,
+            map=map_path,
+            conflicts=conflicts,
             workers=workers,
             scheduler=scheduler,
             scheduler_file=scheduler_file,
             overwrite=overwrite,
             progress=progress,
-            **options,
         )
     except BatchInterrupted as e:
         print_summary(e.summary, output / SUMMARY_NAME)

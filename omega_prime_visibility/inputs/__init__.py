@@ -7,7 +7,8 @@ sensors) to the per-frame scene arrays the engines take.
   :class:`~.objects.VisibilityInputWarning`;
 - :mod:`.boxes3d`: the 3D columns (``z, height, roll, pitch``);
 - :mod:`.statics`: static occluders as rings and edges; :mod:`.containment`: which bodies contain a viewpoint;
-- :mod:`.sensors`: sensors and their poses; :mod:`.observers`: which objects observe.
+- :mod:`.sensors`: sensors and their poses; :mod:`.observers`: which objects observe;
+- :mod:`.errors`: :class:`~.errors.OptionError`, a bad option named, worded by each front end.
 
 Validates at the edge, so the stages after it trust their arrays.
 """

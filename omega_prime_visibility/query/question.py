@@ -163,8 +163,8 @@ class Query:
                 value = [_content_hash(m) for m in value]
             elif f.name == "map_occluders" and isinstance(value, str):
                 value = {"path": value, "sha256": _content_hash(value)}
-            elif isinstance(value, pl.Expr):
-                value = f"expression: {value}"
+            elif isinstance(value, pl.Expr):  # exactly, as polars serialises it (its text may be shortened)
+                value = {"expression": value.meta.serialize(format="json")}
             values[f.name] = value
         return json.dumps(values, sort_keys=True, default=str)
 
@@ -256,9 +256,13 @@ def fold_keywords(query: Query | None, **keywords: Any) -> Query:
         return Query(**given)
     if not isinstance(query, Query):
         raise TypeError(f"query must be an omega_prime_visibility.Query, not {type(query).__name__}")
-    other = Query(**{f.name: getattr(query, f.name) for f in fields(query)} | given)
-    for field_name in given:
-        if not _same(other, query, field_name):
+    values = {f.name: getattr(query, f.name) for f in fields(query)}
+    for field_name, value in given.items():
+        try:  # each keyword alone against the query: one that cannot stand with it contradicts it too
+            agrees = _same(Query(**values | {field_name: value}), query, field_name)
+        except OptionError:
+            agrees = False
+        if not agrees:
             keyword = next(k for k, v in TABLE_KEYWORDS.items() if v == field_name)
             given_text, query_text = _shown(keywords[keyword]), _shown(getattr(query, field_name))
             raise OptionError.plain(
