@@ -213,7 +213,7 @@ def test_cli_mode_3d(tmp_path) -> None:
     written = pl.read_parquet(out)
     assert written.columns[-1] == "can_see" and written.height == 1206
     bad = run_cli("highway_merge.mcap", "--ego", "0", "--mode", "3d", "--engine", "visilibity")
-    assert bad.returncode == 2 and bad.stderr.startswith("error: unknown engine 'visilibity' for mode '3d'")
+    assert bad.returncode == 2 and bad.stderr.startswith("error: --engine: unknown engine 'visilibity' for --mode 3d")
     no_map = run_cli("highway_merge.mcap", "--ego", "0", "--map-occluders")
     assert no_map.returncode == 2 and "OpenDRIVE map" in no_map.stderr
 

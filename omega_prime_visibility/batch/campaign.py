@@ -8,7 +8,6 @@ Results computed with different options are refused, naming the options that dif
 
 from __future__ import annotations
 
-import json
 import warnings
 from pathlib import Path
 
@@ -21,6 +20,7 @@ from ..analysis.combine import every_listed
 from ..analysis.statistics import class_shares, rows_with_distance, statistics_of_rows
 from ..inputs.objects import VisibilityInputWarning
 from .files import OPTIONS_KEY, RECORDING_KEY
+from .options import FileOptions
 from .run import SUMMARY_NAME
 from .task import conflicts_path, objects_path
 
@@ -80,7 +80,7 @@ def _results(folder: Path) -> list[tuple[Path, dict, str]]:
             unreadable.append(str(path.relative_to(folder)))
             continue
         if OPTIONS_KEY in metadata and RECORDING_KEY in metadata:
-            found.append((path, json.loads(metadata[OPTIONS_KEY]), metadata[RECORDING_KEY].decode()))
+            found.append((path, FileOptions.stored(metadata[OPTIONS_KEY]), metadata[RECORDING_KEY].decode()))
     if unreadable:
         warnings.warn(
             f"{folder}: skipping {len(unreadable)} file(s) that are not readable parquet files, not batch results: "

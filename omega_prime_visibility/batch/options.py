@@ -115,6 +115,19 @@ class FileOptions:
             values["map"] = {"path": self.map, "sha256": _sha256(self.map)}
         return json.dumps(values, sort_keys=True)
 
+    @staticmethod
+    def stored(text: str) -> dict[str, Any]:
+        """The options a result was computed with, from its stored :meth:`fingerprint`, as one flat dict named as
+        ``run_batch``'s keywords (``ego``: the observers, None for each recording's host vehicle).
+
+        >>> FileOptions.stored(FileOptions.of(ego=3, engine="sweep").fingerprint())["ego"]
+        3
+        """
+        values = json.loads(text)
+        question = values.pop("query", {})
+        question["ego"] = question.pop("observers", None)
+        return question | values
+
     def check(self) -> None:
         """Read the map list once before any work, so a bad list fails the run instead of every recording."""
         if self.map is not None and Path(self.map).suffix == ".json":
