@@ -22,9 +22,11 @@ from ..engines.registry import ENGINES, ENGINES_3D
 from .app import app
 from .common import fail
 
-DEFAULT = ("visilibity", "sweep", "raycast3d", "silhouette3d", "area")
+DEFAULT = ("reader", "visilibity", "sweep", "raycast3d", "silhouette3d", "area")
 AREA = "area"
 """The area measure's engine (``measure="area"``), compiled like the others."""
+READER = "reader"
+"""The MCAP reader's kernels (:mod:`..inputs.osi_wire`), compiled like an engine's."""
 HEARTBEAT_S = 5.0
 """Seconds between the lines saying that compiling goes on."""
 
@@ -73,6 +75,11 @@ def compile_engine(name: str) -> float:
 
     _compiled.ANNOUNCE = False  # the command says what it compiles
     started = time.perf_counter()
+    if name == READER:
+        from ..inputs.reader import warm_up
+
+        warm_up()
+        return time.perf_counter() - started
     table = warm_up_table()
     wall = shapely.LineString([(-40.0, -3.0), (80.0, -3.0)])
     mode = "3d" if name in ENGINES_3D else "2d"
@@ -119,9 +126,10 @@ def compile_kernels(
     there already. Run it once on every fresh cluster node before a batch.
     """
     names = list(engines or DEFAULT)
-    unknown = [n for n in names if n not in ENGINES and n not in ENGINES_3D and n != AREA]
+    unknown = [n for n in names if n not in ENGINES and n not in ENGINES_3D and n not in (AREA, READER)]
     if unknown:
-        raise fail(f"unknown engine {unknown[0]!r}; available: {sorted(ENGINES) + sorted(ENGINES_3D) + [AREA]}")
+        known = sorted(ENGINES) + sorted(ENGINES_3D) + [AREA, READER]
+        raise fail(f"unknown engine {unknown[0]!r}; available: {known}")
     if jobs is not None and jobs < 1:
         raise fail(f"--jobs takes a number of processes, at least 1, not {jobs}")
     jobs = jobs or min(2, len(os.sched_getaffinity(0)))

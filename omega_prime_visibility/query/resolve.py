@@ -12,6 +12,7 @@ observers, sensors and engine settled. Every stage after ``inputs/`` takes this 
 
 from __future__ import annotations
 
+import os
 import warnings
 from dataclasses import dataclass
 from typing import Any
@@ -22,6 +23,7 @@ import polars as pl
 from ..engines import Engine
 from ..engines.registry import get_engine
 from ..inputs.errors import OptionError
+from ..inputs.io import read_recording
 from ..inputs.objects import ObjectTable, VisibilityInputWarning
 from ..inputs.observers import describe_idx, observers_with_heading, resolve_egos
 from ..inputs.roles import describe as describe_choice
@@ -85,6 +87,8 @@ def resolve(query: Query, recording: Any) -> Resolved:
         observers' heading, no observer given for a table without a host vehicle.
     """
     q = query
+    if isinstance(recording, str | os.PathLike):  # read once: its host vehicle and map are needed too
+        recording = read_recording(recording)
     objects = load_objects(
         recording, on_invalid=q.on_invalid, three_d=q.three_d, occluders=q.occluders, targets=q.targets
     )

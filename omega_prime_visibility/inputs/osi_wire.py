@@ -1,0 +1,323 @@
+"""The moving objects of ``osi3.GroundTruth`` messages, decoded from the protobuf wire format at array speed.
+
+Decoding each message into Python objects and reading its fields one by one costs about 15 us per moving object,
+most of it in making Python objects; these kernels read the fields the object table needs straight from the bytes
+(varints, 64-bit doubles, nested messages; anything else is skipped by its wire type), into columns. The field
+numbers are not written here: they come from ASAM's own message descriptors (``osi-python``), see
+:func:`field_numbers`. Unset fields read as protobuf's defaults (0), as the generated classes read them.
+
+Building blocks: :func:`read_varint`, :func:`skip_field`, :func:`read_double`, :func:`object_counts`,
+:func:`decode_objects`.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+VARINT, FIXED64, LENGTH, FIXED32 = 0, 1, 2, 5
+"""Protobuf's wire types used here (groups, 3 and 4, are refused)."""
+
+FIELDS = (
+    "GroundTruth.timestamp", "GroundTruth.moving_object", "GroundTruth.host_vehicle_id", "GroundTruth.proj_string",
+    "GroundTruth.proj_frame_offset", "Timestamp.seconds", "Timestamp.nanos", "MovingObject.id", "MovingObject.base",
+    "MovingObject.type", "MovingObject.vehicle_classification", "Identifier.value", "BaseMoving.dimension",
+    "BaseMoving.position", "BaseMoving.orientation", "BaseMoving.velocity", "BaseMoving.acceleration",
+    "Dimension3d.length", "Dimension3d.width", "Dimension3d.height", "Vector3d.x", "Vector3d.y", "Vector3d.z",
+    "Orientation3d.roll", "Orientation3d.pitch", "Orientation3d.yaw", "VehicleClassification.type",
+    "VehicleClassification.role",
+)  # fmt: skip
+"""The fields read, in the order of the numbers :func:`field_numbers` gives the kernels."""
+(GT_TIMESTAMP, GT_MOVING_OBJECT, GT_HOST, GT_PROJ_STRING, GT_PROJ_OFFSET, TS_SECONDS, TS_NANOS, MO_ID, MO_BASE,
+ MO_TYPE, MO_CLASS, ID_VALUE, BM_DIMENSION, BM_POSITION, BM_ORIENTATION, BM_VELOCITY, BM_ACCELERATION, D_LENGTH,
+ D_WIDTH, D_HEIGHT, V_X, V_Y, V_Z, O_ROLL, O_PITCH, O_YAW, VC_TYPE, VC_ROLE) = range(len(FIELDS))  # fmt: skip
+
+FLOATS = ("x", "y", "z", "vel_x", "vel_y", "vel_z", "acc_x", "acc_y", "acc_z", "length", "width", "height", "roll",
+          "pitch", "yaw")  # fmt: skip
+"""The float columns :func:`decode_objects` fills, in this order."""
+INTS = ("total_nanos", "idx", "type", "role", "subtype")
+"""The integer columns :func:`decode_objects` fills, in this order."""
+VEHICLE = 2  # osi3.MovingObject.TYPE_VEHICLE: role and subtype are read for vehicles only, else -1
+
+BAD = -1
+"""A position returned for bytes that are no valid protobuf message (cut off, or a field of an unexpected wire
+type)."""
+
+
+def field_numbers() -> np.ndarray:
+    """The numbers of :data:`FIELDS` in ASAM's ``osi3`` message descriptors (``osi-python``).
+
+    Examples
+    --------
+    >>> numbers = field_numbers()
+    >>> len(numbers) == len(FIELDS), int(numbers[GT_MOVING_OBJECT]) > 0
+    (True, True)
+    """
+    from osi3.osi_groundtruth_pb2 import GroundTruth  # type: ignore[import-not-found]
+
+    moving = GroundTruth.DESCRIPTOR.fields_by_name["moving_object"].message_type
+    base = moving.fields_by_name["base"].message_type
+    types = {
+        "GroundTruth": GroundTruth.DESCRIPTOR,
+        "Timestamp": GroundTruth.DESCRIPTOR.fields_by_name["timestamp"].message_type,
+        "MovingObject": moving,
+        "Identifier": moving.fields_by_name["id"].message_type,
+        "BaseMoving": base,
+        "Dimension3d": base.fields_by_name["dimension"].message_type,
+        "Vector3d": base.fields_by_name["position"].message_type,
+        "Orientation3d": base.fields_by_name["orientation"].message_type,
+        "VehicleClassification": moving.fields_by_name["vehicle_classification"].message_type,
+    }
+    return np.array(
+        [types[name.split(".")[0]].fields_by_name[name.split(".")[1]].number for name in FIELDS], dtype=np.int64
+    )
+
+
+@numba.njit(cache=True)
+def read_varint(buf: np.ndarray, pos: int, end: int) -> tuple[int, int]:
+    """The varint at ``buf[pos]`` as a 64-bit two's complement integer, and the position after it
+    (:data:`BAD` when it runs past ``end``)."""
+    value = 0
+    shift = 0
+    while pos < end and shift < 64:
+        byte = np.int64(buf[pos])
+        pos += 1
+        value |= (byte & 0x7F) << shift
+        if byte < 0x80:
+            return value, pos
+        shift += 7
+    return 0, BAD
+
+
+@numba.njit(cache=True)
+def skip_field(buf: np.ndarray, pos: int, end: int, wire: int) -> int:
+    """The position after a field's value of wire type ``wire`` starting at ``pos`` (:data:`BAD` if none)."""
+    if wire == VARINT:
+        return read_varint(buf, pos, end)[1]
+    if wire == FIXED64:
+        return pos + 8 if pos + 8 <= end else BAD
+    if wire == FIXED32:
+        return pos + 4 if pos + 4 <= end else BAD
+    if wire == LENGTH:
+        size, pos = read_varint(buf, pos, end)
+        return pos + size if pos != BAD and 0 <= size <= end - pos else BAD
+    return BAD
+
+
+@numba.njit(cache=True)
+def read_double(buf: np.ndarray, pos: int, scratch: np.ndarray) -> float:
+    """The little-endian 64-bit float at ``buf[pos]`` (``scratch``: one float64, reused, so that nothing is
+    allocated per value)."""
+    raw = scratch.view(np.uint8)
+    for k in range(8):
+        raw[k] = buf[pos + k]
+    return scratch[0]
+
+
+@numba.njit(cache=True)
+def _fields(
+    buf: np.ndarray,
+    pos: int,
+    end: int,
+    numbers: np.ndarray,
+    index: int,
+    out: np.ndarray,
+    first: int,
+    scratch: np.ndarray,
+) -> bool:
+    """Read the double fields ``numbers[index:index + k]`` of the message in ``buf[pos:end]`` into
+    ``out[first:first + k]`` (k = 3); False for bytes that are no message."""
+    while pos < end:
+        key, pos = read_varint(buf, pos, end)
+        if pos == BAD:
+            return False
+        number, wire = key >> 3, key & 7
+        for k in range(3):
+            if number == numbers[index + k]:
+                if wire != FIXED64 or pos + 8 > end:
+                    return False
+                out[first + k] = read_double(buf, pos, scratch)
+                break
+        pos = skip_field(buf, pos, end, wire)
+        if pos == BAD:
+            return False
+    return pos == end
+
+
+@numba.njit(cache=True)
+def _base(buf: np.ndarray, pos: int, end: int, numbers: np.ndarray, floats: np.ndarray, scratch: np.ndarray) -> bool:
+    """Read a ``BaseMoving`` message: its dimension, position, orientation, velocity and acceleration."""
+    while pos < end:
+        key, pos = read_varint(buf, pos, end)
+        if pos == BAD:
+            return False
+        number, wire = key >> 3, key & 7
+        after = skip_field(buf, pos, end, wire)
+        if after == BAD:
+            return False
+        # the sub-message's fields and the first of its three columns in ``floats`` (see FLOATS)
+        index, first = -1, -1
+        if number == numbers[BM_POSITION]:
+            index, first = V_X, 0
+        elif number == numbers[BM_VELOCITY]:
+            index, first = V_X, 3
+        elif number == numbers[BM_ACCELERATION]:
+            index, first = V_X, 6
+        elif number == numbers[BM_DIMENSION]:
+            index, first = D_LENGTH, 9
+        elif number == numbers[BM_ORIENTATION]:
+            index, first = O_ROLL, 12
+        if index >= 0:
+            if wire != LENGTH:
+                return False
+            start = read_varint(buf, pos, end)[1]
+            if not _fields(buf, start, after, numbers, index, floats, first, scratch):
+                return False
+        pos = after
+    return pos == end
+
+
+@numba.njit(cache=True)
+def _varints(buf: np.ndarray, pos: int, end: int, wanted: int, other: int) -> tuple[int, int, bool]:
+    """The varint fields numbered ``wanted`` and ``other`` of the message in ``buf[pos:end]`` (0 when unset)."""
+    a = b = 0
+    while pos < end:
+        key, pos = read_varint(buf, pos, end)
+        if pos == BAD:
+            return 0, 0, False
+        number, wire = key >> 3, key & 7
+        if number == wanted or number == other:
+            if wire != VARINT:
+                return 0, 0, False
+            value, pos = read_varint(buf, pos, end)
+            if number == wanted:
+                a = value
+            else:
+                b = value
+        else:
+            pos = skip_field(buf, pos, end, wire)
+        if pos == BAD:
+            return 0, 0, False
+    return a, b, pos == end
+
+
+@numba.njit(cache=True)
+def _object(
+    buf: np.ndarray, pos: int, end: int, numbers: np.ndarray, ints: np.ndarray, floats: np.ndarray, scratch: np.ndarray
+) -> bool:
+    """Read a ``MovingObject`` message into one row: ``ints[1:5]`` (idx, type, role, subtype), ``floats``."""
+    role = subtype = 0
+    while pos < end:
+        key, pos = read_varint(buf, pos, end)
+        if pos == BAD:
+            return False
+        number, wire = key >> 3, key & 7
+        after = skip_field(buf, pos, end, wire)
+        if after == BAD:
+            return False
+        if number == numbers[MO_TYPE]:
+            if wire != VARINT:
+                return False
+            ints[2] = read_varint(buf, pos, end)[0]
+        elif number == numbers[MO_ID] or number == numbers[MO_BASE] or number == numbers[MO_CLASS]:
+            if wire != LENGTH:
+                return False
+            start = read_varint(buf, pos, end)[1]
+            if number == numbers[MO_ID]:
+                value, _unused, ok = _varints(buf, start, after, numbers[ID_VALUE], -1)
+                ints[1] = value
+            elif number == numbers[MO_BASE]:
+                ok = _base(buf, start, after, numbers, floats, scratch)
+            else:
+                subtype, role, ok = _varints(buf, start, after, numbers[VC_TYPE], numbers[VC_ROLE])
+            if not ok:
+                return False
+        pos = after
+    ints[3] = role if ints[2] == VEHICLE else -1
+    ints[4] = subtype if ints[2] == VEHICLE else -1
+    return pos == end
+
+
+@numba.njit(cache=True)
+def object_counts(buf: np.ndarray, starts: np.ndarray, ends: np.ndarray, numbers: np.ndarray) -> np.ndarray:
+    """The number of moving objects in each message ``buf[starts[m]:ends[m]]`` (-1 for bytes that are no
+    message)."""
+    counts = np.zeros(len(starts), dtype=np.int64)
+    for m in range(len(starts)):
+        pos, end = starts[m], ends[m]
+        while pos < end:
+            key, pos = read_varint(buf, pos, end)
+            if pos == BAD:
+                break
+            if key >> 3 == numbers[GT_MOVING_OBJECT]:
+                counts[m] += 1
+            pos = skip_field(buf, pos, end, key & 7)
+            if pos == BAD:
+                break
+        if pos != end:
+            counts[m] = -1
+    return counts
+
+
+@numba.njit(cache=True)
+def decode_objects(
+    buf: np.ndarray, starts: np.ndarray, ends: np.ndarray, numbers: np.ndarray, offsets: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """The moving objects of the messages ``buf[starts[m]:ends[m]]``, message ``m``'s in rows
+    ``offsets[m]:offsets[m + 1]`` (from :func:`object_counts`).
+
+    Returns
+    -------
+    ints : (n, 5) int64
+        :data:`INTS`: the message's time in nanoseconds, then each object's ``idx, type, role, subtype``.
+    floats : (n, 15) float64
+        :data:`FLOATS`.
+    flags : (m, 3) int64
+        Per message: whether it names a host vehicle, that vehicle's idx, whether it carries a projection
+        (``proj_string`` or ``proj_frame_offset``).
+    bad : int
+        The first message that is no valid ``GroundTruth`` (-1 if none).
+    """
+    n = offsets[-1]
+    ints = np.zeros((n, 5), dtype=np.int64)
+    floats = np.zeros((n, 15), dtype=np.float64)
+    scratch = np.zeros(1, dtype=np.float64)
+    flags = np.zeros((len(starts), 3), dtype=np.int64)
+    for m in range(len(starts)):
+        pos, end, row = starts[m], ends[m], offsets[m]
+        seconds = nanos = 0
+        while pos < end:
+            key, pos = read_varint(buf, pos, end)
+            if pos == BAD:
+                return ints, floats, flags, m
+            number, wire = key >> 3, key & 7
+            after = skip_field(buf, pos, end, wire)
+            if after == BAD:
+                return ints, floats, flags, m
+            if number == numbers[GT_MOVING_OBJECT] or number == numbers[GT_TIMESTAMP] or number == numbers[GT_HOST]:
+                if wire != LENGTH:
+                    return ints, floats, flags, m
+                start = read_varint(buf, pos, end)[1]
+                if number == numbers[GT_MOVING_OBJECT]:
+                    ok = _object(buf, start, after, numbers, ints[row], floats[row], scratch)
+                    row += 1
+                elif number == numbers[GT_TIMESTAMP]:
+                    seconds, nanos, ok = _varints(buf, start, after, numbers[TS_SECONDS], numbers[TS_NANOS])
+                else:
+                    flags[m, 1], _unused, ok = _varints(buf, start, after, numbers[ID_VALUE], -1)
+                    flags[m, 0] = 1
+                if not ok:
+                    return ints, floats, flags, m
+            elif number == numbers[GT_PROJ_OFFSET]:
+                flags[m, 2] = 1
+            elif number == numbers[GT_PROJ_STRING]:
+                if wire != LENGTH:
+                    return ints, floats, flags, m
+                size, start = read_varint(buf, pos, end)
+                for k in range(start, start + size):  # a string of blanks is none (omega-prime strips it)
+                    if buf[k] not in (9, 10, 11, 12, 13, 32):
+                        flags[m, 2] = 1
+                        break
+            pos = after
+        ints[offsets[m] : offsets[m + 1], 0] = seconds * 1_000_000_000 + nanos
+    return ints, floats, flags, -1
