@@ -45,6 +45,7 @@ bench: .venv/.installed
 	$(UV) run --no-sync python benchmarks/bench_choices.py --frames 300
 	$(UV) run --no-sync python benchmarks/bench_3d.py --quick
 	$(UV) run --no-sync python benchmarks/bench_urban.py
+	$(UV) run --no-sync python benchmarks/bench_reader.py
 
 bench-batch: .venv/.installed
 	$(UV) run --no-sync python benchmarks/bench_batch.py

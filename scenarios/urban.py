@@ -21,6 +21,7 @@ Road users (``idx`` in this order):
 Run from the repository root::
 
     uv run python scenarios/urban.py -o urban.parquet       # the object table (and urban.buildings.wkt)
+    uv run python scenarios/urban.py -o urban.mcap          # an omega-prime MCAP file of OSI ground truth
 
 From Python, :func:`urban_scene` returns the object table (omega-prime's columns) and the buildings (shapely
 polygons, metres), e.g. ``get_visibility_df(table, 0, buildings)``.
@@ -186,13 +187,50 @@ def check_no_overlap(table: pl.DataFrame, blocks: list[shapely.Polygon], every: 
             raise AssertionError(f"frame {frame}: idx {rows['idx'][inside[0]]} stands in a building")
 
 
+def write_mcap(table: pl.DataFrame, path: Path, host: int = 0) -> None:
+    """Write ``table`` as an omega-prime MCAP file: one ``osi3.GroundTruth`` a frame on the ``ground_truth`` topic,
+    written with ASAM's OSI messages (omega-prime's own writer cannot write a pedestrian, whose vehicle role it
+    sets to -1); a vehicle classification for vehicles only, every field omega-prime reads set."""
+    from mcap_protobuf.writer import Writer
+    from osi3.osi_groundtruth_pb2 import GroundTruth
+
+    with open(path, "wb") as f:
+        writer = Writer(f)
+        for (nanos,), rows in table.sort("total_nanos", "idx").group_by("total_nanos", maintain_order=True):
+            truth = GroundTruth()
+            truth.timestamp.seconds, truth.timestamp.nanos = divmod(int(nanos), 1_000_000_000)
+            truth.host_vehicle_id.value = host
+            for r in rows.iter_rows(named=True):
+                moving = truth.moving_object.add()
+                moving.id.value, moving.type, base = r["idx"], r["type"], moving.base
+                base.position.x, base.position.y, base.position.z = r["x"], r["y"], r["z"]
+                base.dimension.length, base.dimension.width, base.dimension.height = (
+                    r["length"],
+                    r["width"],
+                    r["height"],
+                )
+                base.orientation.roll, base.orientation.pitch, base.orientation.yaw = r["roll"], r["pitch"], r["yaw"]
+                base.velocity.x, base.velocity.y, base.velocity.z = r["vel_x"], r["vel_y"], 0.0
+                base.acceleration.x, base.acceleration.y, base.acceleration.z = 0.0, 0.0, 0.0
+                if r["type"] == CAR:
+                    moving.vehicle_classification.type = r["subtype"]
+                    moving.vehicle_classification.role = max(r["role"], 0)
+            writer.write_message("ground_truth", truth, log_time=int(nanos), publish_time=int(nanos))
+        writer.finish()
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("-o", "--output", type=Path, default=Path("urban.parquet"), help="the object table (.parquet)")
+    parser.add_argument(
+        "-o", "--output", type=Path, default=Path("urban.parquet"), help="the object table (.parquet or .mcap)"
+    )
     args = parser.parse_args()
     table, blocks = urban_scene()
     check_no_overlap(table, blocks)
-    table.write_parquet(args.output)
+    if args.output.suffix == ".mcap":
+        write_mcap(table, args.output)
+    else:
+        table.write_parquet(args.output)
     wkt = args.output.with_suffix(".buildings.wkt")
     wkt.write_text("".join(f"{g.wkt}\n" for g in blocks))
     per_frame = table.filter(pl.col("frame") == 0).height
