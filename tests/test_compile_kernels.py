@@ -30,6 +30,7 @@ def signatures():
     return found
 
 engine = sys.argv[1]
+compile_engine("reader")  # make run compiles the reader with the engines
 compile_engine(engine)
 before = signatures()
 r = read_recording("highway_merge.mcap")
