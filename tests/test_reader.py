@@ -20,7 +20,7 @@ from polars.testing import assert_frame_equal
 
 from omega_prime_visibility.inputs import osi_wire
 from omega_prime_visibility.inputs.io import RecordingReadError, read_recording
-from omega_prime_visibility.inputs.reader import NotOurs, TraceRecording, object_table, read_mcap
+from omega_prime_visibility.inputs.reader import NotOurs, TraceRecording, decode_table, read_mcap
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -33,9 +33,9 @@ def omega_primes(path: Path) -> omega_prime.Recording:
 
 def assert_same_as_omega_prime(path: Path) -> TraceRecording:
     ours, theirs = read_mcap(path), omega_primes(path)
-    columns = [c for c in theirs._df.columns if c not in ("coords", "geometry", "polygon")]
-    assert_frame_equal(ours._df.select(columns), theirs._df.select(columns))  # rows, order, dtypes, values
-    assert ours._df.columns == [c for c in theirs._df.columns if c not in ("coords", "geometry")]
+    columns = [c for c in theirs._df.columns if c not in ("geometry", "polygon")]
+    assert_frame_equal(ours.table, theirs._df.select(columns))  # rows, order, dtypes, values, box corners
+    assert ours._df.columns == [*columns, "polygon"]  # the shapely outlines when asked for
     mine, omegas = (shapely.get_coordinates(r._df["polygon"].to_numpy()) for r in (ours, theirs))
     assert np.array_equal(mine, omegas)  # the outlines to the bit
     assert ours.host_vehicle_idx == theirs.host_vehicle_idx
@@ -46,6 +46,18 @@ def assert_same_as_omega_prime(path: Path) -> TraceRecording:
 def test_the_bundled_recording() -> None:
     ours = assert_same_as_omega_prime(REPO / "highway_merge.mcap")
     assert ours._df.height == 1407 and ours.host_vehicle_idx == 0
+
+
+@pytest.mark.parametrize("engine", ["visilibity", "sweep"])
+def test_the_tables_are_omega_primes(engine) -> None:
+    """Read by our reader (box corners, no shapely outlines) or by omega-prime: the same table, to the bit."""
+    from omega_prime_visibility import get_visibility_df
+
+    path = REPO / "highway_merge.mcap"
+    for ego in (0, "all"):
+        ours = get_visibility_df(read_mcap(path), ego, engine=engine, progress=False)
+        theirs = get_visibility_df(omega_primes(path), ego, engine=engine, progress=False)
+        assert_frame_equal(ours, theirs)
 
 
 def test_the_shared_mcap(shared_data, monkeypatch) -> None:
@@ -59,8 +71,7 @@ def test_the_shared_mcap(shared_data, monkeypatch) -> None:
     assert isinstance(read_recording(path), omega_prime.Recording)
     monkeypatch.setattr(reader, "_geo_reference", lambda xml: False)
     ours, theirs = read_mcap(path), omega_primes(path)
-    columns = [c for c in ours._df.columns if c != "polygon"]
-    assert_frame_equal(ours._df.select(columns), theirs._df.select(columns))
+    assert_frame_equal(ours.table, theirs._df.select(ours.table.columns))
     assert ours._df.height == 2598 and ours.map.odr_xml == theirs.map.odr_xml
 
 
@@ -209,15 +220,15 @@ def test_projections_go_to_omega_prime(tmp_path) -> None:
     with pytest.raises(NotOurs, match="projection"):
         read_mcap(path)
     with pytest.raises(NotOurs, match="projection"):
-        object_table([ground_truth(0, [], None).SerializeToString(), truth.SerializeToString()])
+        decode_table([ground_truth(0, [], None).SerializeToString(), truth.SerializeToString()])
 
 
 def test_bytes_that_are_no_message() -> None:
     good = ground_truth(5, [], 2).SerializeToString()
     for bad in (good[:-1] + b"\xff", b"\x0a\xff\xff", b"\x0f"):  # cut off, a length past the end, wire type 7
         with pytest.raises(NotOurs, match="no valid"):
-            object_table([good, bad])
-    assert object_table([good])[1] == 2
+            decode_table([good, bad])
+    assert decode_table([good])[1] == 2
 
 
 def test_a_double_with_the_wrong_wire_type_is_refused() -> None:
@@ -229,7 +240,7 @@ def test_a_double_with_the_wrong_wire_type_is_refused() -> None:
     moving = bytes([numbers[osi_wire.MO_BASE] << 3 | 2, len(base)]) + base
     truth = bytes([numbers[osi_wire.GT_MOVING_OBJECT] << 3 | 2, len(moving)]) + moving
     with pytest.raises(NotOurs, match="no valid"):
-        object_table([truth])
+        decode_table([truth])
 
 
 def test_files_it_cannot_read_go_to_omega_prime(tmp_path) -> None:
@@ -237,3 +248,19 @@ def test_files_it_cannot_read_go_to_omega_prime(tmp_path) -> None:
     cut.write_bytes((REPO / "highway_merge.mcap").read_bytes()[:5000])
     with pytest.raises(RecordingReadError, match="truncated"):
         read_recording(cut)
+
+
+def test_omega_primes_metrics_take_it() -> None:
+    """batch --conflicts hands the recording to omega-prime's MetricManager (which sets ``_df``): the same
+    timegaps as from omega-prime's own Recording, and the recording's table is still read right after."""
+    from omega_prime.metrics import MetricManager, distance_traveled, timegaps_and_min_timegaps, vel
+
+    from omega_prime_visibility import get_visibility_df
+
+    path = REPO / "highway_merge.mcap"
+    manager = MetricManager(metrics=[vel, distance_traveled, timegaps_and_min_timegaps])
+    ours = read_mcap(path)
+    gaps = manager.compute(ours, ego_id=0, time_buffer=3e9)[1]["timegaps"]
+    assert_frame_equal(gaps, manager.compute(omega_primes(path), ego_id=0, time_buffer=3e9)[1]["timegaps"])
+    before = get_visibility_df(read_mcap(path), 0, engine="sweep", progress=False)
+    assert_frame_equal(get_visibility_df(ours, 0, engine="sweep", progress=False), before)

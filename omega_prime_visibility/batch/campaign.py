@@ -123,10 +123,11 @@ def _table(result: Path) -> pl.LazyFrame:
 def _objects(recording: str) -> tuple[pl.LazyFrame, int | None]:
     """The recording's moving objects (positions and types) and its host vehicle."""
     from ..inputs.io import RecordingReadError, read_recording
+    from ..inputs.scene import as_lazy
 
     try:
         r = read_recording(Path(recording))
     except (RecordingReadError, OSError) as e:
         raise ValueError(f"cannot read the recording {recording} of a batch result: {e}") from None
     host = None if r.host_vehicle_idx is None else int(r.host_vehicle_idx)
-    return r._df.lazy().select("total_nanos", "idx", "x", "y", "type"), host
+    return as_lazy(r).select("total_nanos", "idx", "x", "y", "type"), host

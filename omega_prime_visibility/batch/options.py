@@ -97,10 +97,11 @@ class FileOptions:
         if query.observers is None:
             if recording.host_vehicle_idx is None:
                 from ..inputs.roles import kinds_present
+                from ..inputs.scene import as_polars
 
                 raise ValueError(
                     f"{name} names no host vehicle: give an ego (--ego IDX or --ego all; "
-                    f"present: {kinds_present(recording._df)})"
+                    f"present: {kinds_present(as_polars(recording))})"
                 )
             query = query.replace(observers=int(recording.host_vehicle_idx))
         if query.map_occluders is True and map_path is not None:

@@ -83,6 +83,7 @@ def _compute_and_write(task: FileTask) -> int:
 
     from ..api import get_visibility_df
     from ..inputs.io import read_recording
+    from ..inputs.scene import as_polars
     from ..table.output import atomic_write
 
     options = task.options
@@ -101,7 +102,7 @@ def _compute_and_write(task: FileTask) -> int:
     # first, so that a complete result always has them beside it: the objects' positions and types (what campaign
     # statistics need, so they never read the recording again) and, when asked, the occluded conflicts
     with atomic_write(objects_path(task.result)) as temp:
-        recording._df.select("total_nanos", "idx", "x", "y", "type").write_parquet(temp)
+        as_polars(recording).select("total_nanos", "idx", "x", "y", "type").write_parquet(temp)
     if options.conflicts:
         conflicts = _conflicts(recording, table, question.observers)
         with atomic_write(conflicts_path(task.result)) as temp:

@@ -61,6 +61,7 @@ def picture_inputs(recording: Path, output: Path, suffixes: tuple[str, ...], fra
     them; the output path, frames, ego), then the recording and its observer (``--ego``, else the host vehicle):
     ``(recording, question, frames)``."""
     from ..inputs.roles import kinds_present
+    from ..inputs.scene import as_polars
     from ..table.output import check_output_path
 
     span, ego_idx = parse_frames(frames), single_ego(ego)
@@ -74,7 +75,7 @@ def picture_inputs(recording: Path, output: Path, suffixes: tuple[str, ...], fra
     r = load_recording(recording, map_path)
     if question.observers is None:
         if r.host_vehicle_idx is None:
-            raise fail(f"the recording names no host vehicle: pass --ego IDX (present: {kinds_present(r._df)})")
+            raise fail(f"the recording names no host vehicle: pass --ego IDX (present: {kinds_present(as_polars(r))})")
         question = question.replace(observers=int(r.host_vehicle_idx))
     return r, question, span
 
@@ -132,8 +133,9 @@ def animate(
     r, question, span = picture_inputs(recording, output, (".gif", ".mp4"), frames, ego, map_path, **table_options)
     if target is not None:
         from ..inputs.observers import describe_idx
+        from ..inputs.scene import as_polars
 
-        present = np.unique(r._df["idx"].to_numpy())
+        present = np.unique(as_polars(r)["idx"].to_numpy())
         if target not in present:
             raise fail(f"target idx {target} never occurs in the recording (idx present: {describe_idx(present)})")
     try:

@@ -54,6 +54,7 @@ def run(
     from ..analysis.summary import DEFINITION, target_summary
     from ..api import get_visibility_df
     from ..inputs.roles import kinds_present
+    from ..inputs.scene import as_polars
     from ..table.output import check_dataset_path, check_output_path, write_csv
 
     # every check that needs no computing comes first, so a typo never costs a long run
@@ -74,7 +75,7 @@ def run(
                            measure=measure)  # fmt: skip
     r = load_recording(recording, map_path)
     if question.observers is None and r.host_vehicle_idx is None:
-        raise fail(f"{recording} names no host vehicle: pass --ego IDX (present: {kinds_present(r._df)})")
+        raise fail(f"{recording} names no host vehicle: pass --ego IDX (present: {kinds_present(as_polars(r))})")
     stream = output if output is not None and output.suffix == ".parquet" else None
     try:
         table = get_visibility_df(r, query=question, progress=progress, workers=workers, output=stream)

@@ -2,7 +2,10 @@
 sensors) to the per-frame scene arrays the engines take.
 
 - :mod:`.io`: reading recordings and maps from files, with clear errors;
+- :mod:`.reader`: MCAP files of OSI ground truth straight into omega-prime's table (:mod:`.osi_wire` decodes
+  them);
 - :mod:`.scene`: the checks of the moving-object table, once, and :func:`~.scene.load_objects`;
+- :mod:`.outlines`: outlines (shapely polygons or box corners) as rings;
 - :mod:`.objects`: the arrays themselves (:class:`~.objects.ObjectTable`, :class:`~.objects.FrameObjects`) and
   :class:`~.objects.VisibilityInputWarning`;
 - :mod:`.boxes3d`: the 3D columns (``z, height, roll, pitch``);

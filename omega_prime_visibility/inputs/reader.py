@@ -50,9 +50,10 @@ class TraceRecording:
 
     Attributes
     ----------
-    _df : polars.DataFrame
-        The moving objects, as omega-prime's ``Recording._df`` holds them (without its ``coords`` and
-        ``geometry`` columns).
+    table : polars.DataFrame
+        The moving objects, as omega-prime's ``Recording._df`` holds them but without shapely outlines: the box
+        corners are its ``coords`` column (the same numbers); ``_df`` adds the ``polygon`` column when first
+        asked for (the engines read the corners and never need it).
     host_vehicle_idx : int or None
     path : Path
         The file it was read from; its map is read from there when first asked for.
@@ -60,13 +61,30 @@ class TraceRecording:
         The OpenDRIVE map the file carries, if any.
     """
 
-    _df: pl.DataFrame
+    table: pl.DataFrame
     host_vehicle_idx: int | None
     path: Path
     odr_xml: str | None = None
     map_name: str | None = None
     _map: Any = field(default=None, repr=False)
     _map_read: bool = field(default=False, repr=False)
+    _with_polygons: pl.DataFrame | None = field(default=None, repr=False)
+
+    @property
+    def _df(self) -> pl.DataFrame:
+        """omega-prime's table, with the ``polygon`` column of shapely outlines (built on first use)."""
+        if self._with_polygons is None:
+            import shapely
+
+            corners = self.table["coords"].to_numpy().reshape(self.table.height, 5, 2)
+            polygons = pl.Series("polygon", shapely.polygons(corners), dtype=pl.Object)
+            self._with_polygons = self.table.with_columns(polygons)
+        return self._with_polygons
+
+    @_df.setter
+    def _df(self, value: pl.DataFrame) -> None:  # (omega-prime's MetricManager sets it)
+        self.table = value
+        self._with_polygons = value if "polygon" in value.columns else None
 
     @property
     def df(self) -> pl.DataFrame:
@@ -106,8 +124,8 @@ class TraceRecording:
         """This recording as an ``omega_prime.Recording`` (for omega-prime's own metrics)."""
         import omega_prime
 
-        keep = [c for c in self._df.columns if c not in ("frame", "polygon", "vel", "acc")]
-        return omega_prime.Recording(self._df.select(keep), map=self.map, host_vehicle_idx=self.host_vehicle_idx)
+        keep = [c for c in self.table.columns if c not in ("frame", "coords", "vel", "acc")]
+        return omega_prime.Recording(self.table.select(keep), map=self.map, host_vehicle_idx=self.host_vehicle_idx)
 
 
 def read_mcap(path: str | os.PathLike) -> TraceRecording:
@@ -156,7 +174,7 @@ def read_mcap(path: str | os.PathLike) -> TraceRecording:
         payloads = [v.global_ground_truth.SerializeToString() for v in views if v.HasField("global_ground_truth")]
     if not payloads:
         raise NotOurs("no ground truth messages")
-    df, host = object_table(payloads)
+    df, host = decode_table(payloads)
     return TraceRecording(df, host, path, odr_xml, map_name)
 
 
@@ -188,7 +206,7 @@ def _geo_reference(odr_xml: str) -> bool:
     return found is not None and bool(re.sub(r"<!\[CDATA\[|\]\]>", "", found.group(1)).strip())
 
 
-def object_table(messages: list[bytes]) -> tuple[pl.DataFrame, int | None]:
+def decode_table(messages: list[bytes]) -> tuple[pl.DataFrame, int | None]:
     """omega-prime's moving-object table of serialised ``osi3.GroundTruth`` messages, and the host vehicle the
     first one names (None if none), decoded by :mod:`.osi_wire`.
 
@@ -233,31 +251,28 @@ def object_table(messages: list[bytes]) -> tuple[pl.DataFrame, int | None]:
 
 def _as_omega_prime(df: pl.DataFrame) -> pl.DataFrame:
     """The columns omega-prime's ``Recording`` adds: ``frame`` (UInt32, the rank of the time), the norms ``vel``
-    and ``acc``, and ``polygon`` (the box outline, corner by corner as omega-prime's ``bbx_to_polygon`` computes
-    it, so that the coordinates are the same to the bit)."""
-    import shapely
-
+    and ``acc``, and ``coords``, the box outline (1 x 5 corners, x and y), computed with the expressions of
+    omega-prime's ``bbx_to_polygon``, so that the numbers are the same to the bit."""
     df = df.with_columns(
         (pl.col("total_nanos").rank("dense") - 1).cast(pl.UInt32).alias("frame"),
         (pl.col("vel_x") ** 2 + pl.col("vel_y") ** 2).sqrt().alias("vel"),
         (pl.col("acc_x") ** 2 + pl.col("acc_y") ** 2).sqrt().alias("acc"),
     )
+    if df.height == 0:  # (reshaping nothing is refused)
+        return df.with_columns(pl.Series("coords", [], dtype=pl.Array(pl.Float64, (1, 5, 2))))
     dxl = (pl.col("length") / 2) * pl.col("yaw").cos()
     dxw = (pl.col("width") / 2) * pl.col("yaw").sin()
     dyl = (pl.col("length") / 2) * pl.col("yaw").sin()
     dyw = (pl.col("width") / 2) * pl.col("yaw").cos()
-    corners = [(dxl - dxw, dyl + dyw), (dxl + dxw, dyl - dyw), (-dxl + dxw, -dyl - dyw), (-dxl - dxw, -dyl + dyw)]
-    xy = df.select(
-        *(
-            expr
-            for k, (dx, dy) in enumerate(corners)
-            for expr in ((pl.col("x") + dx).alias(f"x{k}"), (pl.col("y") + dy).alias(f"y{k}"))
-        )
-    ).to_numpy()
-    ring = xy.reshape(df.height, 4, 2)
-    ring = np.concatenate([ring, ring[:, :1]], axis=1)
-    polygons = shapely.polygons(ring)
-    return df.with_columns(pl.Series("polygon", polygons, dtype=pl.Object))
+    corners = [
+        (dxl - dxw, dyl + dyw),
+        (dxl + dxw, dyl - dyw),
+        (-dxl + dxw, -dyl - dyw),
+        (-dxl - dxw, -dyl + dyw),
+        (dxl - dxw, dyl + dyw),
+    ]
+    ring = pl.concat_list(pl.concat_list(pl.col("x") + dx, pl.col("y") + dy) for dx, dy in corners)
+    return df.with_columns(ring.reshape((df.height, 1, 5, 2)).alias("coords"))
 
 
 def warm_up() -> None:
@@ -272,4 +287,4 @@ def warm_up() -> None:
     moving = truth.moving_object.add()
     moving.id.value, moving.type, moving.base.position.x = 3, osi_wire.VEHICLE, 1.0
     moving.vehicle_classification.role = 1
-    object_table([truth.SerializeToString()])
+    decode_table([truth.SerializeToString()])

@@ -12,7 +12,7 @@ import shapely
 
 from ..geometry.rings import Rings, edges, orient, ring_ids, rings_from, signed_area
 from .containment import TOUCH_TOLERANCE, points_in_boxes
-from .scene import MIN_AREA
+from .outlines import MIN_AREA
 
 
 @dataclass(frozen=True, slots=True)
