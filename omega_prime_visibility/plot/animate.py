@@ -14,7 +14,7 @@ from tqdm.auto import tqdm
 from ..query import Query
 from ..table.output import atomic_write, check_output_path
 from ._optional import require
-from .data import FrameSpec, load_source, picture_question
+from .data import FrameSpec, describe_question, load_source, picture_question
 from .frame import FramePainter, check_target, picture_viewer
 from .style import OKABE_ITO
 from .window import path_limits, scene_window
@@ -118,6 +118,7 @@ def animate(
     pictures = render(
         source, viewer, positions, follow=follow, view_range=view_range, target=target, size=size, dpi=dpi,
         progress=len(positions) >= PROGRESS_MIN_FRAMES if progress is None else progress,
+        choices=describe_question(asked),
     )  # fmt: skip
     with atomic_write(output) as temp:
         if output.suffix == ".gif":
@@ -127,8 +128,9 @@ def animate(
     return output
 
 
-def render(source, viewer, positions, *, follow, view_range, target, size, dpi, progress):
-    """Yield one RGB picture (uint8 array, shape (h, w, 3)) per frame position."""
+def render(source, viewer, positions, *, follow, view_range, target, size, dpi, progress, choices=""):
+    """Yield one RGB picture (uint8 array, shape (h, w, 3)) per frame position; ``choices``: the question's
+    choices in words, under each title."""
     require("matplotlib")
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
@@ -139,7 +141,7 @@ def render(source, viewer, positions, *, follow, view_range, target, size, dpi, 
     ax = fig.add_subplot()
     window = scene_window(source.objects, viewer.ego_idx, positions, view_range, source.lanes.points)
     painter = FramePainter(ax, source, viewer.ego_idx, target=target, sensors=viewer.sensors, window=window,
-                           legend_columns=5)  # fmt: skip
+                           legend_columns=5, region=viewer.region, choices=choices)  # fmt: skip
     # no tick labels: a scene that follows the ego has the scale bar for metres, and each frame draws far less text
     ax.set(xticks=[], yticks=[], xlabel="", ylabel="")
     window = painter.fit()

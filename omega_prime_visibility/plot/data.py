@@ -215,6 +215,10 @@ class FrameView:
         return self.position[self.ego_row]
 
 
+NONE = shapely.Polygon()
+"""The region of a view that carries none (3D)."""
+
+
 class FrameViewer:
     """Computes :class:`FrameView` of one ego frame after frame, with one engine for all of them.
 
@@ -233,6 +237,10 @@ class FrameViewer:
     table : polars.DataFrame, optional
         A visibility table of this ego computed elsewhere (e.g. in 3D, or through sensors): the views take their
         numbers from it (combined over ``sensor`` as above) instead of computing them.
+    region : bool
+        Whether the views carry the region seen on the ground; False for a 3D table, whose targets are seen from
+        the eye over what a bird's-eye region would call blocked (no picture shades "not seen" where the table
+        says seen).
     """
 
     def __init__(
@@ -243,7 +251,9 @@ class FrameViewer:
         margin: float = 200.0,
         sensors: Sequence[Sensor] = (),
         table: pl.DataFrame | None = None,
+        region: bool = True,
     ) -> None:
+        self.region = region
         if ego_idx not in set(np.unique(source.objects.idx).tolist()):
             raise ValueError(f"ego idx {ego_idx} never occurs in the table")
         self.source, self.ego_idx = source, int(ego_idx)
@@ -283,7 +293,7 @@ class FrameViewer:
         if self.region_engine is None:
             self.region_engine = VisiLibityEngine(src.statics)
         self.region_engine.box_margin = self.margin
-        region = seen_region(self.region_engine, fo, int(rows[0]), src.statics, self.sensors)
+        region = seen_region(self.region_engine, fo, int(rows[0]), src.statics, self.sensors) if self.region else NONE
         return FrameView(
             frame=fo.frame,
             total_nanos=fo.total_nanos,

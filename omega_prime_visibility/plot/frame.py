@@ -22,6 +22,7 @@ from .data import (
     FrameView,
     FrameViewer,
     Source,
+    describe_question,
     frames_table,
     load_source,
     needs_table,
@@ -80,6 +81,8 @@ class FramePainter:
         colorbar: bool = True,
         legend_columns: int = 4,
         hiders: bool = True,
+        region: bool = True,
+        choices: str = "",
     ) -> None:
         plt = require("matplotlib.pyplot")
         colors = require("matplotlib.colors")
@@ -87,6 +90,7 @@ class FramePainter:
         self.ax, self.source, self.ego_idx, self.target = ax, source, int(ego_idx), target
         self.sensors = tuple(sensors)
         self.window = window
+        self.choices = choices  # the question's choices in words, under the title
         try:
             self.cmap = plt.get_cmap(cmap)
         except ValueError:
@@ -109,7 +113,7 @@ class FramePainter:
         ax.set_ylabel("y [m]", fontsize=8)
         ax.tick_params(labelsize=7)
         if legend:
-            handles = legend_handles(source, ego_idx, target, self.sensors, hiders=hiders)
+            handles = legend_handles(source, ego_idx, target, self.sensors, hiders=hiders, region=region)
             engine = ax.figure.get_layout_engine()
             if engine is not None and type(engine).__name__ == "ConstrainedLayoutEngine":
                 ax.figure.legend(handles=handles, loc="outside lower center", ncol=legend_columns, fontsize=7,
@@ -188,8 +192,8 @@ class FramePainter:
         for k, s in enumerate(self.sensors):
             self._dynamic.extend(draw_sensor(ax, s, view, sensor_colour(k), limits))
         self._dynamic.extend(self._labels(view, limits))
-        ax.set_title(title or f"frame {view.frame}, t = {view.total_nanos / 1e9:.2f} s, seen from idx {self.ego_idx}",
-                     fontsize=9)  # fmt: skip
+        title = title or f"frame {view.frame}, t = {view.total_nanos / 1e9:.2f} s, seen from idx {self.ego_idx}"
+        ax.set_title(f"{title}\n{self.choices}" if self.choices else title, fontsize=9)
 
     def _labels(self, view: FrameView, limits: tuple[float, float, float, float]) -> list[Any]:
         """``idx: visibility`` beside each object on the picture (``ego idx`` for the ego), none overlapping
@@ -246,7 +250,7 @@ def picture_viewer(
         FrameViewer(source, ego_idx, "visilibity", margin)  # an absent ego fails before the long computation
         table = frames_table(df, question, source.frames[positions].tolist())
     engine = "visilibity" if table is not None or needs_table(question) else question.engine
-    return FrameViewer(source, ego_idx, engine, margin, sensors=own, table=table)
+    return FrameViewer(source, ego_idx, engine, margin, sensors=own, table=table, region=not question.three_d)
 
 
 def check_target(source: Source, target: int | None, positions: np.ndarray | None = None) -> None:
@@ -364,7 +368,8 @@ def plot_frame(
         _, ax = plt.subplots(figsize=(scene[0] + 1.2, scene[1] + 1.3), layout="constrained")
     hidden_by = view.occluders.get(target, []) or view.static_occluders.get(target, []) if target is not None else []
     painter = FramePainter(ax, source, ego_idx, target=target, sensors=viewer.sensors, window=window, cmap=cmap,
-                           legend=legend, hiders=bool(hidden_by))  # fmt: skip
+                           legend=legend, hiders=bool(hidden_by), region=viewer.region,
+                           choices=describe_question(asked))  # fmt: skip
     painter.fit()
     painter.draw(view)
     return ax

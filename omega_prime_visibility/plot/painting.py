@@ -131,17 +131,28 @@ def draw_sensor(ax: Any, s: Sensor, view: FrameView, colour: str, limits: tuple[
     return out
 
 
+NO_REGION = "3D: seen from the eye (no ground region)"
+"""The legend's words where a 3D picture shades no seen region."""
+
+
 def legend_handles(
-    source: Source, ego_idx: int, target: int | None, sensors: Sequence[Sensor], hiders: bool = True
+    source: Source,
+    ego_idx: int,
+    target: int | None,
+    sensors: Sequence[Sensor],
+    hiders: bool = True,
+    region: bool = True,
 ) -> list[Any]:
     """What each colour and outline means, in few words; sensors by name with their field of view and range;
-    ``hiders`` False: the target's occluders are outlined nowhere (nothing hides it), so no "hides" entry."""
+    ``hiders`` False: the target's occluders are outlined nowhere (nothing hides it), so no "hides" entry;
+    ``region`` False (3D): no seen region is shaded, and the legend says why."""
     P, Line2D = require("matplotlib.patches").Patch, require("matplotlib.lines").Line2D
     seen = "seen by the sensors" if sensors else "seen from the ego"
-    handles = [
-        P(facecolor=EGO_FACE, edgecolor=EGO_EDGE, label=f"ego {ego_idx} (★ centre)"),
-        P(facecolor=REGION_FACE, label=seen),
-    ]
+    handles = [P(facecolor=EGO_FACE, edgecolor=EGO_EDGE, label=f"ego {ego_idx} (★ centre)")]
+    if region:
+        handles.append(P(facecolor=REGION_FACE, label=seen))
+    else:
+        handles.append(P(facecolor="none", edgecolor="none", label=NO_REGION))
     if target is not None:
         handles.append(P(facecolor="none", edgecolor=TARGET_EDGE, lw=2, ls="--", label=f"target {target}"))
         if hiders:

@@ -34,6 +34,7 @@ from .data import (
     picture_question,
 )
 from .frame import picture_viewer
+from .painting import NO_REGION
 from .report_tables import summary_html, with_any_sensor
 from .style import EGO_FACE, REGION_FACE, sensor_colour, visibility_colour
 from .timeline import chart_spec, timeline_chart
@@ -143,9 +144,9 @@ def write_report(
         code=_asset("report.js"),
         colourbar="".join(f'<span style="background:{visibility_colour(v)}"></span>' for v in np.linspace(0, 1, 21)),
         aspect=f"{window.aspect:.3f}",
-        seen="seen by the sensors" if viewer.sensors else "seen from the ego",
+        seen=NO_REGION if not viewer.region else "seen by the sensors" if viewer.sensors else "seen from the ego",
         ego_face=EGO_FACE,
-        region_face=REGION_FACE,
+        region_face=REGION_FACE if viewer.region else "transparent",
         sensor_key="".join(
             f'<span class="sensor"><span class="line" style="border-color:{sensor_colour(k)}"></span> '
             f"{html.escape(s.name)}</span>"
