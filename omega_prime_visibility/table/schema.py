@@ -168,7 +168,14 @@ class TableBuilder:
 def _list_column(lengths: np.ndarray, values: np.ndarray) -> pl.Series:
     offsets = np.zeros(len(lengths) + 1, dtype=np.int64)
     np.cumsum(lengths, out=offsets[1:])
-    return pl.Series(pa.LargeListArray.from_arrays(pa.array(offsets, pa.int64()), pa.array(values, pa.int64())))
+    return pl.Series(pa.LargeListArray.from_arrays(_int64_array(offsets), _int64_array(values)))
+
+
+def _int64_array(values: np.ndarray) -> pa.Array:
+    """``values`` as an arrow int64 array on the same memory (``pyarrow.array`` of a numpy array would import
+    pandas, half a second of a short run)."""
+    values = np.ascontiguousarray(values, dtype=np.int64)
+    return pa.Array.from_buffers(pa.int64(), len(values), [None, pa.py_buffer(values)])
 
 
 def to_polars(columns: Columns | None, with_ego: bool, sensor_names: Sequence[str] | None = None) -> pl.DataFrame:
