@@ -139,7 +139,9 @@ def corners_column(df: pl.DataFrame) -> np.ndarray | None:
     (1 x 5 points per row, the first repeated last), as an (n, 5, 2) array; None for any other table."""
     if "polygon" in df.columns or "coords" not in df.columns or df["coords"].dtype != pl.Array(pl.Float64, (1, 5, 2)):
         return None
-    return df["coords"].to_numpy().reshape(df.height, 5, 2)
+    corners = df["coords"].to_numpy().reshape(df.height, 5, 2)
+    # writable, as shapely's coordinates are: the kernels then run on the signatures compiled for them
+    return corners if corners.flags.writeable else corners.copy()
 
 
 def corner_rings(
