@@ -62,11 +62,11 @@ def test_plot_frame_colours_objects_by_visibility_and_outlines_occluders() -> No
     assert "hides 2" in labels and "target 2" in labels
     x0, x1 = ax.get_xlim()
     y0, y1 = ax.get_ylim()
-    assert (x0 + x1) / 2 == pytest.approx(0.0) and (y0 + y1) / 2 == pytest.approx(0.0)  # centred on the ego
-    # the window: objects reach x = 22, plus 3 m; y at least 0.3 of the 80 m view range; then one side widened to
-    # the axes' shape
-    assert x1 >= 25.0 - 1e-9 and y1 >= 24.0 - 1e-9
-    assert x1 == pytest.approx(25.0) or y1 == pytest.approx(24.0)
+    assert (x0 + x1) / 2 == pytest.approx(10.0) and (y0 + y1) / 2 == pytest.approx(0.0)  # centred on what is near
+    # the window: objects reach x = 22, plus 3 m; y at least 0.3 of the default 50 m reach; then one side widened
+    # to the axes' shape
+    assert x1 >= 25.0 - 1e-9 and y1 >= 15.0 - 1e-9
+    assert x1 == pytest.approx(25.0) or y1 == pytest.approx(15.0)
 
 
 def test_plot_frame_half_hidden_target_gets_the_middle_colour() -> None:
@@ -176,9 +176,10 @@ def test_the_window_holds_every_object_that_comes_within_the_view_range() -> Non
     ax = plot_frame(df, 0, 0, view_range=60)
     x0, x1 = ax.get_xlim()
     y0, y1 = ax.get_ylim()
-    assert y0 <= -71 - 3 + 1e-9 and y1 >= 71 + 3 - 1e-9  # the whole truck, 3 m around it, symmetric about the ego
+    # the whole truck and the pedestrian, 3 m around them: the window bounds what is near, wherever it lies
+    assert y0 == pytest.approx(-71 - 3) and y1 == pytest.approx(47.25 + 3)
     assert x1 - x0 < 2 * 70  # the car out of range does not stretch the window (the axes' shape may widen it)
-    assert (x0 + x1) / 2 == pytest.approx(0) and (y0 + y1) / 2 == pytest.approx(0)
+    assert (x0 + x1) / 2 == pytest.approx(0)  # nothing near to either side: centred across the street
     assert y1 - y0 > x1 - x0  # a tall window for a street running north-south
     (bar,) = by_gid(ax, "scale bar")
     (label,) = [t for t in ax.texts if t.get_gid() == "scale bar label"]
@@ -187,6 +188,9 @@ def test_the_window_holds_every_object_that_comes_within_the_view_range() -> Non
     assert bx1 - bx0 == pytest.approx(length) and by0 == by1  # a horizontal bar as long as its label says
     assert length in (1, 2, 5, 10, 20, 50, 100) and (x1 - x0) / 12 <= length <= (x1 - x0) / 5
     assert x0 < bx0 < bx1 < x1 and y0 < by0 < y1  # on the picture
+    # by default a street's reach, 50 m: the pedestrian at 47 m is on it, the truck (rear at 59 m) is not needed
+    y0, y1 = plot_frame(df, 0, 0).get_ylim()
+    assert y1 >= 47.25 and y0 > -71 - 3
 
 
 def test_lanes_are_simplified_merged_and_prepared_once_per_map() -> None:

@@ -9,6 +9,7 @@ import numpy as np
 import typer
 
 from ..engines.registry import ENGINES, ENGINES_3D
+from ..plot.window import AUTO
 from .app import app
 from .common import (
     MapOccluders,
@@ -96,7 +97,15 @@ PictureEngine = Annotated[
         help=f"2D: {', '.join(sorted(ENGINES))} (default visilibity); 3D: {', '.join(sorted(ENGINES_3D))}",
     ),
 ]
-ViewRange = Annotated[float, typer.Option(metavar="METRES", help="metres shown each side of the ego")]
+ViewRange = Annotated[
+    float | None,
+    typer.Option(
+        metavar="METRES",
+        help="show every road user within this many metres of the ego (default: 50, or through --sensors the"
+        " reach of those that look around)",
+        show_default=False,
+    ),
+]
 
 
 @app.command(short_help="an animated GIF or MP4 of the scene seen from the ego")
@@ -107,7 +116,7 @@ def animate(
     frames: FramesOption = "",
     fps: Annotated[float, typer.Option(metavar="FPS", help="frames per second")] = 10.0,
     follow: Annotated[bool, typer.Option(help="keep the ego in the middle (--no-follow: one fixed view)")] = True,
-    view_range: ViewRange = 60.0,
+    view_range: ViewRange = None,
     target: Annotated[int | None, typer.Option(metavar="IDX", help="outline this idx and its occluders")] = None,
     sensors: Annotated[
         str | None,
@@ -139,7 +148,7 @@ def animate(
         if target not in present:
             raise fail(f"target idx {target} never occurs in the recording (idx present: {describe_idx(present)})")
     try:
-        render(r, None, output, frames=span, fps=fps, follow=follow, view_range=view_range, target=target,
+        render(r, None, output, frames=span, fps=fps, follow=follow, view_range=view_range or AUTO, target=target,
                progress=progress, query=question)  # fmt: skip
     except (ValueError, ImportError) as e:
         raise fail(e) from None
@@ -158,7 +167,7 @@ def report(
     output: Annotated[Path, typer.Option("-o", "--output", metavar="PATH", help="write the .html report here")],
     ego: EgoOption = "",
     frames: FramesOption = "",
-    view_range: ViewRange = 60.0,
+    view_range: ViewRange = None,
     sensors: Annotated[
         str | None,
         typer.Option(
@@ -192,8 +201,8 @@ def report(
                      "targets": targets, "measure": measure, "map_occluders": map_occluders}  # fmt: skip
     r, question, span = picture_inputs(recording, output, (".html",), frames, ego, map_path, **table_options)
     try:
-        write_report(r, None, output, frames=span, view_range=view_range, progress=progress, title=recording.name,
-                     query=question)  # fmt: skip
+        write_report(r, None, output, frames=span, view_range=view_range or AUTO, progress=progress,
+                     title=recording.name, query=question)  # fmt: skip
     except (ValueError, ImportError) as e:
         raise fail(e) from None
     typer.echo(f"wrote {output}")

@@ -17,7 +17,7 @@ from ._optional import require
 from .data import FrameSpec, describe_question, load_source, picture_question
 from .frame import FramePainter, check_target, picture_viewer
 from .style import OKABE_ITO
-from .window import path_limits, scene_window
+from .window import AUTO, path_limits, scene_window
 
 SUFFIXES = (".gif", ".mp4")
 PROGRESS_MIN_FRAMES = 200
@@ -32,7 +32,7 @@ def animate(
     frames: FrameSpec = None,
     fps: float = 10.0,
     follow: bool = True,
-    view_range: float = 60.0,
+    view_range: float | str = AUTO,
     target: int | None = None,
     sensors: Any = None,
     lanes: Any = True,
@@ -68,9 +68,12 @@ def animate(
         does not occur raises ``ValueError``.
     fps : float
         Frames per second of the animation.
+    view_range : float or "auto"
+        The scene shows every object within this many metres of the ego, as :func:`~.frame.plot_frame` does
+        ("auto", the default: 50 m, or through sensors the reach of those that look around).
     follow : bool
-        Keep the ego in the middle of a window that shows every object within ``view_range`` metres of it in any
-        of the frames (:mod:`.window`, the same rule as :func:`~.frame.plot_frame`'s); False shows one fixed view
+        Follow the ego with a window that shows every object within ``view_range`` metres of it in any of the
+        frames (:mod:`.window`, the same rule as :func:`~.frame.plot_frame`'s); False shows one fixed view
         covering the ego's whole path with that window around it.
     target, sensors, lanes : optional
         As for :func:`~.frame.plot_frame`.
@@ -139,7 +142,7 @@ def render(source, viewer, positions, *, follow, view_range, target, size, dpi, 
     fig = Figure(figsize=size, dpi=dpi, layout="constrained")
     canvas = FigureCanvasAgg(fig)
     ax = fig.add_subplot()
-    window = scene_window(source.objects, viewer.ego_idx, positions, view_range, source.lanes.points)
+    window = scene_window(source.objects, viewer.ego_idx, positions, viewer.reach, source.lanes.points)
     painter = FramePainter(ax, source, viewer.ego_idx, target=target, sensors=viewer.sensors, window=window,
                            legend_columns=5, region=viewer.region, choices=choices)  # fmt: skip
     # no tick labels: a scene that follows the ego has the scale bar for metres, and each frame draws far less text

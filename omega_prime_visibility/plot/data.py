@@ -254,6 +254,7 @@ class FrameViewer:
         region: bool = True,
     ) -> None:
         self.region = region
+        self.reach: float | None = None  # metres around the ego a picture shows (set by the picture)
         if ego_idx not in set(np.unique(source.objects.idx).tolist()):
             raise ValueError(f"ego idx {ego_idx} never occurs in the table")
         self.source, self.ego_idx = source, int(ego_idx)

@@ -43,7 +43,7 @@ from .style import (
     sensor_colour,
     visibility_colour,
 )
-from .window import Window, scene_window
+from .window import AUTO, Window, default_reach, scene_window
 
 LABEL_SIZE = 7  # points
 SMALL_PX = 7.0
@@ -241,16 +241,21 @@ def picture_viewer(
     """The :class:`~.data.FrameViewer` of a picture of ``question``: its sensors fitted to the ego, its engine;
     where the views cannot compute its numbers themselves (3D, the area measure), the table of the frames at
     ``positions`` computed first."""
-    if view_range is not None and not (isinstance(view_range, numbers.Real) and 0 < view_range < math.inf):
-        raise ValueError(f"view_range must be a positive number of metres, not {view_range!r}")
+    number = isinstance(view_range, numbers.Real) and 0 < view_range < math.inf
+    if not (number or view_range is None or view_range == AUTO):
+        raise ValueError(f"view_range must be a positive number of metres, 'auto' or None, not {view_range!r}")
     ego_idx = int(question.observers)
     own = sensor_list(source, ego_idx)
+    if view_range == AUTO:
+        view_range = default_reach(own)
     margin = 2 * (view_range or 100.0)
     if table is None and needs_table(question):
         FrameViewer(source, ego_idx, "visilibity", margin)  # an absent ego fails before the long computation
         table = frames_table(df, question, source.frames[positions].tolist())
     engine = "visilibity" if table is not None or needs_table(question) else question.engine
-    return FrameViewer(source, ego_idx, engine, margin, sensors=own, table=table, region=not question.three_d)
+    viewer = FrameViewer(source, ego_idx, engine, margin, sensors=own, table=table, region=not question.three_d)
+    viewer.reach = view_range  # metres around the ego the window shows (None: the whole frame)
+    return viewer
 
 
 def check_target(source: Source, target: int | None, positions: np.ndarray | None = None) -> None:
@@ -281,7 +286,7 @@ def plot_frame(
     sensors: Any = None,
     lanes: Any = True,
     ax: Any = None,
-    view_range: float | None = 80.0,
+    view_range: float | str | None = AUTO,
     cmap: str = VISIBILITY_CMAP,
     legend: bool = True,
     engine: str | None = None,
@@ -313,9 +318,10 @@ def plot_frame(
         True draws the lanes of the recording's map underneath, where it has one.
     ax : matplotlib Axes, optional
         Where to draw; by default a new figure shaped like the window.
-    view_range : float or None
-        The picture is centred on the ego and shows every object within this many metres of it, with the lanes
-        within that distance (see :mod:`omega_prime_visibility.plot.window`); None shows the whole frame.
+    view_range : float, "auto" or None
+        The picture shows every object within this many metres of the ego, with the lanes within that distance
+        (see :mod:`omega_prime_visibility.plot.window`); "auto" (the default): 50 m, or through sensors the reach
+        of those that look around; None shows the whole frame.
     cmap : str
         Matplotlib colour map of visibility, 0 (hidden) to 1 (fully visible); cividis (colour-blind safe) by
         default.
@@ -360,8 +366,8 @@ def plot_frame(
     viewer = picture_viewer(df, source, asked, np.array([k]), view_range, table=table)
     view = viewer.view(k)
     window = None
-    if view_range is not None:
-        window = scene_window(source.objects, ego_idx, np.array([k]), view_range, source.lanes.points)
+    if viewer.reach is not None:
+        window = scene_window(source.objects, ego_idx, np.array([k]), viewer.reach, source.lanes.points)
     if ax is None:
         aspect = min(max(window.aspect if window else 2.0, 0.75), 2.2)
         scene = math.sqrt(40.0 * aspect), math.sqrt(40.0 / aspect)  # about 40 square inches of scene

@@ -8,7 +8,8 @@
   const slider = document.getElementById("slider");
   const label = document.getElementById("frame-label");
   const play = document.getElementById("play");
-  const [HW, HH] = data.window;  // half width and half height of the view around the ego, metres
+  // half width and half height of the view, and its centre from the ego, metres
+  const [HW, HH, DX, DY] = data.window;
 
   function el(name, attrs, parent) {
     const e = document.createElementNS(NS, name);
@@ -77,7 +78,7 @@
     regionLayer.replaceChildren();
     overlay.replaceChildren();
     const [ex, ey] = f.ego;
-    const view = [ex - HW, -ey - HH, 2 * HW, 2 * HH];
+    const view = [ex + DX - HW, -(ey + DY) - HH, 2 * HW, 2 * HH];
     svg.setAttribute("viewBox", view.join(" "));
     for (const rings of f.region) {  // a polygon: its outline, then its holes (even-odd)
       const d = rings.map((ring) => "M " + pts(ring).split(" ").join(" L ") + " Z").join(" ");

@@ -38,7 +38,7 @@ from .painting import NO_REGION
 from .report_tables import summary_html, with_any_sensor
 from .style import EGO_FACE, REGION_FACE, sensor_colour, visibility_colour
 from .timeline import chart_spec, timeline_chart
-from .window import Window, scene_window
+from .window import AUTO, Window, scene_window
 
 PROGRESS_MIN_FRAMES = 200
 SCENE_ASPECT = (1.0, 2.6)  # the scene's width / height, at least and at most
@@ -55,7 +55,7 @@ def write_report(
     table: pl.DataFrame | None = None,
     sensors: Any = None,
     lanes: Any = True,
-    view_range: float = 60.0,
+    view_range: float | str = AUTO,
     title: str | None = None,
     engine: str | None = None,
     mode: str | None = None,
@@ -87,9 +87,10 @@ def write_report(
         coloured by ``status``.
     lanes : bool, map or sequence of shapely geometries
         As for :func:`~.frame.plot_frame`.
-    view_range : float
+    view_range : float or "auto"
         The scene shows every object within this many metres of the ego (the window of
-        :mod:`omega_prime_visibility.plot.window`, the same rule as :func:`~.frame.plot_frame`'s).
+        :mod:`omega_prime_visibility.plot.window`, the same rule as :func:`~.frame.plot_frame`'s; "auto", the
+        default: 50 m, or through sensors the reach of those that look around).
     title : str, optional
         Heading of the page; by default the recording's file name where known.
     engine, mode : str, optional
@@ -127,7 +128,7 @@ def write_report(
     computed = views_table(views)
     shown = computed if table is None else with_any_sensor(table)
     spec, mode = chart_spec(with_time_rule(timeline_chart(shown, title=f"seen from idx {ego_idx}", width=760), views))
-    window = scene_window(source.objects, ego_idx, positions, view_range, source.lanes.points)
+    window = scene_window(source.objects, ego_idx, positions, viewer.reach, source.lanes.points)
     window = window.fitted(min(max(window.aspect, SCENE_ASPECT[0]), SCENE_ASPECT[1]))
     scene = scene_data(views, source, ego_idx, window, viewer.sensors)
     page = PAGE.format(
@@ -273,7 +274,7 @@ def scene_data(views: list[FrameView], source, ego_idx: int, window: Window, sen
     ]
     return {
         "ego": ego_idx,
-        "window": [round(window.half_width, 2), round(window.half_height, 2)],
+        "window": [round(v, 2) for v in (window.half_width, window.half_height, window.dx, window.dy)],
         "frames": frames,
         "statics": statics,
         "lanes": [_coords(c) for c in source.lanes.centres],
