@@ -29,9 +29,13 @@ CIVIDIS = (
 )  # fmt: skip
 """matplotlib's cividis at 0, 0.1, ..., 1: the same scale in the HTML report (linear between these)."""
 
-SENSOR_COLOURS = tuple(OKABE_ITO[c] for c in ("orange", "blue", "bluish green", "reddish purple", "yellow", "sky blue"))
+WINE = "#882255"
+"""Paul Tol's wine (his colour-blind-safe "muted" scheme): a sixth line colour beside Okabe-Ito's."""
+SENSOR_COLOURS = (*(OKABE_ITO[c] for c in ("orange", "blue", "bluish green", "reddish purple")), WINE,
+                  OKABE_ITO["sky blue"])  # fmt: skip
 """Outline colour of the k-th sensor's field of view (cycled beyond six): Okabe-Ito's colours but vermillion (the
-ego's) and black (the outlines of a target and what hides it)."""
+ego's), black (the outlines of a target and what hides it) and yellow (a fully visible road user's fill, pale on
+the seen region), which Tol's wine replaces."""
 
 STATUS_COLOURS = {
     "visible": CIVIDIS[-1],
