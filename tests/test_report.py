@@ -68,6 +68,9 @@ def test_report_scene_and_summary_agree_with_the_table(report, expected) -> None
     bands, rule = timeline["spec"]["layer"]
     assert bands["encoding"]["color"]["field"] == "visibility"
     assert rule["mark"]["type"] == "rule" and rule["encoding"]["x"]["datum"] == {"expr": "now"}
+    config = timeline["spec"]["config"]  # text a reader can read on the page: 12 px at least, titles not cut
+    sizes = [config[part][key] for part in ("axis", "legend") for key in ("labelFontSize", "titleFontSize")]
+    assert min(sizes) >= 12 and config["title"]["fontSize"] >= 12 and config["legend"]["titleLimit"] == 0
 
 
 def summary_row(page: str, idx: int, sensor: str | None = None) -> dict[str, str]:

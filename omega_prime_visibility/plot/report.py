@@ -37,7 +37,7 @@ from .frame import picture_viewer
 from .painting import NO_REGION
 from .report_tables import summary_html, with_any_sensor
 from .style import EGO_FACE, REGION_FACE, sensor_colour, visibility_colour
-from .timeline import chart_spec, timeline_chart
+from .timeline import chart_spec, readable, timeline_chart
 from .window import AUTO, Window, scene_window
 
 PROGRESS_MIN_FRAMES = 200
@@ -127,7 +127,8 @@ def write_report(
     views = [viewer.view(k) for k in tqdm(positions.tolist(), desc="frames", unit="frame", disable=not show)]
     computed = views_table(views)
     shown = computed if table is None else with_any_sensor(table)
-    spec, mode = chart_spec(with_time_rule(timeline_chart(shown, title=f"seen from idx {ego_idx}", width=760), views))
+    chart = with_time_rule(timeline_chart(shown, title=f"seen from idx {ego_idx}", width=760), views)
+    spec, mode = chart_spec(readable(chart))
     window = scene_window(source.objects, ego_idx, positions, viewer.reach, source.lanes.points)
     window = window.fitted(min(max(window.aspect, SCENE_ASPECT[0]), SCENE_ASPECT[1]))
     scene = scene_data(views, source, ego_idx, window, viewer.sensors)

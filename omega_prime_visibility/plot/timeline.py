@@ -200,6 +200,26 @@ def timeline_chart(
     )
 
 
+TEXT_PX = 12
+"""The smallest text of a chart on a page or picture (axis labels, legend), pixels; titles a little larger."""
+
+
+def readable(chart: Any) -> Any:
+    """``chart`` with its axis, legend and title text at least :data:`TEXT_PX` pixels (Vega's defaults, 10 and 11
+    px, are too small on a page); a top-level chart (it can no longer be layered)."""
+    if getattr(chart, "config", None) not in (None, {}) and not _undefined(chart.config):
+        return chart  # configured already
+    return (
+        chart.configure_axis(labelFontSize=TEXT_PX, titleFontSize=TEXT_PX + 1)
+        .configure_legend(labelFontSize=TEXT_PX, titleFontSize=TEXT_PX, titleLimit=0, labelLimit=0)
+        .configure_title(fontSize=TEXT_PX + 2)
+    )
+
+
+def _undefined(value: Any) -> bool:
+    return type(value).__name__ == "UndefinedType"
+
+
 def chart_spec(chart: Any) -> tuple[dict, str]:
     """``(spec, mode)`` of an altair chart for vega-embed or vl-convert: Vega-Lite, or for charts with more than
     ``VEGAFUSION_MIN_ROWS`` rows a Vega spec whose data vegafusion has already aggregated."""
@@ -223,7 +243,7 @@ def save_timeline(chart: Any, path: str | os.PathLike, *, scale: float = 2.0) ->
     if isinstance(chart, pl.DataFrame):
         chart = timeline_chart(chart)
     vlc = require("vl_convert", "exporting charts")
-    spec, mode = chart_spec(chart)
+    spec, mode = chart_spec(readable(chart))
     kind = "vega" if mode == "vega" else "vegalite"
     with atomic_write(path) as temp:
         if path.suffix == ".png":
