@@ -379,3 +379,21 @@ def test_a_small_road_user_keeps_its_fill_and_the_legend_lists_only_what_is_draw
     legend = ax.figure.legends[0] if ax.figure.legends else ax.get_legend()
     labels = [t.get_text() for t in legend.get_texts()]
     assert "target 2" in labels and "hides 2" not in labels
+
+
+def test_a_target_off_the_picture_gets_a_pointer_and_nothing_outlined_as_its_hiders() -> None:
+    # the target (idx 2) 200 m ahead, hidden by idx 1 at 10 m; the default 50 m reach leaves it off the picture:
+    # an arrow at the edge names it (visibility, distance), idx 1 is not outlined as what hides it, and the legend
+    # says nothing of what hides it; with a reach that holds it, the outlines come back
+    df = boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 4, 0), (200, 0, 4, 2, 0)])
+    ax = plot_frame(df, 0, 0, target=2)
+    (pointer,) = [t for t in ax.texts if t.get_gid() == "target pointer"]
+    assert pointer.get_text() == "target 2: 0%, 200 m"
+    x0, x1 = ax.get_xlim()
+    assert x0 < pointer.xy[0] < x1 and pointer.xy[0] > (x0 + x1) / 2  # on the picture, on the side of the target
+    assert by_gid(ax, "object 1")[0].get_linewidth() < 2.0
+    legend = ax.figure.legends[0] if ax.figure.legends else ax.get_legend()
+    assert "hides 2" not in [t.get_text() for t in legend.get_texts()]
+    near = plot_frame(df, 0, 0, target=2, view_range=210)
+    assert not [t for t in near.texts if t.get_gid() == "target pointer"]
+    assert by_gid(near, "object 1")[0].get_linewidth() == 2.5

@@ -214,6 +214,13 @@ class FrameView:
         """The viewpoint: the centre of the ego's bounding box, metres."""
         return self.position[self.ego_row]
 
+    def row_of(self, idx: int | None) -> int | None:
+        """The row of object ``idx`` in this frame (None if it is not in it, or ``idx`` is None)."""
+        if idx is None:
+            return None
+        rows = np.flatnonzero(self.idx == idx)
+        return int(rows[0]) if len(rows) else None
+
 
 NONE = shapely.Polygon()
 """The region of a view that carries none (3D)."""

@@ -91,6 +91,7 @@ class FramePainter:
         self.sensors = tuple(sensors)
         self.window = window
         self.choices = choices  # the question's choices in words, under the title
+        self.hiders = hiders
         try:
             self.cmap = plt.get_cmap(cmap)
         except ValueError:
@@ -161,8 +162,11 @@ class FramePainter:
                                                alpha=REGION_ALPHA, zorder=-3)  # fmt: skip
                 patch.set_gid("region")
                 add(ax.add_artist(patch))  # (add_artist: no data limits to update)
-        occluders = set(view.occluders.get(self.target, [])) if self.target is not None else set()
-        static_occluders = set(view.static_occluders.get(self.target, [])) if self.target is not None else set()
+        target_row = view.row_of(self.target)
+        shown = target_row is not None and on_picture(view.rings[target_row], limits)
+        # what hides the target is outlined only where the target is on the picture (else a pointer says where)
+        occluders = set(view.occluders.get(self.target, [])) if shown and self.hiders else set()
+        static_occluders = set(view.static_occluders.get(self.target, [])) if shown and self.hiders else set()
         for k, artists in self._static_patches.items():
             colour = OCCLUDER_EDGE if k in static_occluders else STATIC_EDGE
             for a in artists:
@@ -189,11 +193,31 @@ class FramePainter:
                 marker.set_gid(f"{gid} marker")
                 add(marker)
         add(ax.plot(*view.observer, marker="*", color="white", mec="black", ms=10, zorder=4)[0])
+        if target_row is not None and not shown:
+            add(self._pointer(view, target_row, limits))
         for k, s in enumerate(self.sensors):
             self._dynamic.extend(draw_sensor(ax, s, view, sensor_colour(k), limits))
         self._dynamic.extend(self._labels(view, limits))
         title = title or f"frame {view.frame}, t = {view.total_nanos / 1e9:.2f} s, seen from idx {self.ego_idx}"
         ax.set_title(f"{title}\n{self.choices}" if self.choices else title, fontsize=9)
+
+    def _pointer(self, view: FrameView, row: int, limits: tuple[float, float, float, float]) -> Any:
+        """An arrow at the picture's edge towards the target off the picture, with its idx, visibility and
+        distance from the ego."""
+        x0, x1, y0, y1 = limits
+        centre = np.array([(x0 + x1) / 2, (y0 + y1) / 2])
+        towards = view.position[row] - centre
+        half = np.array([(x1 - x0) / 2, (y1 - y0) / 2]) * POINTER_INSET
+        scale = np.min(np.where(np.abs(towards) > 0, half / np.maximum(np.abs(towards), 1e-12), np.inf))
+        tip, tail = centre + towards * scale, centre + towards * scale * 0.7
+        distance = float(np.hypot(*(view.position[row] - view.observer)))
+        seen = view.visibility[row]
+        text = f"target {self.target}" + (f": {seen:.0%}" if np.isfinite(seen) else "") + f", {distance:.0f} m"
+        box = {"boxstyle": "round,pad=0.2", "fc": "white", "ec": TARGET_EDGE, "ls": "--"}
+        arrow = self.ax.annotate(text, xy=tip, xytext=tail, ha="center", va="center", fontsize=8, zorder=5, bbox=box,
+                                 arrowprops={"arrowstyle": "-|>", "color": TARGET_EDGE, "lw": 1.4})  # fmt: skip
+        arrow.set_gid("target pointer")
+        return arrow
 
     def _labels(self, view: FrameView, limits: tuple[float, float, float, float]) -> list[Any]:
         """``idx: visibility`` beside each object on the picture (``ego idx`` for the ego), none overlapping
@@ -233,6 +257,22 @@ class FramePainter:
                 label.set_position(from_pixels(((box[0] + box[2]) / 2, (box[1] + box[3]) / 2)))
             label.set_visible(k < len(shown))
         return []
+
+
+POINTER_INSET = 0.95
+"""Where a pointer to a target off the picture sits: this share of the way from the centre to the edge."""
+
+
+def on_picture(ring: np.ndarray, limits: tuple[float, float, float, float]) -> bool:
+    """Whether any of the outline ``ring`` lies within ``limits`` ``(x0, x1, y0, y1)`` (its bounding box meets
+    them).
+
+    >>> on_picture(np.array([[9.0, 0.0], [11.0, 0.0], [11.0, 1.0]]), (0.0, 10.0, -5.0, 5.0))
+    True
+    """
+    x0, x1, y0, y1 = limits
+    (a, b), (c, d) = ring.min(axis=0), ring.max(axis=0)
+    return bool(c >= x0 and a <= x1 and d >= y0 and b <= y1)
 
 
 def picture_viewer(
@@ -373,6 +413,9 @@ def plot_frame(
         scene = math.sqrt(40.0 * aspect), math.sqrt(40.0 / aspect)  # about 40 square inches of scene
         _, ax = plt.subplots(figsize=(scene[0] + 1.2, scene[1] + 1.3), layout="constrained")
     hidden_by = view.occluders.get(target, []) or view.static_occluders.get(target, []) if target is not None else []
+    row = view.row_of(target)
+    if row is not None and window is not None and not on_picture(view.rings[row], window.around(view.observer)):
+        hidden_by = []  # the target is off the picture: a pointer, and nothing outlined as what hides it
     painter = FramePainter(ax, source, ego_idx, target=target, sensors=viewer.sensors, window=window, cmap=cmap,
                            legend=legend, hiders=bool(hidden_by), region=viewer.region,
                            choices=describe_question(asked))  # fmt: skip
