@@ -1,7 +1,8 @@
 """Make every picture of the README from the bundled recording with the package's own plotting functions:
 ``uv run python scripts/make_pictures.py`` (or ``make pictures``) writes docs/frame.png, docs/merge.gif (at most
-2 MB), docs/timeline.png, for the sensors docs/sensors.png and docs/sensors_timeline.png, and docs/threed.png
-(:mod:`threed_picture`, a made-up scene where 2D and 3D disagree).
+2 MB), docs/timeline.png, for the sensors docs/sensors.png and docs/sensors_timeline.png, docs/threed.png
+(:mod:`threed_picture`, a made-up scene where 2D and 3D disagree) and docs/urban.png (the town junction of
+``scenarios/urban.py``: buildings, parked buses, queues and pedestrians).
 
 The scene is the README's example: ``highway_merge.mcap`` seen from idx 0, with the guard rail as a static occluder.
 """
@@ -23,11 +24,26 @@ from omega_prime_visibility import animate, get_visibility_df, plot_frame, save_
 from omega_prime_visibility.inputs.io import read_recording
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(1, str(Path(__file__).resolve().parent.parent / "scenarios"))
 import threed_picture
+from urban import urban_scene
 
 REPO = Path(__file__).resolve().parent.parent
 DOCS = REPO / "docs"
 GIF_LIMIT = 2_000_000  # bytes
+
+
+URBAN_FRAME, URBAN_TARGET = 60, 163  # the ego queued at the junction; a pedestrian hidden by parked cars
+
+
+def urban_picture() -> None:
+    """docs/urban.png: the town junction from the queued ego, the buildings as static occluders, a pedestrian on
+    the far sidewalk as the target."""
+    table, buildings = urban_scene(frames=URBAN_FRAME + 1)
+    fig, ax = plt.subplots(figsize=(9, 7.2), layout="constrained")
+    plot_frame(table, 0, URBAN_FRAME, buildings, target=URBAN_TARGET, ax=ax)
+    fig.savefig(DOCS / "urban.png", dpi=110)
+    plt.close(fig)
 
 
 def main() -> None:
@@ -72,7 +88,11 @@ def main() -> None:
     chart = timeline_chart(shown, title="status per sensor from ego 0: front camera and rear-left corner radar")
     save_timeline(chart, DOCS / "sensors_timeline.png", scale=1.5)
     threed_picture.main(DOCS / "threed.png")
-    print(f"wrote {DOCS / 'frame.png'}, {gif} ({size / 1e6:.2f} MB), {DOCS / 'timeline.png'}, sensors and 3D pictures")
+    urban_picture()
+    print(
+        f"wrote {DOCS / 'frame.png'}, {gif} ({size / 1e6:.2f} MB), {DOCS / 'timeline.png'}, sensors, 3D and urban "
+        "pictures"
+    )
 
 
 if __name__ == "__main__":
