@@ -397,3 +397,17 @@ def test_a_target_off_the_picture_gets_a_pointer_and_nothing_outlined_as_its_hid
     near = plot_frame(df, 0, 0, target=2, view_range=210)
     assert not [t for t in near.texts if t.get_gid() == "target pointer"]
     assert by_gid(near, "object 1")[0].get_linewidth() == 2.5
+
+
+def test_the_legend_names_only_static_occluders_on_the_picture() -> None:
+    # a wall 10 m beside the ego is on the picture and in the legend; one 400 m away is in neither
+    df = boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 2, 0)])
+    near, far = shapely.LineString([(-5, 10), (5, 10)]), shapely.LineString([(400, 0), (410, 0)])
+
+    def labels(ax) -> list[str]:
+        legend = ax.figure.legends[0] if ax.figure.legends else ax.get_legend()
+        return [t.get_text() for t in legend.get_texts()]
+
+    assert "wall" in labels(plot_frame(df, 0, 0, [near]))
+    assert "wall" not in labels(plot_frame(df, 0, 0, [far]))
+    assert "wall" in labels(plot_frame(df, 0, 0, [far], view_range=None))  # the whole frame: it is on it

@@ -148,6 +148,8 @@ def render(source, viewer, positions, *, follow, view_range, target, size, dpi, 
     # no tick labels: a scene that follows the ego has the scale bar for metres, and each frame draws far less text
     ax.set(xticks=[], yticks=[], xlabel="", ylabel="")
     window = painter.fit()
+    if painter.show_only(path_limits(source.objects, viewer.ego_idx, positions, window)):  # what any frame shows
+        window = painter.fit()
     limits = None if follow else path_limits(source.objects, viewer.ego_idx, positions, window)
     # progress: a thin line along the bottom edge of the picture, outside the scene, drawn over each frame
     bar = Rectangle((0, 0), 0, 0.006, transform=fig.transFigure, facecolor=OKABE_ITO["blue"], lw=0, zorder=10)

@@ -113,19 +113,45 @@ class FramePainter:
         ax.set_xlabel("x [m]", fontsize=8)
         ax.set_ylabel("y [m]", fontsize=8)
         ax.tick_params(labelsize=7)
+        self._legend_options = (region, legend_columns)
+        self._legend: Any = None
         if legend:
-            handles = legend_handles(source, ego_idx, target, self.sensors, hiders=hiders, region=region)
-            engine = ax.figure.get_layout_engine()
-            if engine is not None and type(engine).__name__ == "ConstrainedLayoutEngine":
-                ax.figure.legend(handles=handles, loc="outside lower center", ncol=legend_columns, fontsize=7,
-                                 frameon=False)  # fmt: skip
-            else:  # a figure laid out by the caller: keep the legend inside the axes
-                ax.legend(handles=handles, loc="lower left", fontsize=6, framealpha=0.85, ncol=2)
+            self._add_legend(None)
+
+    def _add_legend(self, extent: tuple[float, float, float, float] | None) -> None:
+        ax, (region, columns) = self.ax, self._legend_options
+        handles = legend_handles(self.source, self.ego_idx, self.target, self.sensors, hiders=self.hiders,
+                                 region=region, extent=extent)  # fmt: skip
+        engine = ax.figure.get_layout_engine()
+        if engine is not None and type(engine).__name__ == "ConstrainedLayoutEngine":
+            self._legend = ax.figure.legend(handles=handles, loc="outside lower center", ncol=columns, fontsize=7,
+                                            frameon=False)  # fmt: skip
+        else:  # a figure laid out by the caller: keep the legend inside the axes
+            self._legend = ax.legend(handles=handles, loc="lower left", fontsize=6, framealpha=0.85, ncol=2)
+
+    def show_only(self, extent: tuple[float, float, float, float]) -> bool:
+        """Keep in the legend only the static occluders and lanes within ``extent`` ``(x0, x1, y0, y1)``, all the
+        picture (or animation) will show; True if the legend changed (then :meth:`fit` again: its size may
+        have)."""
+        if self._legend is None:
+            return False
+        before = [t.get_text() for t in self._legend.get_texts()]
+        wanted = legend_handles(self.source, self.ego_idx, self.target, self.sensors, hiders=self.hiders,
+                                region=self._legend_options[0], extent=extent)  # fmt: skip
+        if [h.get_label() for h in wanted] == before:
+            return False
+        self._legend.remove()
+        self._add_legend(extent)
+        return True
 
     def fit(self) -> Window | None:
         """Widen the window to the shape the layout gives the axes, and put the scale bar in; returns the window."""
         if self.window is None:
             return None
+        if self._scale is not None:  # fitted again (the legend changed): the old bar, unplaced, would upset the layout
+            self._scale.line.remove()
+            self._scale.label.remove()
+            self._scale = None
         fig = self.ax.figure
         engine = fig.get_layout_engine()
         if engine is not None:
@@ -420,5 +446,7 @@ def plot_frame(
                            legend=legend, hiders=bool(hidden_by), region=viewer.region,
                            choices=describe_question(asked))  # fmt: skip
     painter.fit()
+    if window is not None and painter.show_only(painter.window.around(view.observer)):
+        painter.fit()  # (the legend changed size: the axes' shape may have too)
     painter.draw(view)
     return ax

@@ -142,10 +142,12 @@ def legend_handles(
     sensors: Sequence[Sensor],
     hiders: bool = True,
     region: bool = True,
+    extent: tuple[float, float, float, float] | None = None,
 ) -> list[Any]:
     """What each colour and outline means, in few words; sensors by name with their field of view and range;
     ``hiders`` False: the target's occluders are outlined nowhere (nothing hides it), so no "hides" entry;
-    ``region`` False (3D): no seen region is shaded, and the legend says why."""
+    ``region`` False (3D): no seen region is shaded, and the legend says why; ``extent`` ``(x0, x1, y0, y1)``:
+    what the picture shows, so that static occluders and lanes off it get no entry."""
     P, Line2D = require("matplotlib.patches").Patch, require("matplotlib.lines").Line2D
     seen = "seen by the sensors" if sensors else "seen from the ego"
     handles = [P(facecolor=EGO_FACE, edgecolor=EGO_EDGE, label=f"ego {ego_idx} (★ centre)")]
@@ -157,12 +159,19 @@ def legend_handles(
         handles.append(P(facecolor="none", edgecolor=TARGET_EDGE, lw=2, ls="--", label=f"target {target}"))
         if hiders:
             handles.append(P(facecolor="none", edgecolor=OCCLUDER_EDGE, lw=2.5, label=f"hides {target}"))
-    kinds = {type(part) for g in source.statics.geometries for part in getattr(g, "geoms", [g])}
+    shown = source.statics.geometries
+    if extent is not None:
+        shown = [g for g in shown if shapely.intersects(g, shapely.box(extent[0], extent[2], extent[1], extent[3]))]
+    kinds = {type(part) for g in shown for part in getattr(g, "geoms", [g])}
     if shapely.Polygon in kinds:
         handles.append(P(facecolor=STATIC_FACE, edgecolor=STATIC_EDGE, hatch="///", label="static occluder"))
     if kinds & {shapely.LineString, shapely.LinearRing}:
         handles.append(Line2D([], [], color=STATIC_EDGE, lw=2.5, label="wall"))
-    if source.lanes:
+    points = source.lanes.points if source.lanes else np.zeros((0, 2))
+    if extent is not None and len(points):
+        x, y = points[:, 0], points[:, 1]
+        points = points[(x >= extent[0]) & (x <= extent[1]) & (y >= extent[2]) & (y <= extent[3])]
+    if len(points):
         handles.append(Line2D([], [], color=LANE_COLOUR, lw=0.8, ls=LANE_DASHES, label="lane"))
     for k, s in enumerate(sensors):
         reach = "" if math.isinf(s.range) else f" {s.range:g} m"
