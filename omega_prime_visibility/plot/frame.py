@@ -285,6 +285,9 @@ class FramePainter:
         return []
 
 
+MIN_MARGIN = 200.0
+"""Metres around the ego to which the seen region is computed, at least (a window fitted to a wide page or
+picture can be more than twice as wide as the reach)."""
 POINTER_INSET = 0.95
 """Where a pointer to a target off the picture sits: this share of the way from the centre to the edge."""
 
@@ -314,7 +317,7 @@ def picture_viewer(
     own = sensor_list(source, ego_idx)
     if view_range == AUTO:
         view_range = default_reach(own)
-    margin = 2 * (view_range or 100.0)
+    margin = max(4.0 * (view_range or 100.0), MIN_MARGIN)  # the seen region reaches past any fitted window
     if table is None and needs_table(question):
         FrameViewer(source, ego_idx, "visilibity", margin)  # an absent ego fails before the long computation
         table = frames_table(df, question, source.frames[positions].tolist())
