@@ -411,3 +411,19 @@ def test_the_legend_names_only_static_occluders_on_the_picture() -> None:
     assert "wall" in labels(plot_frame(df, 0, 0, [near]))
     assert "wall" not in labels(plot_frame(df, 0, 0, [far]))
     assert "wall" in labels(plot_frame(df, 0, 0, [far], view_range=None))  # the whole frame: it is on it
+
+
+def test_a_hidden_target_keeps_its_dashed_outline_on_its_dark_fill() -> None:
+    # idx 2, 0 % visible, is filled dark: its dashed outline runs over a white one, so that it shows; a target too
+    # small to outline (a pedestrian far out) gets a dashed ring of SMALL_RING pixels round its marker
+    from matplotlib.colors import to_rgb
+
+    df = boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 4, 0), (20, 0, 4, 2, 0), (45, 6, 0.4, 0.4, 0)])
+    ax = plot_frame(df, 0, 0, target=2)
+    under, dashes = by_gid(ax, "target outline")
+    assert to_rgb(under.get_edgecolor()) == (1.0, 1.0, 1.0) and under.get_linewidth() > dashes.get_linewidth()
+    assert dashes.get_linestyle() == "--" and np.allclose(dashes.get_xy()[:4], by_gid(ax, "object 2")[0].get_xy()[:4])
+    small = plot_frame(df, 0, 0, target=3, view_range=200)
+    ring = by_gid(small, "target outline")[1].get_xy()
+    radius_px = np.hypot(*(ring[0] - (45, 6))) * small.bbox.width / np.ptp(small.get_xlim())
+    assert radius_px == pytest.approx(9.0, rel=0.05)

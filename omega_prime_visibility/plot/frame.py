@@ -218,6 +218,21 @@ class FramePainter:
                                  mec=edge, mew=min(lw, 1.0), ls="none", zorder=2.5)[0]  # fmt: skip
                 marker.set_gid(f"{gid} marker")
                 add(marker)
+            if idx == self.target and idx not in occluders:  # a white ring under the dashes: seen on a dark fill
+                small = size[i] < SMALL_PX
+                ring = (
+                    view.rings[i]
+                    if not small
+                    else view.position[i]
+                    + SMALL_RING
+                    * np.array([[np.cos(a), np.sin(a)] for a in np.linspace(0, 2 * np.pi, 24, endpoint=False)])
+                    * (ax.get_xlim()[1] - ax.get_xlim()[0])
+                    / max(ax.bbox.width, 1.0)
+                )
+                for colour, width, style in (("white", 4.0, "-"), (TARGET_EDGE, 2.0, "--")):
+                    halo = self.patches.Polygon(ring, fill=False, edgecolor=colour, lw=width, ls=style, zorder=2.6)
+                    halo.set_gid("target outline")
+                    add(ax.add_artist(halo))
         add(ax.plot(*view.observer, marker="*", color="white", mec="black", ms=10, zorder=4)[0])
         if target_row is not None and not shown:
             add(self._pointer(view, target_row, limits))
@@ -285,6 +300,8 @@ class FramePainter:
         return []
 
 
+SMALL_RING = 9.0
+"""Pixels: the radius of the dashed ring around a target drawn as a marker (too small for its outline)."""
 MIN_MARGIN = 200.0
 """Metres around the ego to which the seen region is computed, at least (a window fitted to a wide page or
 picture can be more than twice as wide as the reach)."""
