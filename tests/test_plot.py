@@ -381,6 +381,15 @@ def test_a_small_road_user_keeps_its_fill_and_the_legend_lists_only_what_is_draw
     assert "target 2" in labels and "hides 2" not in labels
 
 
+def test_the_picture_grows_to_hold_a_chosen_target_within_twice_its_reach() -> None:
+    # the target 80 m ahead (the default reach is 50 m): the window holds it, and what hides it is outlined
+    df = boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 4, 0), (80, 0, 4, 2, 0)])
+    ax = plot_frame(df, 0, 0, target=2)
+    assert ax.get_xlim()[1] >= 82 and not [t for t in ax.texts if t.get_gid() == "target pointer"]
+    assert by_gid(ax, "object 1")[0].get_linewidth() == 2.5
+    assert ax.get_xlim()[1] < 82 + 10  # no farther than it needs
+
+
 def test_a_target_off_the_picture_gets_a_pointer_and_nothing_outlined_as_its_hiders() -> None:
     # the target (idx 2) 200 m ahead, hidden by idx 1 at 10 m; the default 50 m reach leaves it off the picture:
     # an arrow at the edge names it (visibility, distance), idx 1 is not outlined as what hides it, and the legend

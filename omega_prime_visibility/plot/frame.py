@@ -309,6 +309,21 @@ POINTER_INSET = 0.95
 """Where a pointer to a target off the picture sits: this share of the way from the centre to the edge."""
 
 
+TARGET_REACH = 2.0
+"""A picture's reach grows to hold the chosen target up to this many times the reach (beyond, a pointer at the
+edge says where it is)."""
+
+
+def reach_with_target(view: FrameView, target: int | None, reach: float) -> float:
+    """``reach``, or as far as the farthest vertex of ``target`` from the ego (and a metre) where that is farther
+    but within :data:`TARGET_REACH` times ``reach``."""
+    row = view.row_of(target)
+    if row is None:
+        return reach
+    farthest = float(np.hypot(*(view.rings[row] - view.observer).T).max()) + 1.0
+    return farthest if reach < farthest <= TARGET_REACH * reach else reach
+
+
 def on_picture(ring: np.ndarray, limits: tuple[float, float, float, float]) -> bool:
     """Whether any of the outline ``ring`` lies within ``limits`` ``(x0, x1, y0, y1)`` (its bounding box meets
     them).
@@ -453,7 +468,8 @@ def plot_frame(
     view = viewer.view(k)
     window = None
     if viewer.reach is not None:
-        window = scene_window(source.objects, ego_idx, np.array([k]), viewer.reach, source.lanes.points)
+        reach = reach_with_target(view, target, viewer.reach)
+        window = scene_window(source.objects, ego_idx, np.array([k]), reach, source.lanes.points)
     if ax is None:
         aspect = min(max(window.aspect if window else 2.0, 0.75), 2.2)
         scene = math.sqrt(40.0 * aspect), math.sqrt(40.0 / aspect)  # about 40 square inches of scene
