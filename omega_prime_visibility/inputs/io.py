@@ -39,14 +39,12 @@ def read_recording(path: str | os.PathLike, map_path: str | os.PathLike | None =
             raise RecordingReadError(f"map {map_path} {'is not a file' if map_path.exists() else 'does not exist'}")
         kwargs["map_path"] = str(map_path)
     elif path.suffix == ".mcap":  # read straight into columns where omega-prime would give the same table
-        from .reader import NotOurs, read_mcap
+        from .reader import read_mcap
 
         try:
             return read_mcap(path)
-        except NotOurs:
-            pass  # a projection, no OSI ground truth: omega-prime reads it
-        except Exception:  # a file it cannot decode: omega-prime reads it, or says in its words what is wrong
-            pass
+        except Exception:  # NotOurs (a projection, no OSI ground truth) or a file it cannot decode: omega-prime
+            pass  # reads it, or says in its words what is wrong
     import omega_prime  # takes seconds: only once the paths are known to exist
 
     try:

@@ -6,8 +6,8 @@ most of it in making Python objects; these kernels read the fields the object ta
 numbers are not written here: they come from ASAM's own message descriptors (``osi-python``), see
 :func:`field_numbers`. Unset fields read as protobuf's defaults (0), as the generated classes read them.
 
-Building blocks: :func:`read_varint`, :func:`skip_field`, :func:`read_double`, :func:`object_counts`,
-:func:`decode_objects`.
+Building blocks: :func:`read_varint`, :func:`skip_field`, :func:`next_field`, :func:`read_double`,
+:func:`object_counts`, :func:`decode_objects`.
 """
 
 from __future__ import annotations
@@ -105,6 +105,20 @@ def skip_field(buf: np.ndarray, pos: int, end: int, wire: int) -> int:
 
 
 @numba.njit(cache=True)
+def next_field(buf: np.ndarray, pos: int, end: int) -> tuple[int, int, int, int]:
+    """The field starting at ``buf[pos]``: its number, its wire type, where its value starts (a length-delimited
+    field's payload, after its length) and the position after it (:data:`BAD` for bytes that are no field)."""
+    key, pos = read_varint(buf, pos, end)
+    if pos == BAD:
+        return 0, 0, BAD, BAD
+    wire = key & 7
+    after = skip_field(buf, pos, end, wire)
+    if wire == LENGTH and after != BAD:
+        pos = read_varint(buf, pos, end)[1]
+    return key >> 3, wire, pos, after
+
+
+@numba.njit(cache=True)
 def read_double(buf: np.ndarray, pos: int, scratch: np.ndarray) -> float:
     """The little-endian 64-bit float at ``buf[pos]`` (``scratch``: one float64, reused, so that nothing is
     allocated per value)."""
@@ -128,19 +142,16 @@ def _fields(
     """Read the double fields ``numbers[index:index + k]`` of the message in ``buf[pos:end]`` into
     ``out[first:first + k]`` (k = 3); False for bytes that are no message."""
     while pos < end:
-        key, pos = read_varint(buf, pos, end)
-        if pos == BAD:
+        number, wire, start, after = next_field(buf, pos, end)
+        if after == BAD:
             return False
-        number, wire = key >> 3, key & 7
         for k in range(3):
             if number == numbers[index + k]:
-                if wire != FIXED64 or pos + 8 > end:
+                if wire != FIXED64:
                     return False
-                out[first + k] = read_double(buf, pos, scratch)
+                out[first + k] = read_double(buf, start, scratch)
                 break
-        pos = skip_field(buf, pos, end, wire)
-        if pos == BAD:
-            return False
+        pos = after
     return pos == end
 
 
@@ -148,11 +159,7 @@ def _fields(
 def _base(buf: np.ndarray, pos: int, end: int, numbers: np.ndarray, floats: np.ndarray, scratch: np.ndarray) -> bool:
     """Read a ``BaseMoving`` message: its dimension, position, orientation, velocity and acceleration."""
     while pos < end:
-        key, pos = read_varint(buf, pos, end)
-        if pos == BAD:
-            return False
-        number, wire = key >> 3, key & 7
-        after = skip_field(buf, pos, end, wire)
+        number, wire, start, after = next_field(buf, pos, end)
         if after == BAD:
             return False
         # the sub-message's fields and the first of its three columns in ``floats`` (see FLOATS)
@@ -170,7 +177,6 @@ def _base(buf: np.ndarray, pos: int, end: int, numbers: np.ndarray, floats: np.n
         if index >= 0:
             if wire != LENGTH:
                 return False
-            start = read_varint(buf, pos, end)[1]
             if not _fields(buf, start, after, numbers, index, floats, first, scratch):
                 return False
         pos = after
@@ -182,22 +188,18 @@ def _varints(buf: np.ndarray, pos: int, end: int, wanted: int, other: int) -> tu
     """The varint fields numbered ``wanted`` and ``other`` of the message in ``buf[pos:end]`` (0 when unset)."""
     a = b = 0
     while pos < end:
-        key, pos = read_varint(buf, pos, end)
-        if pos == BAD:
+        number, wire, start, after = next_field(buf, pos, end)
+        if after == BAD:
             return 0, 0, False
-        number, wire = key >> 3, key & 7
         if number == wanted or number == other:
             if wire != VARINT:
                 return 0, 0, False
-            value, pos = read_varint(buf, pos, end)
+            value = read_varint(buf, start, end)[0]
             if number == wanted:
                 a = value
             else:
                 b = value
-        else:
-            pos = skip_field(buf, pos, end, wire)
-        if pos == BAD:
-            return 0, 0, False
+        pos = after
     return a, b, pos == end
 
 
@@ -208,21 +210,16 @@ def _object(
     """Read a ``MovingObject`` message into one row: ``ints[1:5]`` (idx, type, role, subtype), ``floats``."""
     role = subtype = 0
     while pos < end:
-        key, pos = read_varint(buf, pos, end)
-        if pos == BAD:
-            return False
-        number, wire = key >> 3, key & 7
-        after = skip_field(buf, pos, end, wire)
+        number, wire, start, after = next_field(buf, pos, end)
         if after == BAD:
             return False
         if number == numbers[MO_TYPE]:
             if wire != VARINT:
                 return False
-            ints[2] = read_varint(buf, pos, end)[0]
+            ints[2] = read_varint(buf, start, end)[0]
         elif number == numbers[MO_ID] or number == numbers[MO_BASE] or number == numbers[MO_CLASS]:
             if wire != LENGTH:
                 return False
-            start = read_varint(buf, pos, end)[1]
             if number == numbers[MO_ID]:
                 value, _unused, ok = _varints(buf, start, after, numbers[ID_VALUE], -1)
                 ints[1] = value
@@ -246,14 +243,11 @@ def object_counts(buf: np.ndarray, starts: np.ndarray, ends: np.ndarray, numbers
     for m in range(len(starts)):
         pos, end = starts[m], ends[m]
         while pos < end:
-            key, pos = read_varint(buf, pos, end)
+            number, _wire, _start, pos = next_field(buf, pos, end)
             if pos == BAD:
                 break
-            if key >> 3 == numbers[GT_MOVING_OBJECT]:
+            if number == numbers[GT_MOVING_OBJECT]:
                 counts[m] += 1
-            pos = skip_field(buf, pos, end, key & 7)
-            if pos == BAD:
-                break
         if pos != end:
             counts[m] = -1
     return counts
@@ -287,17 +281,12 @@ def decode_objects(
         pos, end, row = starts[m], ends[m], offsets[m]
         seconds = nanos = 0
         while pos < end:
-            key, pos = read_varint(buf, pos, end)
-            if pos == BAD:
-                return ints, floats, flags, m
-            number, wire = key >> 3, key & 7
-            after = skip_field(buf, pos, end, wire)
+            number, wire, start, after = next_field(buf, pos, end)
             if after == BAD:
                 return ints, floats, flags, m
             if number == numbers[GT_MOVING_OBJECT] or number == numbers[GT_TIMESTAMP] or number == numbers[GT_HOST]:
                 if wire != LENGTH:
                     return ints, floats, flags, m
-                start = read_varint(buf, pos, end)[1]
                 if number == numbers[GT_MOVING_OBJECT]:
                     ok = _object(buf, start, after, numbers, ints[row], floats[row], scratch)
                     row += 1
@@ -313,8 +302,7 @@ def decode_objects(
             elif number == numbers[GT_PROJ_STRING]:
                 if wire != LENGTH:
                     return ints, floats, flags, m
-                size, start = read_varint(buf, pos, end)
-                for k in range(start, start + size):  # a string of blanks is none (omega-prime strips it)
+                for k in range(start, after):  # a string of blanks is none (omega-prime strips it)
                     if buf[k] not in (9, 10, 11, 12, 13, 32):
                         flags[m, 2] = 1
                         break

@@ -15,7 +15,8 @@ from ..query import Query
 from ..table.output import atomic_write, check_output_path
 from ._optional import require
 from .data import FrameSpec, describe_question, load_source, picture_question
-from .frame import FramePainter, check_target, picture_viewer
+from .frame import check_target, picture_viewer
+from .painter import FramePainter
 from .style import OKABE_ITO
 from .window import AUTO, path_limits, scene_window
 

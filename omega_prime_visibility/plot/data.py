@@ -248,6 +248,8 @@ class FrameViewer:
         Whether the views carry the region seen on the ground; False for a 3D table, whose targets are seen from
         the eye over what a bird's-eye region would call blocked (no picture shades "not seen" where the table
         says seen).
+    reach : float, optional
+        Metres around the ego the pictures of these views show (None: the whole frame).
     """
 
     def __init__(
@@ -259,9 +261,10 @@ class FrameViewer:
         sensors: Sequence[Sensor] = (),
         table: pl.DataFrame | None = None,
         region: bool = True,
+        reach: float | None = None,
     ) -> None:
         self.region = region
-        self.reach: float | None = None  # metres around the ego a picture shows (set by the picture)
+        self.reach = reach  # metres around the ego a picture shows (None: the whole frame)
         if ego_idx not in set(np.unique(source.objects.idx).tolist()):
             raise ValueError(f"ego idx {ego_idx} never occurs in the table")
         self.source, self.ego_idx = source, int(ego_idx)
