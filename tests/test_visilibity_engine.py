@@ -202,25 +202,6 @@ def test_chunk_angular_extents_are_those_of_angular_extent_to_the_bit(seed: int)
         assert np.array_equal(start[t0:t1], want_start) and np.array_equal(width[t0:t1], want_width)
 
 
-def test_polygon_coords_reads_the_vertex_array_as_swig_gives_it(monkeypatch) -> None:
-    import visilibity as vis
-
-    from omega_prime_visibility.engines.visilibity import conversion
-
-    assert conversion._READ_MEMORY  # the layout check holds on this machine: the one-call read is what runs
-    rng = np.random.default_rng(3)
-    polygons = [conversion.vis_polygon(rng.uniform(-1e6, 1e6, (int(rng.integers(3, 40)), 2))) for _ in range(20)]
-    engine, frame, view = engine_and_frame(sliver_table(), [shapely.from_wkt(SLIVER_WALL)])
-    env, origin = engine.environment(frame, view)
-    polygons.append(vis.Visibility_Polygon(vis.Point(*(view.position - origin)), env, engine.epsilon))
-    through_swig = [conversion._coords_through_swig(getattr(p, "this", p)) for p in polygons]
-    monkeypatch.setattr(conversion, "_coords_through_swig", None)  # the read must not fall back
-    for polygon, want in zip(polygons, through_swig, strict=True):
-        got = conversion.polygon_coords(polygon)
-        assert got.dtype == np.float64 and got.shape == want.shape and np.array_equal(got, want)
-    assert len(through_swig[-1]) > 10
-
-
 def test_results_do_not_depend_on_the_side_of_zero_an_earlier_viewpoint_was_on() -> None:
     from test_pipeline import assert_same_columns, frame_by_frame
 

@@ -3,31 +3,15 @@ numpy, shapely and VisiLibity polygons."""
 
 from __future__ import annotations
 
-import ctypes
+from dataclasses import dataclass
 
-import _visilibity
 import numba
 import numpy as np
 import shapely
-import visilibity as vis
 
 from ...geometry.kernels import MIN_CAPACITY, argsort_stable, push_pair
+from . import _visilibity1  # VisiLibity1 1.0.10 compiled with the package (native/binding.cpp)
 
-# SWIG's flat functions, called directly: the proxy classes' Python wrappers cost more than the C++ calls (a
-# vis.Point(x, y) is three Python calls); the vector typemaps take the flat functions' objects as they are
-_new_point = _visilibity.new_Point
-_new_polygon = _visilibity.new_Polygon
-_vertex = _visilibity.Polygon___getitem__
-_n_vertices = _visilibity.Polygon_n
-_x = _visilibity.Point_x
-_y = _visilibity.Point_y
-_new_environment = _visilibity.new_Environment
-_new_visibility_polygon = _visilibity.new_Visibility_Polygon
-# A VisiLibity Polygon holds only ``std::vector<Point> vertices_`` (no virtual methods, so no vtable before it) and
-# a Point only ``double x_, y_``: the vector's first two words are pointers to the first vertex and past the last,
-# and the vertices are (x, y) float64 pairs in between. Reading them there takes one call instead of three per
-# vertex; :func:`_memory_layout_holds` checks the layout on a known polygon first and every read checks the count.
-_VECTOR_BOUNDS = ctypes.c_size_t * 2
 ORIGIN_GRID = 1024.0  # metres; coordinates are taken relative to the nearest multiple (precision, caching)
 
 
@@ -85,73 +69,77 @@ def components(n, first, second):
     return label
 
 
-def vis_polygon(coords: np.ndarray) -> vis.Polygon:
-    """A VisiLibity polygon with the vertices ``coords`` (shape (m, 2), metres), in order (the SWIG object itself,
-    which ``vis.Environment`` and :func:`polygon_coords` take, without the Python proxy around it)."""
-    return _new_polygon([_new_point(x, y) for x, y in coords.tolist()])
+def vis_polygon(coords: np.ndarray) -> np.ndarray:
+    """A polygon as VisiLibity takes it: its vertices ``coords`` (shape (m, 2), metres), in order, as a C-ordered
+    float64 array (the same array when it already is one)."""
+    return np.ascontiguousarray(coords, dtype=np.float64)
 
 
-def vis_polygons_reversed(coords: np.ndarray, offsets: np.ndarray, which: np.ndarray) -> list[vis.Polygon]:
+def vis_polygons_reversed(coords: np.ndarray, offsets: np.ndarray, which: np.ndarray) -> list[np.ndarray]:
     """:func:`vis_polygon` of the ragged rings ``which`` (``coords`` (m, 2), ``offsets`` (n + 1,)), each with its
-    vertices in reverse order, from one conversion of the coordinates to Python floats."""
-    points = coords.tolist()
+    vertices in reverse order."""
     bounds = offsets.tolist()
-    return [_new_polygon([_new_point(x, y) for x, y in reversed(points[bounds[k] : bounds[k + 1]])]) for k in which]
+    return [np.ascontiguousarray(coords[bounds[k] : bounds[k + 1]][::-1], dtype=np.float64) for k in which]
 
 
-def polygon_coords(polygon: vis.Polygon) -> np.ndarray:
-    """The vertices of a VisiLibity polygon (or visibility polygon, the SWIG object), shape (m, 2), float64.
-
-    Read from the polygon's vertex array in memory when its layout is the one checked at import, else (or if the
-    count disagrees with ``Polygon::n``) vertex by vertex through SWIG; both give the same numbers.
+@dataclass(frozen=True)
+class Environment:
+    """A VisiLibity environment: the outer boundary (counter-clockwise) and the holes (clockwise), each polygon's
+    vertices a float64 array (m, 2), metres, in the frame the observer is given in.
 
     Examples
     --------
-    >>> polygon_coords(vis_polygon(np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 1.5]]))).tolist()
-    [[0.0, 0.0], [2.0, 0.0], [0.0, 1.5]]
-    >>> polygon_coords(vis.Polygon([vis.Point(1.0, 1.0), vis.Point(3.0, 1.0), vis.Point(1.0, 4.0)])).tolist()
-    [[1.0, 1.0], [3.0, 1.0], [1.0, 4.0]]
+    >>> box = np.array([[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]])
+    >>> hole = np.array([[4.0, 4.0], [4.0, 6.0], [6.0, 6.0], [6.0, 4.0]])
+    >>> env = Environment([box, hole])
+    >>> env.h(), env.is_valid(1e-9)
+    (1, True)
+    >>> Environment([box, hole[::-1]]).is_valid(1e-9)  # a hole must run clockwise
+    False
     """
-    polygon = getattr(polygon, "this", polygon)  # the SWIG object inside a proxy class
-    coords = _vertex_array(polygon, _n_vertices(polygon)) if _READ_MEMORY else None
-    return coords if coords is not None else _coords_through_swig(polygon)
 
+    polygons: list[np.ndarray]
 
-def _vertex_array(polygon, n: int) -> np.ndarray | None:
-    """The polygon's vertex array read in memory, shape (n, 2); None unless its two bounding words are aligned
-    and span exactly ``n`` vertices (nothing is followed before that)."""
-    begin, end = _VECTOR_BOUNDS.from_address(int(polygon))
-    if begin == 0 or begin % 8 or end - begin != 16 * n:
-        return None
-    return np.frombuffer(ctypes.string_at(begin, end - begin), dtype=np.float64).reshape(-1, 2)
+    def h(self) -> int:
+        """The number of holes (VisiLibity's name)."""
+        return len(self.polygons) - 1
 
+    def flat(self) -> tuple[np.ndarray, np.ndarray]:
+        """All vertices back to back (float64, (m, 2)) and each polygon's vertex count (int64), as
+        ``_visilibity1`` takes them."""
+        vertices = np.ascontiguousarray(np.concatenate(self.polygons), dtype=np.float64)
+        counts = np.fromiter((len(p) for p in self.polygons), dtype=np.int64, count=len(self.polygons))
+        return vertices, counts
 
-def _coords_through_swig(polygon: vis.Polygon) -> np.ndarray:
-    points = [_vertex(polygon, i) for i in range(_n_vertices(polygon))]
-    return np.array([(_x(p), _y(p)) for p in points], dtype=np.float64).reshape(-1, 2)
-
-
-def _memory_layout_holds() -> bool:
-    """Whether a polygon's vertex array is where :func:`polygon_coords` reads it (checked on a known polygon: the
-    two words span exactly its vertices, and they hold its coordinates)."""
-    known = np.array([[0.5, -1.25], [3.0, 0.125], [-2.0, 7.5]])
-    polygon = vis_polygon(known)
-    found = _vertex_array(polygon, len(known))
-    return found is not None and np.array_equal(found, known) and np.array_equal(_coords_through_swig(polygon), known)
+    def is_valid(self, epsilon: float) -> bool:
+        """VisiLibity's own check (``Environment::is_valid``): every polygon simple and of positive area, the outer
+        boundary counter-clockwise, the holes clockwise, inside it and apart from each other, within ``epsilon``."""
+        return _visilibity1.environment_is_valid(*self.flat(), epsilon)
 
 
 def visibility_polygon_coords(environment, x: float, y: float, epsilon: float) -> np.ndarray:
     """Vertices (shape (m, 2), metres, counter-clockwise) of VisiLibity's visibility polygon from ``(x, y)`` in
-    ``environment`` (a list of SWIG polygons, outer boundary first, or a built environment)."""
-    if isinstance(environment, list):
-        environment = _new_environment(environment)
-    return polygon_coords(_new_visibility_polygon(_new_point(x, y), environment, epsilon))
+    ``environment`` (an :class:`Environment` or its list of polygons, outer boundary first).
+
+    Examples
+    --------
+    A 10 m square room with a 2 m square pillar; from (2, 5) the rays past the pillar's near corners (4, 4) and
+    (4, 6) widen its shadow to 8 m at the far wall (x = 10), a trapezoid of (2 + 8) / 2 * 6 = 30 m2 of which the
+    pillar takes 4: 100 - 4 - 26 m2 are seen.
+
+    >>> box = np.array([[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]])
+    >>> pillar = np.array([[4.0, 4.0], [4.0, 6.0], [6.0, 6.0], [6.0, 4.0]])
+    >>> region = shapely.Polygon(visibility_polygon_coords([box, pillar], 2.0, 5.0, 1e-9))
+    >>> round(region.area, 9)
+    70.0
+    """
+    polygons = environment.polygons if isinstance(environment, Environment) else environment
+    vertices, counts = Environment(polygons).flat()
+    coords = _visilibity1.visibility_polygon(vertices, counts, x, y, epsilon)
+    return np.frombuffer(coords, dtype=np.float64).reshape(-1, 2)
 
 
 def exterior_cw(polygon: shapely.Polygon) -> np.ndarray:
     """Exterior vertices of a polygon, clockwise, closing vertex dropped."""
     c = shapely.get_coordinates(polygon.exterior)[:-1]
     return c if not shapely.is_ccw(polygon.exterior) else c[::-1]
-
-
-_READ_MEMORY = _memory_layout_holds()

@@ -7,7 +7,6 @@ from collections.abc import Sequence
 
 import numpy as np
 import shapely
-import visilibity as vis
 
 from ...geometry.occlusion import occluding_pairs
 from ...geometry.rings import Rings, angular_extent, edges, ring_ids
@@ -18,11 +17,11 @@ from ..limits import objects_in_view, restrict_observation
 from .attribution import attribute_visible_angles
 from .chunk import observe_chunk
 from .conversion import (
+    Environment,
     box_overlaps,
     components,
     exterior_cw,
     grid_origin,
-    polygon_coords,
     vis_polygon,
     vis_polygons_reversed,
     visibility_polygon_coords,
@@ -208,7 +207,7 @@ class VisiLibityEngine:
         seg = np.ascontiguousarray(segments - o)
         pts = self._polygon_points(polys, o) - o
         if polygon_fails(pts, seg, in_env, CHECK_ABSOLUTE, CHECK_RELATIVE, ON_EDGE):
-            holes = [polygon_coords(h) - o for h in polys[1:]]
+            holes = [h - o for h in polys[1:]]
             if any(shapely.intersects(shapely.Polygon(hole), shapely.Point(0.0, 0.0)) for hole in holes):
                 raise EngineFailure(_INSIDE_THICKNESS)
             region = shapely.orient_polygons(self._region_by_parts(polys[0], polys[1:], holes, o), exterior_cw=False)
@@ -220,7 +219,7 @@ class VisiLibityEngine:
         return pts
 
     def _region_by_parts(
-        self, outer: vis.Polygon, holes: list[vis.Polygon], hole_coords: list[np.ndarray], o: np.ndarray
+        self, outer: np.ndarray, holes: list[np.ndarray], hole_coords: list[np.ndarray], o: np.ndarray
     ) -> shapely.Polygon:
         """The visibility polygon (relative to ``o``) as the intersection of those of two halves of the holes.
 
@@ -251,18 +250,18 @@ class VisiLibityEngine:
 
     def _build_environment(
         self, rings: Rings, obj_blocking: np.ndarray, static_blocking: np.ndarray, o: np.ndarray
-    ) -> list[vis.Polygon]:
+    ) -> list[np.ndarray]:
         """The environment's polygons: the outer boundary first, then the holes."""
         try:
             return self._environment(rings, obj_blocking, static_blocking, o)
         except _Unenclosable:
             return self._enclosed_environment(rings, obj_blocking, static_blocking, o)
 
-    def _polygon_points(self, polys: list[vis.Polygon], o: np.ndarray) -> np.ndarray:
+    def _polygon_points(self, polys: list[np.ndarray], o: np.ndarray) -> np.ndarray:
         """VisiLibity's visibility polygon from ``o`` among ``polys`` (outer boundary first), same frame."""
         return visibility_polygon_coords(polys, float(o[0]), float(o[1]), self.epsilon)
 
-    def environment(self, objects: FrameObjects, viewpoint: Viewpoint) -> tuple[vis.Environment, np.ndarray]:
+    def environment(self, objects: FrameObjects, viewpoint: Viewpoint) -> tuple[Environment, np.ndarray]:
         """The VisiLibity environment used for this viewpoint, and the origin its coordinates are relative to."""
         observer = np.asarray(viewpoint.position, dtype=np.float64)
         self._use_origin(observer)
@@ -270,7 +269,7 @@ class VisiLibityEngine:
         polys = self._build_environment(
             rings, ~viewpoint.transparent, ~viewpoint.static_transparent, observer - self._origin
         )
-        return vis.Environment(polys), self._origin
+        return Environment(polys), self._origin
 
     def visible_region(self, objects: FrameObjects, viewpoint: Viewpoint) -> shapely.Polygon:
         """The region visible from the viewpoint (world coordinates, metres), bounded by a box ``box_margin``
@@ -286,7 +285,7 @@ class VisiLibityEngine:
 
     def _environment(
         self, rings: Rings, obj_blocking: np.ndarray, static_blocking: np.ndarray, o: np.ndarray
-    ) -> list[vis.Polygon]:
+    ) -> list[np.ndarray]:
         """Holes = groups of overlapping bodies, each merged; raises ``_Unenclosable`` if a group encloses ``o``."""
         parts, part_bounds, part_holes, enclosing = self._static_parts(static_blocking)
         for k in enclosing:
@@ -302,7 +301,7 @@ class VisiLibityEngine:
         hi = np.concatenate([hi_o, part_bounds[:, 2:]])
         n_obj = len(objs)
         first, second = box_overlaps(lo, hi)
-        holes: list[vis.Polygon] = []
+        holes: list[np.ndarray] = []
         grouped = np.zeros(len(lo), dtype=bool)
         if len(first):
             involved = np.unique(np.concatenate([first, second]))
@@ -332,7 +331,7 @@ class VisiLibityEngine:
         shapes[n_obj:] = parts
         return shapes
 
-    def _group_holes(self, merged: shapely.Geometry, point: shapely.Point) -> list[vis.Polygon]:
+    def _group_holes(self, merged: shapely.Geometry, point: shapely.Point) -> list[np.ndarray]:
         pieces = list(getattr(merged, "geoms", [merged]))
         if len(pieces) > 1:  # bodies touching at points only: join them by a hair
             merged = shapely.buffer(merged, self.touch_gap, join_style="mitre")
@@ -341,13 +340,13 @@ class VisiLibityEngine:
             raise _Unenclosable
         return [vis_polygon(exterior_cw(p)) for p in pieces]
 
-    def _outer(self, lo: np.ndarray, hi: np.ndarray) -> vis.Polygon:
+    def _outer(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         (x0, y0), (x1, y1) = lo - self.box_margin, hi + self.box_margin
         return vis_polygon(np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]]))
 
     def _enclosed_environment(
         self, rings: Rings, obj_blocking: np.ndarray, static_blocking: np.ndarray, o: np.ndarray
-    ) -> list[vis.Polygon]:
+    ) -> list[np.ndarray]:
         """The general construction: free space = box minus all bodies; keep the piece that holds ``o``."""
         objs = np.flatnonzero(obj_blocking)
         sub = rings.take(objs)

@@ -1,0 +1,25 @@
+"""After `pip install -e '.[plot]'` in a fresh virtual environment (.ci/run): the package imports from the clone,
+VisiLibity1's compiled module answers a scene worked out on paper, and the command line runs."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+import omega_prime_visibility
+from omega_prime_visibility.engines.visilibity.conversion import visibility_polygon_coords
+
+here = Path(omega_prime_visibility.__file__).resolve().parent
+assert here.parent.name == "clone", f"imported from {here}, not the clone installed with -e"
+# a 10 m room with a 2 m pillar, seen from (2, 5): 100 m2 less the pillar (4) and its shadow (26)
+room = np.array([[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]])
+pillar = np.array([[4.0, 4.0], [4.0, 6.0], [6.0, 6.0], [6.0, 4.0]])
+xy = visibility_polygon_coords([room, pillar], 2.0, 5.0, 1e-9)
+area = 0.5 * abs(np.dot(xy[:, 0], np.roll(xy[:, 1], -1)) - np.dot(xy[:, 1], np.roll(xy[:, 0], -1)))
+assert abs(area - 70.0) < 1e-9, area
+cli = Path(sys.executable).parent / "omega-prime-visibility"
+version = subprocess.run([cli, "--version"], capture_output=True, text=True, check=True).stdout.strip()
+import matplotlib  # noqa: E402, F401  (the plot extra)
+
+print(f"ok: {version}, VisiLibity1 built, the plot extra installed")
