@@ -1,7 +1,9 @@
 """The 2D engines in town: the urban junction of ``scenarios/urban.py`` (20 buildings with courtyards and L-shapes,
 about 265 road users a frame: queues, parked cars and buses, pedestrians), seen from the ego with the buildings as
 static occluders. Prints each engine's time per (frame, target), warm (kernels compiled, the scene read), and how
-many frames the default engine had to hand to the fallback; the engines' tables are compared too.
+many frames the default engine had to hand to the fallback; for the default engine also how many VisiLibity
+polygons it built a frame (target: about one) and its time against VisiLibity's own time building them (target:
+at most 1.5x); the engines' tables are compared too.
 
 Usage::
 
@@ -24,6 +26,25 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "scenarios"))
 from urban import urban_scene
 
 from omega_prime_visibility import Query, VisibilityInputWarning, get_visibility_df
+from omega_prime_visibility.engines.visilibity import conversion
+
+
+class TimedVisiLibity:
+    """Stands in for the compiled module: counts the visibility polygons and the seconds spent building them."""
+
+    def __init__(self, module) -> None:
+        self.module, self.polygons, self.seconds = module, 0, 0.0
+
+    def visibility_polygon(self, *args):
+        start = time.perf_counter()
+        try:
+            return self.module.visibility_polygon(*args)
+        finally:
+            self.seconds += time.perf_counter() - start
+            self.polygons += 1
+
+    def __getattr__(self, name: str):
+        return getattr(self.module, name)
 
 
 def run(table: pl.DataFrame, question: Query, repeat: int) -> tuple[float, pl.DataFrame, int]:
@@ -61,6 +82,18 @@ def main() -> None:
             f"{engine:>10}: {seconds:.3f} s, {seconds / pairs * 1e6:.1f} us per (frame, target) over {pairs} rows;"
             f" frames handed to the fallback engine: {fallbacks} of {args.frames}"
         )
+    compiled = conversion._visilibity1
+    conversion._visilibity1 = timed = TimedVisiLibity(compiled)
+    try:
+        start = time.perf_counter()
+        get_visibility_df(table, query=Query(observers=0, static_occluders=buildings), workers=1, progress=False)
+        seconds = time.perf_counter() - start
+    finally:
+        conversion._visilibity1 = compiled
+    print(
+        f"visilibity's polygons: {timed.polygons / args.frames:.2f} a frame (target: about 1); the engine's time"
+        f" {seconds:.3f} s is {seconds / timed.seconds:.2f}x VisiLibity's own {timed.seconds:.3f} s (target: 1.5x)"
+    )
     a, b = tables["sweep"], tables["visilibity"]
     same_rows = a.select("frame", "idx").equals(b.select("frame", "idx"))
     gap = float(np.abs(a["visibility"].to_numpy() - b["visibility"].to_numpy()).max()) if same_rows else np.nan

@@ -33,6 +33,7 @@ _WHERE = {
     "get_visibility_df_for_frame": "api",
     "occluded_conflicts": "analysis.conflicts",
     "occlusion_statistics": "analysis.statistics",
+    "read_recording": "inputs.io",
     "run_batch": "batch",
     "seen_by_any": "analysis.combine",
     "target_summary": "analysis.summary",

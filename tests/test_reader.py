@@ -264,3 +264,16 @@ def test_omega_primes_metrics_take_it() -> None:
     assert_frame_equal(gaps, manager.compute(omega_primes(path), ego_id=0, time_buffer=3e9)[1]["timegaps"])
     before = get_visibility_df(read_mcap(path), 0, engine="sweep", progress=False)
     assert_frame_equal(get_visibility_df(ours, 0, engine="sweep", progress=False), before)
+
+
+def test_it_offers_the_rest_of_omega_primes_recording() -> None:
+    recording = read_mcap(REPO / "highway_merge.mcap")
+    assert recording._omega_prime is None  # nothing built yet
+    host = recording.host_vehicle  # omega-prime's: the host vehicle's moving object
+    assert isinstance(recording._omega_prime, omega_prime.Recording)
+    assert host.idx == recording.host_vehicle_idx
+    assert sorted(recording.moving_objects) == sorted(recording.table["idx"].unique().to_list())
+    with pytest.raises(AttributeError, match="no attribute 'no_such_thing'"):
+        recording.no_such_thing  # noqa: B018
+    with pytest.raises(AttributeError):
+        recording._private  # noqa: B018

@@ -32,23 +32,32 @@ def python_blocks() -> list[str]:
     return [block for page in PAGES for block in re.findall(r"```python\n(.*?)```", (REPO / page).read_text(), re.S)]
 
 
-def run_block(code: str, namespace: dict, folder) -> None:
+def run_block(code: str, namespace: dict, folder) -> list[warnings.WarningMessage]:
+    """Run a code block in ``folder``; the warnings it gave."""
     cwd = os.getcwd()
     os.chdir(folder)
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
             exec(compile(code, "README.md", "exec"), namespace)
     finally:
         os.chdir(cwd)
+    return caught
 
 
 @pytest.fixture(scope="module")
 def namespace() -> dict:
-    """What the README's first example (ten lines) leaves behind."""
+    """What the README's first example (ten lines) leaves behind, and the warnings it gave (``"warned"``)."""
     out: dict = {}
-    run_block(python_blocks()[0], out, REPO)
+    warned = run_block(python_blocks()[0], out, REPO)
+    out["warned"] = warned
     return out
+
+
+def test_readme_example_warns_nothing(namespace) -> None:
+    # omega-prime's Recording.from_file warned "Failed to apply projections." on the bundled recording
+    said = [f"{w.category.__name__}: {w.message}" for w in namespace["warned"] if issubclass(w.category, UserWarning)]
+    assert said == []
 
 
 def test_readme_example_runs(namespace) -> None:

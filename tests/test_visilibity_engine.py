@@ -96,17 +96,45 @@ def test_sliver_past_a_car_beside_a_long_thin_wall(engine: str) -> None:
     assert out.filter(pl.col("idx") == 31)["static_occluder_idxs"].to_list() == [[0]]
 
 
-def test_visilibity_polygon_that_skips_a_body_is_caught() -> None:
-    # VisiLibity's raw polygon for the scene above runs along the wall past target 32; the exact check sees it
+def skipping_target_32(visibility_polygon_coords, calls: int = 1):
+    """``visibility_polygon_coords`` that, for its first ``calls`` calls, leaves out the polygon's vertices on
+    target 32 of the sliver scene (observer at the origin, so its grid origin is 0): a polygon running past the
+    sliver, as VisiLibity 1.0.10's sweep gave it before its edge queue was patched."""
+    ring = shapely.from_wkt(SLIVER_SCENE[32]).exterior
+    left = [calls]
+
+    def planted(*args):
+        polygon = visibility_polygon_coords(*args)
+        if left[0] <= 0:
+            return polygon
+        left[0] -= 1
+        on_target = shapely.distance(shapely.points(polygon), ring) < 1e-6
+        assert on_target.any()
+        return np.ascontiguousarray(polygon[~on_target])
+
+    return planted
+
+
+def test_visilibity_polygon_that_skips_a_body_is_caught(monkeypatch) -> None:
+    from omega_prime_visibility.engines.visilibity import engine as engine_module
+
     engine, frame, view = engine_and_frame(sliver_table(), [shapely.from_wkt(SLIVER_WALL)])
     env, origin = engine.environment(frame, view)
     o = view.position
-    raw = engine._polygon_points(env, o - origin) - (o - origin)
     a, b = edges(frame.rings)
     wall, _ = engine._source_edges
     seg = np.ascontiguousarray(np.concatenate([np.stack([a, b], axis=1), wall]) - o)
     blocking = np.concatenate([~np.repeat(view.transparent, 4), np.ones(len(wall), dtype=bool)])
-    assert polygon_fails(np.ascontiguousarray(raw), seg, blocking, 1e-7, 1e-9, 1e-6)
+    # VisiLibity's own polygon (patched sweep) holds the sliver of target 32 and passes the exact check
+    raw = engine._polygon_points(env, o - origin) - (o - origin)
+    assert not polygon_fails(np.ascontiguousarray(raw), seg, blocking, 1e-7, 1e-9, 1e-6)
+    # one that runs past it along the wall (1.0.10's) fails it, and the engine computes the region from halves
+    planted = skipping_target_32(engine_module.visibility_polygon_coords)
+    skipped = planted(env, *(o - origin), engine.epsilon) - (o - origin)
+    assert polygon_fails(np.ascontiguousarray(skipped), seg, blocking, 1e-7, 1e-9, 1e-6)
+    monkeypatch.setattr(
+        engine_module, "visibility_polygon_coords", skipping_target_32(engine_module.visibility_polygon_coords)
+    )
     fixed = np.asarray(engine.visible_region(frame, view).exterior.coords)[:-1] - o
     assert not polygon_fails(np.ascontiguousarray(fixed), seg, blocking, 1e-7, 1e-9, 1e-6)
     # the corrected polygon holds target 32's corner at bearing -56.72° on its boundary
@@ -158,9 +186,13 @@ def test_the_chunk_path_takes_each_environment_and_recomputes_polygons_that_skip
     plain, general = calls["plain"], calls["general"]
     assert_same_columns(columns, frame_by_frame(objects, statics, egos, None, "visilibity")[0])
     assert calls["plain"] == plain and calls["general"] > general  # the frame path builds every environment itself
-    # the sliver scene: VisiLibity's polygon skips target 32's sliver, the viewpoint is observed again
+    # the sliver scene: VisiLibity's polygon made to skip target 32's sliver (as 1.0.10's did): the viewpoint is
+    # observed again, frame by frame, and gives the same columns
     objects = load_objects(sliver_table())
     statics = load_static_occluders([shapely.from_wkt(SLIVER_WALL)])
+    columns, _ = run_chunk(objects, statics, np.array([0]), "visilibity")
+    assert calls["recomputed"] == 0  # VisiLibity's own polygon passes the check
+    monkeypatch.setattr(chunk, "visibility_polygon_coords", skipping_target_32(chunk.visibility_polygon_coords))
     columns, _ = run_chunk(objects, statics, np.array([0]), "visilibity")
     assert calls["recomputed"] == 1
     assert_same_columns(columns, frame_by_frame(objects, statics, np.array([0]), None, "visilibity")[0])

@@ -16,11 +16,26 @@ class RecordingReadError(ValueError):
 
 
 def read_recording(path: str | os.PathLike, map_path: str | os.PathLike | None = None) -> Any:
-    """A recording with object polygons, from an MCAP file (or an OSI trace with its map).
+    """A recording with object polygons, from an MCAP file (or an OSI trace with its map): what
+    ``omega_prime.Recording.from_file(path, compute_polygons=True)`` gives.
 
     An MCAP file of OSI ground truth is read by :func:`.reader.read_mcap` (the table omega-prime would give, ten
-    times faster, without importing omega-prime); anything else, and a map given for it, by omega-prime's
-    ``Recording.from_file``.
+    times faster, without importing omega-prime, and without its warning about projections a map does not need);
+    anything else, and a map given for it, by omega-prime's ``Recording.from_file``.
+
+    Parameters
+    ----------
+    path : str or PathLike
+        An omega-prime MCAP file, or an OSI trace (``.osi``).
+    map_path : str or PathLike, optional
+        The OpenDRIVE map (``.xodr``) of an OSI trace.
+
+    Returns
+    -------
+    recording
+        An ``omega_prime.Recording``, or the reader's :class:`.reader.TraceRecording`, which has its table
+        (``_df``), ``host_vehicle_idx`` and ``map``, works in omega-prime's ``MetricManager``, and offers the rest
+        of omega-prime's ``Recording`` (built on first use).
 
     Raises
     ------

@@ -59,6 +59,9 @@ class TraceRecording:
         The file it was read from; its map is read from there when first asked for.
     odr_xml : str or None
         The OpenDRIVE map the file carries, if any.
+
+    Anything else an ``omega_prime.Recording`` offers (its methods and attributes) is that of
+    :meth:`to_omega_prime`, built on first use.
     """
 
     table: pl.DataFrame
@@ -69,6 +72,15 @@ class TraceRecording:
     _map: Any = field(default=None, repr=False)
     _map_read: bool = field(default=False, repr=False)
     _with_polygons: pl.DataFrame | None = field(default=None, repr=False)
+    _omega_prime: Any = field(default=None, repr=False)
+
+    def __getattr__(self, name: str) -> Any:
+        """omega-prime's own attributes and methods (``plot``, ``to_mcap``, ...), from :meth:`to_omega_prime`."""
+        if name.startswith("_"):  # never copy's and pickle's probes, nor a field not set yet
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        if self._omega_prime is None:
+            self._omega_prime = self.to_omega_prime()
+        return getattr(self._omega_prime, name)
 
     @property
     def _df(self) -> pl.DataFrame:

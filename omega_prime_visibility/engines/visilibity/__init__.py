@@ -10,9 +10,11 @@ Per frame and observer:
    one hole, inside a box around everything. Groups that only touch at a point are joined by a ``touch_gap``
    buffer. If the observer is enclosed by a group (say a ring of cars around it), the environment is instead the
    piece of free space holding the observer.
-3. VisiLibity computes the visibility polygon. Each of its edges either runs along some body's boundary (it then
-   lies on one original edge, found as the nearest edge to the edge's midpoint) or points straight at the
-   observer (it subtends no angle). The angle subtended by a body's edges is its visible angle.
+3. VisiLibity computes the visibility polygon (VisiLibity1 1.0.10 compiled with the package, its sweep's edge
+   queue patched: see :mod:`.polygon_check`, which checks every polygon exactly). Each of its edges either runs
+   along some body's boundary (it then lies on one original edge, found as the nearest edge to the edge's
+   midpoint) or points straight at the observer (it subtends no angle). The angle subtended by a body's edges is
+   its visible angle.
 4. Occluders: candidate bodies have an edge inside the target's angular extent nearer than the target's farthest
    point; the exact pairwise test of :mod:`..occlusion` keeps those really hit before the target.
 

@@ -5,7 +5,10 @@ evaluated at the bearing where each comparison happened; edges whose end the swe
 until they surface (and two such edges compare as "greater" than each other). Once that order goes stale the
 queue's top need not be the nearest edge, and the sweep continues along a farther body: a nearer body (or a
 sliver of it) is missing from the polygon. Long edges, which stay queued over a wide bearing range among many
-shorter ones, make this likely (a long thin wall among scattered cars does).
+shorter ones, make this likely (a long thin wall among scattered cars does; in town, a pedestrian between parked
+cars in front of a building, about one frame in five). The copy compiled with the package is patched
+(``native/visilibity.cpp``, ``Edge_Queue``: the queue is reordered, passed edges dropped, at each such event); the
+check stays, and a polygon that fails it is computed again from halves of the holes.
 
 Such a polygon is detectable: the boundary of a correct visibility polygon lies, in every direction, on the
 nearest body, so no blocking edge may come nearer than the boundary along any ray. Within the bearing interval
