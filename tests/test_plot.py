@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 import subprocess
 import sys
+from pathlib import Path
 
 import matplotlib
 
@@ -436,3 +437,42 @@ def test_a_hidden_target_keeps_its_dashed_outline_on_its_dark_fill() -> None:
     ring = by_gid(small, "target outline")[1].get_xy()
     radius_px = np.hypot(*(ring[0] - (45, 6))) * small.bbox.width / np.ptp(small.get_xlim())
     assert radius_px == pytest.approx(9.0, rel=0.05)
+
+
+def test_in_town_labels_cover_no_other_road_user_and_the_legend_says_what_is_not_seen() -> None:
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "scenarios"))
+    from urban import urban_scene
+
+    table, buildings = urban_scene(frames=61)
+    ax = plot_frame(table, 0, 60, buildings, target=163)
+    ax.figure.canvas.draw()
+    renderer = ax.figure.canvas.get_renderer()
+    bodies = [(a.get_gid().split()[1], a.get_window_extent(renderer)) for a in [*ax.patches, *ax.lines]
+              if a.get_gid() and a.get_gid().startswith("object ") and a.get_visible()]  # fmt: skip
+    bodies = [(idx, extent) for idx, extent in bodies if extent.width > 0]  # (a marker's patch is drawn with no line)
+    labels = [t for t in ax.texts if t.get_gid() == "label" and t.get_visible()]
+    assert len(labels) > 60  # most road users keep their label
+    may_cover = {"ego 0", "163: 0%"}  # the ego's and the target's (nothing outlined hides it here: its shadow)
+    for label in labels:
+        own = label.get_text().split(":")[0].removeprefix("ego ")
+        if label.get_text() in may_cover:
+            continue
+        # (placed before the title is set, which moves the axes by a pixel at most when the figure is drawn)
+        extent = label.get_bbox_patch().get_window_extent(renderer).padded(-1.0)
+        covered = [idx for idx, body in bodies if idx != own and extent.overlaps(body)]
+        assert covered == [], f"label {label.get_text()!r} covers road users {covered}"
+    legend = ax.figure.legends[0]
+    assert "not seen (white)" in [t.get_text() for t in legend.get_texts()]
+
+
+def test_a_legend_of_many_sensors_fits_a_portrait_picture() -> None:
+    # a north-south street: the picture is portrait; six sensors of "typical" make the legend long
+    cars = [(0, 0, 4, 2, math.pi / 2), (3, 30, 4, 2, math.pi / 2), (-3, -25, 4, 2, math.pi / 2)]
+    ax = plot_frame(boxes_table(cars), 0, 0, sensors="typical", view_range=30)
+    figure = ax.figure
+    figure.canvas.draw()
+    assert figure.bbox.width < figure.bbox.height
+    legend = figure.legends[0]
+    assert len(legend.get_texts()) >= 8
+    extent = legend.get_window_extent(figure.canvas.get_renderer())
+    assert extent.x0 >= 0 and extent.x1 <= figure.bbox.width

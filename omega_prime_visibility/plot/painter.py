@@ -34,6 +34,8 @@ from .style import (
 from .window import Window
 
 LABEL_SIZE = 7  # points
+LABEL_PAD = 0.15  # the label's white backing around its text, in font sizes
+OUTLINE_PX = 2.0  # pixels an object's outline reaches beyond its ring (half the widest outline's width, and a margin)
 SMALL_PX = 7.0
 """Pixels: a road user drawn smaller than this across (a pedestrian, a bicycle far out) is shown as a marker of this
 size filled with its colour, as its outline alone would cover its fill."""
@@ -87,6 +89,7 @@ class FramePainter:
         self.norm = colors.Normalize(0.0, 1.0)
         self._dynamic: list[Any] = []
         self._label_pool: list[Any] = []
+        self._text_sizes: dict[str, tuple[float, float]] = {}
         self._scale: Any = None
         draw_lanes(ax, source.lanes)
         self._static_patches = draw_statics(ax, source.statics)
@@ -110,10 +113,16 @@ class FramePainter:
         ax, (region, columns) = self.ax, self._legend_options
         handles = legend_handles(self.source, self.ego_idx, self.target, self.sensors, hiders=self.hiders,
                                  region=region, extent=extent)  # fmt: skip
-        engine = ax.figure.get_layout_engine()
+        figure = ax.figure
+        engine = figure.get_layout_engine()
         if engine is not None and type(engine).__name__ == "ConstrainedLayoutEngine":
-            self._legend = ax.figure.legend(handles=handles, loc="outside lower center", ncol=columns, fontsize=7,
-                                            frameon=False)  # fmt: skip
+            renderer = figure.canvas.get_renderer()
+            for ncol in range(min(columns, len(handles)), 0, -1):  # as many columns as the figure's width holds
+                self._legend = figure.legend(handles=handles, loc="outside lower center", ncol=ncol, fontsize=7,
+                                             frameon=False)  # fmt: skip
+                if ncol == 1 or self._legend.get_window_extent(renderer).width <= 0.98 * figure.bbox.width:
+                    break
+                self._legend.remove()
         else:  # a figure laid out by the caller: keep the legend inside the axes
             self._legend = ax.legend(handles=handles, loc="lower left", fontsize=6, framealpha=0.85, ncol=2)
 
@@ -226,7 +235,7 @@ class FramePainter:
             add(self._pointer(view, target_row, limits))
         for k, s in enumerate(self.sensors):
             self._dynamic.extend(draw_sensor(ax, s, view, sensor_colour(k), limits))
-        self._dynamic.extend(self._labels(view, limits))
+        self._dynamic.extend(self._labels(view, limits, occluders))
         title = title or f"frame {view.frame}, t = {view.total_nanos / 1e9:.2f} s, seen from idx {self.ego_idx}"
         ax.set_title(f"{title}\n{self.choices}" if self.choices else title, fontsize=9)
 
@@ -248,34 +257,41 @@ class FramePainter:
         arrow.set_gid("target pointer")
         return arrow
 
-    def _labels(self, view: FrameView, limits: tuple[float, float, float, float]) -> list[Any]:
+    def _labels(self, view: FrameView, limits: tuple[float, float, float, float], hiders: set[int]) -> list[Any]:
         """``idx: visibility`` beside each object on the picture (``ego idx`` for the ego), none overlapping
-        another: the ego's first, then the target's, then the others from the nearest to the ego; a label that
-        finds no free place beside its object is left out."""
+        another label nor covering another object: the ego's first, then the target's, then the others from the
+        nearest to the ego. Only the ego's, the target's and those of what ``hiders`` it may cover another object
+        where no clear place is left; any other label without a clear place is left out (see
+        :func:`~.labels.place_labels`)."""
         ax = self.ax
         ax.apply_aspect()
         to_pixels = ax.transData.transform
         x0, x1, y0, y1 = limits
         (ax0, ay0), (ax1, ay1) = to_pixels([(x0, y0), (x1, y1)])
         area = (min(ax0, ax1), min(ay0, ay1), max(ax0, ax1), max(ay0, ay1))
-        points = LABEL_SIZE * ax.figure.dpi / 72
         distance = np.hypot(*(view.position - view.observer).T)
         order = sorted(
             range(len(view.idx)),
             key=lambda i: (i != view.ego_row, int(view.idx[i]) != self.target, float(distance[i])),
         )
-        boxes, sizes, texts = [], [], []
+        boxes, sizes, texts, cover = [], [], [], []
         for i in order:
             idx = int(view.idx[i])
             seen = view.visibility[i]
             text = f"ego {idx}" if i == view.ego_row else f"{idx}: {seen:.0%}" if np.isfinite(seen) else f"{idx}"
             px = to_pixels(view.rings[i])
-            boxes.append((px[:, 0].min(), px[:, 1].min(), px[:, 0].max(), px[:, 1].max()))
-            sizes.append((0.62 * points * len(text) + 2, 1.25 * points))
+            (bx0, by0), (bx1, by1) = px.min(axis=0), px.max(axis=0)
+            cx, cy, half = (bx0 + bx1) / 2, (by0 + by1) / 2, SMALL_PX / 2  # a small one is drawn as its marker
+            bx0, by0 = min(bx0, cx - half) - OUTLINE_PX, min(by0, cy - half) - OUTLINE_PX  # with its outline
+            bx1, by1 = max(bx1, cx + half) + OUTLINE_PX, max(by1, cy + half) + OUTLINE_PX
+            boxes.append((bx0, by0, bx1, by1))
+            sizes.append(self._text_size(text))
             texts.append(text)
+            cover.append(i == view.ego_row or idx == self.target or idx in hiders)
         from_pixels = ax.transData.inverted().transform
-        shown = [(t, b) for t, b in zip(texts, place_labels(boxes, sizes, area), strict=True) if b is not None]
-        backing = {"boxstyle": "square,pad=0.1", "facecolor": "white", "alpha": 0.75, "lw": 0}
+        places = place_labels(boxes, sizes, area, cover)
+        shown = [(t, b) for t, b in zip(texts, places, strict=True) if b is not None]
+        backing = {"boxstyle": f"square,pad={LABEL_PAD}", "facecolor": "white", "alpha": 0.75, "lw": 0}
         while len(self._label_pool) < len(shown):  # text artists are reused from frame to frame: far faster
             self._label_pool.append(ax.text(0, 0, "", ha="center", va="center", fontsize=LABEL_SIZE, zorder=5,
                                             clip_on=True, bbox=backing, gid="label"))  # fmt: skip
@@ -286,6 +302,19 @@ class FramePainter:
                 label.set_position(from_pixels(((box[0] + box[2]) / 2, (box[1] + box[3]) / 2)))
             label.set_visible(k < len(shown))
         return []
+
+    def _text_size(self, text: str) -> tuple[float, float]:
+        """Pixels (width, height) a label takes with its white backing, as the renderer lays the text out
+        (measured once per text: labels repeat from frame to frame)."""
+        size = self._text_sizes.get(text)
+        if size is None:
+            figure = self.ax.figure
+            renderer = figure.canvas.get_renderer()
+            font = require("matplotlib.font_manager").FontProperties(size=LABEL_SIZE)
+            width, height, _ = renderer.get_text_width_height_descent(text, font, ismath=False)
+            pad = 2 * LABEL_PAD * LABEL_SIZE * figure.dpi / 72  # the backing's pad, on both sides
+            size = self._text_sizes[text] = (width + pad, max(height, LABEL_SIZE * figure.dpi / 72) + pad)
+        return size
 
 
 SMALL_RING = 9.0

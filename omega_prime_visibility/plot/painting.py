@@ -146,6 +146,7 @@ def legend_handles(
 ) -> list[Any]:
     """What each colour and outline means, in few words; sensors by name with their field of view and range;
     ``hiders`` False: the target's occluders are outlined nowhere (nothing hides it), so no "hides" entry;
+    ``region`` True: the seen region's tint, and what is not seen (untinted: white, or the bare road surface);
     ``region`` False (3D): no seen region is shaded, and the legend says why; ``extent`` ``(x0, x1, y0, y1)``:
     what the picture shows, so that static occluders and lanes off it get no entry."""
     P, Line2D = require("matplotlib.patches").Patch, require("matplotlib.lines").Line2D
@@ -153,6 +154,8 @@ def legend_handles(
     handles = [P(facecolor=EGO_FACE, edgecolor=EGO_EDGE, label=f"ego {ego_idx} (★ centre)")]
     if region:
         handles.append(P(facecolor=REGION_FACE, label=seen))
+        bare = "white or bare road" if source.lanes and source.lanes.surfaces else "white"
+        handles.append(P(facecolor="white", edgecolor="#999999", lw=0.6, label=f"not seen ({bare})"))
     else:
         handles.append(P(facecolor="none", edgecolor="none", label=NO_REGION))
     if target is not None:
