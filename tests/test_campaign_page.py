@@ -29,7 +29,7 @@ def test_the_page_is_offline_and_its_tables_are_the_statistics(results, tmp_path
     assert "window.vegaEmbed=" in text and "<script src=" not in text and "cdn." not in text
     stats = campaign_statistics(results)
     row = stats["by_recording"].row(0, named=True)
-    assert f"<td>{row['rows']}</td>" in text and f"<td>{row['visible']:.3f}".rstrip("0").rstrip(".") in text
+    assert f"<td>{row['rows']}</td>" in text and f"<td>{100 * row['visible']:.1f} %</td>" in text  # % as the charts
     assert '<table id="conflicts">' in text and "<td>4</td>" in text  # the ego follows car 4
     assert [p.name for p in tmp_path.iterdir()] == ["campaign.html"]  # written atomically, nothing else left
 
@@ -60,8 +60,9 @@ def test_the_page_in_a_headless_browser(results, tmp_path) -> None:
         assert browser.wait_for("document.body.dataset.charts") == "ready"
         for chart in ("bands", "histogram", "occluders"):
             assert browser.evaluate(f"document.querySelectorAll('#{chart} svg .mark-rect path').length") > 0, chart
-        # the stacked bars: three classes in each of the three bands, per type and for all
-        assert browser.evaluate("document.querySelectorAll('#bands svg .mark-rect path').length") == 18
+        # the stacked bars: three classes in each of the three bands, for the one type of target (vehicles), no
+        # panel "all" repeating it
+        assert browser.evaluate("document.querySelectorAll('#bands svg .mark-rect path').length") == 9
         assert browser.console_errors() == []
 
 
@@ -87,3 +88,21 @@ def json_text(spec: dict) -> str:
     import json
 
     return json.dumps(spec)
+
+
+def test_a_panel_for_all_only_beside_two_types_or_more() -> None:
+    import polars as pl
+
+    from omega_prime_visibility.plot.campaign import _bands_chart
+
+    def panels(types: list[str]) -> set[str]:
+        by_band = pl.DataFrame(
+            {"band": ["< 20 m"] * len(types), "target_type": types, "rows": [4] * len(types),
+             "visible": [0.5] * len(types), "partly": [0.25] * len(types), "hidden": [0.25] * len(types),
+             "out_of_view": [0.0] * len(types)}
+        )  # fmt: skip
+        spec = _bands_chart(by_band)
+        return {r["target_type"] for data in spec["datasets"].values() for r in data}
+
+    assert panels(["all", "vehicle"]) == {"vehicle"}  # "all" would repeat the vehicles
+    assert panels(["all", "pedestrian", "vehicle"]) == {"all", "pedestrian", "vehicle"}

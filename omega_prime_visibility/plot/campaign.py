@@ -52,8 +52,10 @@ def write_campaign_page(
     return output
 
 
-PAGE_WIDTH = 960
-"""Pixels the charts of the campaign page span together."""
+PAGE_WIDTH = 1200
+"""Pixels the charts of the campaign page span together (the page's width on a laptop screen)."""
+SHARES = ("visible", "partly", "hidden", "out_of_view")
+"""The per-recording table's columns that are shares of rows: shown as % as the charts show them."""
 
 
 def _bands_chart(by_band: pl.DataFrame) -> dict:
@@ -64,6 +66,9 @@ def _bands_chart(by_band: pl.DataFrame) -> dict:
     shown = {c: colour for c, colour in CLASS_COLOURS.items() if c != "out_of_view" or by_band[c].max() > 0}
     bands = list(dict.fromkeys(by_band["band"]))
     types = list(dict.fromkeys(by_band["target_type"]))
+    if len(types) == 2 and "all" in types:  # one type of target: its panel would repeat "all"
+        types = [k for k in types if k != "all"]
+        by_band = by_band.filter(pl.col("target_type").is_in(types))
     every = pl.DataFrame({"band": bands}).join(pl.DataFrame({"target_type": types}), how="cross")
     full = every.join(by_band, on=["band", "target_type"], how="left").with_columns(pl.col("rows").fill_null(0))
     long = full.unpivot(index=["band", "target_type", "rows"], on=list(shown), variable_name="class")
@@ -89,17 +94,18 @@ def _bands_chart(by_band: pl.DataFrame) -> dict:
         .transform_filter("datum['class'] == '" + next(iter(shown)) + "'")
         .transform_calculate(label="datum.rows > 0 ? 'n = ' + format(datum.rows, ',') : 'no rows'")
     )
-    width = int(min(max(PAGE_WIDTH / max(len(types), 1) - 40, 160), 320))
+    width = int(min(max((PAGE_WIDTH - 160) / max(len(types), 1) - 30, 180), 480))
     chart = (
         alt.layer(bars, counts, data=long)
-        .properties(width=width, height=240)
+        .properties(width=width, height=260)
         .facet(column=alt.Column("target_type:N", title="target type", sort=types))
     )
-    return (
-        chart.configure_axis(labelFontSize=12, titleFontSize=13)
-        .configure_legend(labelFontSize=12, titleFontSize=13)
-        .to_dict()
-    )
+    return _readable(chart).configure_legend(labelFontSize=13, titleFontSize=13).to_dict()
+
+
+def _readable(chart: Any) -> Any:
+    """Text of at least 12 px in a chart: axes, panel headers."""
+    return chart.configure_axis(labelFontSize=12, titleFontSize=13).configure_header(labelFontSize=13, titleFontSize=13)
 
 
 def _histogram_chart(histogram: pl.DataFrame) -> dict:
@@ -113,9 +119,9 @@ def _histogram_chart(histogram: pl.DataFrame) -> dict:
             y=alt.Y("share:Q", title="share of rows", axis=alt.Axis(format="%")),
             tooltip=["bin_start", "bin_end", "rows", alt.Tooltip("share:Q", format=".1%")],
         )
-        .properties(width=PAGE_WIDTH // 2, height=220)
+        .properties(width=PAGE_WIDTH - 80, height=240)
     )
-    return chart.configure_axis(labelFontSize=12, titleFontSize=13).to_dict()
+    return _readable(chart).to_dict()
 
 
 def _occluders_chart(occluder_types: pl.DataFrame) -> dict:
@@ -128,9 +134,9 @@ def _occluders_chart(occluder_types: pl.DataFrame) -> dict:
             x=alt.X("rows:Q", title="rows in which an object of this type hides the target"),
             tooltip=["occluder_type", "rows"],
         )
-        .properties(width=420, height=max(40, 28 * occluder_types.height))
+        .properties(width=PAGE_WIDTH - 160, height=max(40, 30 * occluder_types.height))
     )
-    return chart.to_dict()
+    return _readable(chart).to_dict()
 
 
 def _conflict_rows(conflicts: pl.DataFrame) -> pl.DataFrame:
@@ -148,15 +154,22 @@ def _conflict_rows(conflicts: pl.DataFrame) -> pl.DataFrame:
 
 
 def _table_html(table: pl.DataFrame, element_id: str) -> str:
-    def cell(value: Any) -> str:
+    """An HTML table; the columns of :data:`SHARES` as percentages (``72.4 %``)."""
+
+    def cell(value: Any, column: str) -> str:
         if value is None:
             return "–"
+        if column in SHARES and isinstance(value, float | int):
+            return f"{100 * value:.1f} %"
         if isinstance(value, float):
             return f"{value:.3f}".rstrip("0").rstrip(".") if abs(value) < 1e6 else f"{value:g}"
         return html.escape(str(value))
 
     head = "".join(f"<th>{html.escape(c)}</th>" for c in table.columns)
-    body = "".join("<tr>" + "".join(f"<td>{cell(v)}</td>" for v in row) + "</tr>" for row in table.iter_rows())
+    rows = (
+        "".join(f"<td>{cell(v, c)}</td>" for v, c in zip(row, table.columns, strict=True)) for row in table.iter_rows()
+    )
+    body = "".join(f"<tr>{row}</tr>" for row in rows)
     return f'<table id="{element_id}"><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>'
 
 
@@ -168,7 +181,7 @@ PAGE = """<!DOCTYPE html>
 <style>
 body {{ font-family: system-ui, sans-serif; margin: 1.5em 2em; color: #222; }}
 h1 {{ font-size: 1.5em; margin-bottom: 0.2em; }} .sub {{ color: #555; margin-top: 0; }}
-table {{ border-collapse: collapse; font-size: 0.9em; }} th, td {{ border-bottom: 1px solid #ddd; padding: 3px 8px; }}
+table {{ border-collapse: collapse; font-size: 15px; }} th, td {{ border-bottom: 1px solid #ddd; padding: 3px 8px; }}
 th {{ text-align: left; background: #f3f3f3; }} td {{ font-variant-numeric: tabular-nums; }}
 section {{ margin: 1.2em 0 2em; }}
 </style>
