@@ -163,6 +163,23 @@ def test_importing_the_package_loads_no_plotting_library() -> None:
     assert out.stdout.strip() == "[]"  # plot_frame itself imports matplotlib only when it draws
 
 
+def test_pictures_of_an_mcap_recording_do_not_import_omega_prime(tmp_path) -> None:
+    # importing omega-prime (for the map's lanes) made a first picture 2.5 s slower than later ones
+    code = (
+        "import sys, warnings, matplotlib; matplotlib.use('Agg'); from pathlib import Path; "
+        "from omega_prime_visibility import animate, plot_frame, read_recording, write_report; "
+        f"out = Path({str(tmp_path)!r}); r = read_recording('highway_merge.mcap'); "
+        "ax = plot_frame(r, 0, 30); ax.figure.canvas.draw(); "
+        "animate(r, 0, out / 'a.gif', frames=slice(0, 3), progress=False); "
+        "write_report(r, 0, out / 'r.html', progress=False); "
+        "print('omega_prime' in sys.modules, sum(a.get_gid() == 'lane' for a in ax.lines + ax.collections))"
+    )
+    repo = Path(__file__).resolve().parent.parent
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=repo)
+    imported, lanes = out.stdout.split()
+    assert imported == "False" and int(lanes) > 0  # the lanes are drawn all the same
+
+
 def test_missing_plotting_library_names_the_extra(monkeypatch) -> None:
     monkeypatch.setitem(sys.modules, "vl_convert", None)  # as if not installed
     with pytest.raises(ImportError, match=r"omega-prime-visibility\[plot\]"):

@@ -277,3 +277,17 @@ def test_it_offers_the_rest_of_omega_primes_recording() -> None:
         recording.no_such_thing  # noqa: B018
     with pytest.raises(AttributeError):
         recording._private  # noqa: B018
+
+
+def test_a_pictures_lanes_are_omega_primes_centre_lines() -> None:
+    ours = read_mcap(REPO / "highway_merge.mcap")
+    lanes = ours.picture_lanes()
+    assert ours._map_read is False  # read without omega-prime
+    theirs = omega_prime.Recording.from_file(str(REPO / "highway_merge.mcap"), compute_polygons=True).map
+    assert type(theirs).__name__ == "MapOsiCenterline"
+    by_id = {int(lane._osi.id.value): lane for lane in theirs.lanes.values()}
+    assert sorted(lanes.lanes) == sorted(by_id) and len(by_id) > 0
+    for key, lane in lanes.lanes.items():
+        assert np.array_equal(np.asarray(lane.centerline.coords), np.asarray(by_id[key].centerline.coords))
+    ours.map = theirs  # once the map is read (or set), a picture takes it
+    assert ours.picture_lanes() is theirs

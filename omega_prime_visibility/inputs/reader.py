@@ -73,6 +73,7 @@ class TraceRecording:
     _map_read: bool = field(default=False, repr=False)
     _with_polygons: pl.DataFrame | None = field(default=None, repr=False)
     _omega_prime: Any = field(default=None, repr=False)
+    first_ground_truth: bytes | None = field(default=None, repr=False)
 
     def __getattr__(self, name: str) -> Any:
         """omega-prime's own attributes and methods (``plot``, ``to_mcap``, ...), from :meth:`to_omega_prime`."""
@@ -132,6 +133,16 @@ class TraceRecording:
                     return road_map
         return None
 
+    def picture_lanes(self) -> Any:
+        """The lanes a picture draws: the map's (:attr:`map`), but where the file carries no OpenDRIVE map and
+        the map is not read yet, the centre lines of its first ground truth decoded without omega-prime (the same
+        lanes omega-prime's ``MapOsiCenterline`` reads; see :mod:`.centrelines`)."""
+        if self._map_read or self.odr_xml is not None or self.first_ground_truth is None:
+            return self.map
+        from .centrelines import centre_lines
+
+        return centre_lines(self.first_ground_truth)
+
     def to_omega_prime(self) -> Any:
         """This recording as an ``omega_prime.Recording`` (for omega-prime's own metrics)."""
         import omega_prime
@@ -187,7 +198,7 @@ def read_mcap(path: str | os.PathLike) -> TraceRecording:
     if not payloads:
         raise NotOurs("no ground truth messages")
     df, host = decode_table(payloads)
-    return TraceRecording(df, host, path, odr_xml, map_name)
+    return TraceRecording(df, host, path, odr_xml, map_name, first_ground_truth=payloads[0])
 
 
 def _class_of(schema: Any) -> type:

@@ -126,8 +126,8 @@ def load_source(df: Any, question: Query, lanes: Any = True) -> Source:
     if scene.objects.n_frames == 0:
         raise ValueError("the table has no usable object rows: there is nothing to draw")
     keep = [c for c in ("frame", "total_nanos", "idx", "x", "y", "vel_x", "vel_y") if c in table.columns]
-    if lanes is True:
-        lanes = getattr(df, "map", None)
+    if lanes is True:  # (a recording of the reader draws its lanes without importing omega-prime)
+        lanes = df.picture_lanes() if hasattr(df, "picture_lanes") else getattr(df, "map", None)
     return Source(scene.objects, scene.statics, table.select(keep), prepared_lanes(lanes), scene)
 
 
@@ -367,12 +367,16 @@ def frames_table(df: Any, question: Query, frame_numbers: Sequence[int]) -> pl.D
 
 
 def _with_rows(recording: Any, rows: pl.DataFrame) -> Any:
-    """A stand-in for an omega-prime Recording holding only ``rows`` but its map (for the map's road objects)."""
+    """A stand-in for an omega-prime Recording holding only ``rows`` but its map (for the map's road objects, read
+    only if they are asked for: a reader's recording reads its map through omega-prime)."""
 
     class Part:
-        map = getattr(recording, "map", None)
         host_vehicle_idx = getattr(recording, "host_vehicle_idx", None)
         _df = rows
+
+        @property
+        def map(self) -> Any:
+            return getattr(recording, "map", None)
 
     return Part()
 
