@@ -279,6 +279,7 @@ def test_it_offers_the_rest_of_omega_primes_recording() -> None:
         recording._private  # noqa: B018
 
 
+@pytest.mark.filterwarnings("ignore:Failed to apply projections")  # omega-prime's, on the bundled recording
 def test_a_pictures_lanes_are_omega_primes_centre_lines() -> None:
     ours = read_mcap(REPO / "highway_merge.mcap")
     lanes = ours.picture_lanes()
