@@ -19,9 +19,10 @@ def read_recording(path: str | os.PathLike, map_path: str | os.PathLike | None =
     """A recording with object polygons, from an MCAP file (or an OSI trace with its map): what
     ``omega_prime.Recording.from_file(path, compute_polygons=True)`` gives.
 
-    An MCAP file of OSI ground truth is read by :func:`.reader.read_mcap` (the table omega-prime would give, ten
-    times faster, without importing omega-prime, and without its warning about projections a map does not need);
-    anything else, and a map given for it, by omega-prime's ``Recording.from_file``.
+    An MCAP file of OSI ground truth is read by :func:`.reader.read_mcap`, an OSI trace without a map by
+    :func:`.osi_trace.read_osi` (the table omega-prime would give, ten times faster, without importing omega-prime,
+    and without its warning about projections a map does not need); anything else, and a map given for it, by
+    omega-prime's ``Recording.from_file``.
 
     Parameters
     ----------
@@ -53,11 +54,13 @@ def read_recording(path: str | os.PathLike, map_path: str | os.PathLike | None =
         if not map_path.is_file():
             raise RecordingReadError(f"map {map_path} {'is not a file' if map_path.exists() else 'does not exist'}")
         kwargs["map_path"] = str(map_path)
-    elif path.suffix == ".mcap":  # read straight into columns where omega-prime would give the same table
-        from .reader import read_mcap
-
+    elif path.suffix in (".mcap", ".osi"):  # read straight into columns where omega-prime gives the same table
+        if path.suffix == ".mcap":
+            from .reader import read_mcap as read_ours
+        else:
+            from .osi_trace import read_osi as read_ours
         try:
-            return read_mcap(path)
+            return read_ours(path)
         except Exception:  # NotOurs (a projection, no OSI ground truth) or a file it cannot decode: omega-prime
             pass  # reads it, or says in its words what is wrong
     import omega_prime  # takes seconds: only once the paths are known to exist

@@ -229,15 +229,18 @@ def _geo_reference(odr_xml: str) -> bool:
     return found is not None and bool(re.sub(r"<!\[CDATA\[|\]\]>", "", found.group(1)).strip())
 
 
-def decode_table(messages: list[bytes]) -> tuple[pl.DataFrame, int | None]:
+def decode_table(messages: list[bytes], projected: bool = True) -> tuple[pl.DataFrame, int | None]:
     """omega-prime's moving-object table of serialised ``osi3.GroundTruth`` messages, and the host vehicle the
     first one names (None if none), decoded by :mod:`.osi_wire`.
+
+    ``projected`` False: omega-prime will not project these messages whatever projection they carry (it projects
+    only onto an OpenDRIVE map: an OSI trace read without one keeps its coordinates).
 
     Raises
     ------
     NotOurs
-        When a message carries a projection (``proj_string``, ``proj_frame_offset``), which omega-prime converts,
-        or is no valid ``GroundTruth``.
+        When a message carries a projection (``proj_string``, ``proj_frame_offset``), which omega-prime converts
+        (unless ``projected`` is False), or is no valid ``GroundTruth``.
     """
     from . import osi_wire
 
@@ -262,7 +265,7 @@ def decode_table(messages: list[bytes]) -> tuple[pl.DataFrame, int | None]:
         raise NotOurs(f"message {int(np.argmax(counts < 0))} is no valid osi3.GroundTruth")
     if bad >= 0:
         raise NotOurs(f"message {bad} is no valid osi3.GroundTruth")
-    if flags[:, 2].any():
+    if projected and flags[:, 2].any():
         raise NotOurs("a ground truth message carries a projection")
     columns = {name: ints[:, k] for k, name in enumerate(osi_wire.INTS[:2])}
     columns |= {name: floats[:, k] for k, name in enumerate(osi_wire.FLOATS)}
