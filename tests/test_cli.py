@@ -418,3 +418,18 @@ def test_help_reads_as_a_shell_user_expects() -> None:
         first = out.stdout.splitlines()[0]
         assert usage in first and "{" not in first, first
         assert "sampled" not in out.stdout
+
+
+def test_a_run_imports_nothing_it_does_not_need() -> None:
+    # issue 41: the plotting package (its animation module pulled in matplotlib's friends: 0.17 s) and
+    # pyarrow.compute (polars converting a pyarrow list column: 0.13 s) are not needed to print a table
+    code = (
+        "import sys; from omega_prime_visibility.cli import main; "
+        "sys.argv = ['omega-prime-visibility', 'run', 'highway_merge.mcap', '--engine', 'sweep', '--rows', '0', "
+        "'--no-progress']\n"
+        "try:\n    main()\nexcept SystemExit:\n    pass\n"
+        "loaded = ('omega_prime', 'matplotlib', 'pyarrow.compute', 'omega_prime_visibility.plot.animate', 'pandas')\n"
+        "print('imported:', sorted(m for m in loaded if m in sys.modules))"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=REPO, timeout=600)
+    assert done.stdout.strip().splitlines()[-1] == "imported: []", done.stderr

@@ -8,9 +8,28 @@ raises an ``ImportError`` naming the extra.
 >>> from omega_prime_visibility.plot import plot_frame
 """
 
-from .animate import animate
-from .frame import plot_frame
-from .report import write_report
-from .timeline import save_timeline, timeline_chart
+from importlib import import_module
 
-__all__ = ["animate", "plot_frame", "save_timeline", "timeline_chart", "write_report"]
+_WHERE = {
+    "animate": "animate",
+    "plot_frame": "frame",
+    "save_timeline": "timeline",
+    "timeline_chart": "timeline",
+    "write_report": "report",
+}
+"""Where each picture function lives, loaded on first use (PEP 562): the command line reads ``plot.window``'s
+default without loading the rest."""
+
+__all__ = sorted(_WHERE)
+
+
+def __getattr__(name: str):
+    if name in _WHERE:
+        value = getattr(import_module(f".{_WHERE[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_WHERE})
