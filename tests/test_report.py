@@ -202,3 +202,37 @@ def test_static_occluders_are_named_in_the_report(tmp_path) -> None:
     summary = re.search(r'<table id="summary">(.*?)</table>', page, re.S).group(1)
     assert "<th>hidden by static occluders</th>" in summary
     assert summary_row(page, 1)["hidden by static occluders"] == "static #0"  # never a bare 0 that reads as none
+
+
+def test_in_town_the_scene_keeps_its_labels_readable_and_off_other_road_users(tmp_path) -> None:
+    import sys
+
+    sys.path.insert(0, str(REPO / "scenarios"))
+    from urban import urban_scene
+
+    binary = find_chromium()
+    if binary is None:
+        pytest.skip("no chromium binary found (Debian: apt-get install chromium; .ci/run installs it as root)")
+    table, buildings = urban_scene(frames=2)
+    page = write_report(table, 0, tmp_path / "town.html", buildings, progress=False)
+    assert "not seen (white)" in page.read_text()
+    with Browser(binary) as browser:
+        browser.open(page.as_uri())
+        browser.wait_for("document.body.dataset.timeline")
+        found = browser.evaluate(
+            """(() => {
+              const boxes = (sel) => [...document.querySelectorAll(sel)].map((e) => {
+                const r = e.getBoundingClientRect(); return [r.left, r.top, r.right, r.bottom, e]; });
+              const hit = (a, b) => a[0] < b[2] - 1 && b[0] < a[2] - 1 && a[1] < b[3] - 1 && b[1] < a[3] - 1;
+              const labels = boxes('#scene text').filter((b) => /^\\d+: /.test(b[4].textContent));
+              const bodies = boxes('#scene [data-idx]');
+              const covering = labels.filter((l) => bodies.some((b) =>
+                b[4].getAttribute('data-idx') !== l[4].textContent.split(':')[0] && hit(l, b)));
+              return { labels: labels.length, px: labels.length ? labels[0][3] - labels[0][1] : 0,
+                       covering: covering.map((l) => l[4].textContent), dots: document.querySelectorAll(
+                         '#scene circle.object').length };
+            })()"""
+        )
+    assert found["labels"] > 40 and found["covering"] == []
+    assert found["px"] >= 12  # 13 px text whatever the window
+    assert found["dots"] > 50  # pedestrians drawn as dots of 7 px, filled with their colour

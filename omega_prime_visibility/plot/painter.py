@@ -28,6 +28,7 @@ from .style import (
     STATIC_EDGE,
     TARGET_EDGE,
     VISIBILITY_CMAP,
+    percent,
     sensor_colour,
     visibility_colour,
 )
@@ -250,7 +251,7 @@ class FramePainter:
         tip, tail = centre + towards * scale, centre + towards * scale * 0.7
         distance = float(np.hypot(*(view.position[row] - view.observer)))
         seen = view.visibility[row]
-        text = f"target {self.target}" + (f": {seen:.0%}" if np.isfinite(seen) else "") + f", {distance:.0f} m"
+        text = f"target {self.target}" + (f": {percent(seen)}" if np.isfinite(seen) else "") + f", {distance:.0f} m"
         box = {"boxstyle": "round,pad=0.2", "fc": "white", "ec": TARGET_EDGE, "ls": "--"}
         arrow = self.ax.annotate(text, xy=tip, xytext=tail, ha="center", va="center", fontsize=8, zorder=5, bbox=box,
                                  arrowprops={"arrowstyle": "-|>", "color": TARGET_EDGE, "lw": 1.4})  # fmt: skip
@@ -278,7 +279,7 @@ class FramePainter:
         for i in order:
             idx = int(view.idx[i])
             seen = view.visibility[i]
-            text = f"ego {idx}" if i == view.ego_row else f"{idx}: {seen:.0%}" if np.isfinite(seen) else f"{idx}"
+            text = f"ego {idx}" if i == view.ego_row else f"{idx}: {percent(seen)}" if np.isfinite(seen) else f"{idx}"
             px = to_pixels(view.rings[i])
             (bx0, by0), (bx1, by1) = px.min(axis=0), px.max(axis=0)
             cx, cy, half = (bx0 + bx1) / 2, (by0 + by1) / 2, SMALL_PX / 2  # a small one is drawn as its marker

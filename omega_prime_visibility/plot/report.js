@@ -71,6 +71,8 @@
     return `M ${x} ${-y} L ${p0[0]} ${p0[1]} A ${r} ${r} 0 ${large} 0 ${p1[0]} ${p1[1]} Z`;
   }
   function overlaps(a, b) { return a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3]; }
+  // a share as a label says it: "<1%" and ">99%" where rounding would say 0% or 100% of a partly hidden one
+  function percent(v) { return v > 0 && v < 0.005 ? "<1%" : v < 1 && v >= 0.995 ? ">99%" : `${Math.round(v * 100)}%`; }
 
   function draw(k) {
     const f = data.frames[k];
@@ -84,8 +86,23 @@
       const d = rings.map((ring) => "M " + pts(ring).split(" ").join(" L ") + " Z").join(" ");
       el("path", { d: d, fill: "#cfe8f7", "fill-rule": "evenodd", stroke: "none" }, regionLayer);
     }
-    const size = 2.2 * Math.max(HW, HH) / 60;  // label size in metres: the same on screen whatever the window
-    const placed = [];
+    // metres a screen pixel spans (the picture keeps its aspect): labels of 13 px and markers of 7 px at any size
+    const shown = svg.getBoundingClientRect();
+    const perPixel = shown.width > 0 ? Math.max(2 * HW / shown.width, 2 * HH / shown.height) : Math.max(HW, HH) / 350;
+    const size = 13 * perPixel;  // label size in metres
+    const minimum = 7 * perPixel;  // a road user drawn smaller than this across is a dot of this size
+    const x0 = ex + DX - HW, y0 = ey + DY - HH;  // the view's lower left corner, metres, y up
+    const placed = [[x0 + 1.45 * HW, y0, x0 + 2 * HW, y0 + 0.2 * HH]];  // the scale bar's corner stays clear
+    const boxes = f.objects.map((o) => {  // each object's bounding box, metres, y up: [left, bottom, right, top]
+      let top = -Infinity, bottom = Infinity, left = Infinity, right = -Infinity;
+      for (let j = 0; j < o.ring.length; j += 2) {
+        top = Math.max(top, o.ring[j + 1]); bottom = Math.min(bottom, o.ring[j + 1]);
+        left = Math.min(left, o.ring[j]); right = Math.max(right, o.ring[j]);
+      }
+      const cx = (left + right) / 2, cy = (top + bottom) / 2, half = minimum / 2;
+      return [Math.min(left, cx - half), Math.min(bottom, cy - half), Math.max(right, cx + half),
+              Math.max(top, cy + half)];
+    });
     const order = f.objects.map((o, i) => i).sort((a, b) => {
       const oa = f.objects[a], ob = f.objects[b];
       if (oa.ego !== ob.ego) return oa.ego ? -1 : 1;
@@ -94,28 +111,34 @@
     });
     for (const i of order) {
       const o = f.objects[i];
-      const p = el("polygon", { points: pts(o.ring), fill: o.fill, stroke: o.ego ? "#5a2800" : "#333",
-        "stroke-width": 0.12, "data-idx": o.idx }, frameLayer);
+      const [left, bottom, right, top] = boxes[i];
+      const small = Math.max(right - left, top - bottom) <= minimum * 1.0001;
+      const p = small
+        ? el("circle", { cx: (left + right) / 2, cy: -(top + bottom) / 2, r: minimum / 2, fill: o.fill,
+            stroke: "#333", "stroke-width": 0.12, "data-idx": o.idx }, frameLayer)
+        : el("polygon", { points: pts(o.ring), fill: o.fill, stroke: o.ego ? "#5a2800" : "#333",
+            "stroke-width": 0.12, "data-idx": o.idx }, frameLayer);
       p.classList.add(o.ego ? "ego" : "object");
       const t = el("title", {}, p);
       const hiders = o.occluders.map(String).concat(o.statics.map((k) => `static #${k}`));
       t.textContent = o.ego ? `ego idx ${o.idx}` : o.vis === null ? `idx ${o.idx}: no row in the table` :
         `idx ${o.idx}: visibility ${o.vis.toFixed(3)}; hidden by ${hiders.length ? hiders.join(", ") : "nothing"}`;
-      let top = -Infinity, bottom = Infinity, left = Infinity, right = -Infinity;
-      for (let j = 0; j < o.ring.length; j += 2) {
-        top = Math.max(top, o.ring[j + 1]); bottom = Math.min(bottom, o.ring[j + 1]);
-        left = Math.min(left, o.ring[j]); right = Math.max(right, o.ring[j]);
-      }
-      const text = o.ego ? `ego ${o.idx}` : o.vis === null ? `${o.idx}: –` : `${o.idx}: ${Math.round(o.vis * 100)}%`;
-      const w = 0.6 * size * text.length, cx = (left + right) / 2;
-      // above the object, else below it; a label that would overlap one already placed is left out
-      const choices = [[cx - w / 2, top + 0.3 * size, cx + w / 2, top + 1.3 * size],
-                       [cx - w / 2, bottom - 1.3 * size, cx + w / 2, bottom - 0.3 * size]];
-      const box = choices.find((c) => !placed.some((q) => overlaps(c, q)));
+      const text = o.ego ? `ego ${o.idx}` : o.vis === null ? `${o.idx}: –` : `${o.idx}: ${percent(o.vis)}`;
+      const w = 0.62 * size * text.length, h = 1.1 * size, g = 0.3 * size;
+      const cx = (left + right) / 2, cy = (bottom + top) / 2;
+      // above, below, right, left of the object; never over another label, nor over another road user but for the
+      // ego's label; a label with no such place is left out (the road user keeps its colour)
+      const choices = [[cx - w / 2, top + g, cx + w / 2, top + g + h], [cx - w / 2, bottom - g - h, cx + w / 2, bottom - g],
+                       [right + g, cy - h / 2, right + g + w, cy + h / 2], [left - g - w, cy - h / 2, left - g, cy + h / 2]];
+      const free = choices.filter((c) => c[0] >= x0 && c[2] <= x0 + 2 * HW && c[1] >= y0 && c[3] <= y0 + 2 * HH &&
+        !placed.some((q) => overlaps(c, q)));
+      const clear = free.filter((c) => !boxes.some((b, j) => j !== i && overlaps(c, b)));
+      const box = clear[0] || (o.ego ? free[0] : undefined);
       if (!box) continue;
       placed.push(box);
-      const tag = el("text", { x: cx, y: -(box[1] + 0.25 * size), "font-size": size, "text-anchor": "middle",
-        fill: "#222", stroke: "white", "stroke-width": size / 6, "paint-order": "stroke" }, frameLayer);
+      const tag = el("text", { x: (box[0] + box[2]) / 2, y: -(box[1] + 0.25 * size), "font-size": size,
+        "text-anchor": "middle", fill: "#222", stroke: "white", "stroke-width": size / 6, "paint-order": "stroke" },
+        frameLayer);
       tag.textContent = text;
     }
     f.sensors.forEach(([x, y, heading], j) => {

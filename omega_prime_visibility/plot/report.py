@@ -149,6 +149,12 @@ def write_report(
         seen=NO_REGION if not viewer.region else "seen by the sensors" if viewer.sensors else "seen from the ego",
         ego_face=EGO_FACE,
         region_face=REGION_FACE if viewer.region else "transparent",
+        unseen_key=(
+            f'<span><span class="swatch" style="background:white;border:1px solid #999"></span> not seen '
+            f"({'white or bare road' if source.lanes.surfaces else 'white'})</span>\n"
+            if viewer.region
+            else ""
+        ),
         sensor_key="".join(
             f'<span class="sensor"><span class="line" style="border-color:{sensor_colour(k)}"></span> '
             f"{html.escape(s.name)}</span>"
@@ -307,7 +313,7 @@ PAGE = """<!DOCTYPE html>
 <div class="legend">
 <span><span class="swatch" style="background:{ego_face}"></span> ego (★ its centre)</span>
 <span><span class="swatch" style="background:{region_face}"></span> {seen}</span>
-<span id="static-key"><span class="swatch static"></span> static occluder</span>
+{unseen_key}<span id="static-key"><span class="swatch static"></span> static occluder</span>
 {sensor_key}
 <span class="bar">visibility 0 % {colourbar} 100 %</span>
 <span class="hint">hover an object for its occluders</span>

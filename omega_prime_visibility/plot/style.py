@@ -65,6 +65,20 @@ STATIC_FACE, STATIC_EDGE = "#bbbbbb", "#555555"
 LANE_FACE, LANE_COLOUR = "#a8a8a8", "#7a7a7a"  # the road surface (opaque, under the seen region), its lines
 
 
+def percent(value: float) -> str:
+    """A share as a picture's label says it: rounded to whole percent, but "<1%" and ">99%" where rounding would
+    call a partly hidden road user hidden (0%) or fully visible (100%).
+
+    >>> percent(0.0), percent(0.004), percent(0.58), percent(0.996), percent(1.0)
+    ('0%', '<1%', '58%', '>99%', '100%')
+    """
+    if 0.0 < value < 0.005:
+        return "<1%"
+    if 0.995 <= value < 1.0:
+        return ">99%"
+    return f"{value:.0%}"
+
+
 def visibility_colour(v: float) -> str:
     """Hex colour of visibility ``v`` in 0..1 on the cividis scale (linear between its 11 colours); grey for NaN.
 
