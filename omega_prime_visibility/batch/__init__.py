@@ -5,11 +5,33 @@
 - :mod:`.task`: :func:`process_file`, one file computed and written atomically (and its conflicts, when asked);
 - :mod:`.run`: :func:`run_batch` and the summary;
 - :mod:`.execute`: where the files are computed: here, a local process pool, or a dask cluster;
+- :mod:`.forkserver`: what the local workers' fork server imports, started early by the command line;
 - :mod:`.campaign`: :func:`~.campaign.campaign_statistics` over a batch output folder.
 """
 
-from .options import FileOptions
-from .run import SUMMARY_NAME, BatchInterrupted, run_batch
-from .task import FileResult, FileTask, process_file
+from importlib import import_module
 
-__all__ = ["SUMMARY_NAME", "BatchInterrupted", "FileOptions", "FileResult", "FileTask", "process_file", "run_batch"]
+_WHERE = {
+    "FileOptions": "options",
+    "SUMMARY_NAME": "run",
+    "BatchInterrupted": "run",
+    "run_batch": "run",
+    "FileResult": "task",
+    "FileTask": "task",
+    "process_file": "task",
+}
+"""Where each name lives, loaded on first use (PEP 562): the command line imports :mod:`.forkserver` first, alone."""
+
+__all__ = sorted(_WHERE)
+
+
+def __getattr__(name: str):
+    if name in _WHERE:
+        value = getattr(import_module(f".{_WHERE[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_WHERE})

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import gc
 import importlib
-import multiprocessing
 import os
 import signal
 import threading
@@ -22,17 +21,10 @@ from tqdm.std import tqdm
 
 from . import task as file_task
 from .files import remove_leftovers
+from .forkserver import PRELOAD, context
 from .task import FileResult, FileTask, process_file
 
 Report = Callable[[FileResult], None]
-PRELOAD = [
-    "omega_prime_visibility.api",
-    "omega_prime_visibility.inputs.io",
-    "omega_prime_visibility.inputs.reader",
-    "omega_prime_visibility.batch",
-]
-"""What every file needs, imported before the first one. Not omega-prime (2 to 3 s): MCAP files are read without
-it, and a batch of OSI traces imports it with the first trace."""
 MAX_ATTEMPTS = 2  # a file whose worker process dies this often is reported failed (the others go on)
 POLL = 0.25  # seconds between looks at the workers: how soon Ctrl-C is heard while every worker is busy
 STOP_SECONDS = 2.0  # how long stopped workers get to remove their unfinished results before they are killed
@@ -64,19 +56,13 @@ def run_local(tasks: Sequence[FileTask], n_workers: int, report: Report) -> None
     polars, whose thread pool does not survive a plain fork of a process that used it). A task whose worker dies
     (killed, out of memory) is tried again in a fresh pool; one that dies ``MAX_ATTEMPTS`` times is reported
     failed."""
-    if "forkserver" in multiprocessing.get_all_start_methods():
-        context = multiprocessing.get_context("forkserver")
-        # imported once in the fork server, not in every worker (halves a 2-worker batch of small files here);
-        # safe: importing starts none of polars' worker threads, and no polars work runs in the fork server
-        context.set_forkserver_preload(PRELOAD)
-    else:
-        context = multiprocessing.get_context("spawn")
+    start_method = context()  # (the fork server imports what every file needs once: halves a batch of small files)
     attempts: Counter[str] = Counter()
     pending = list(tasks)
     while pending:
         broken: list[FileTask] = []
         pool = ProcessPoolExecutor(
-            min(n_workers, len(pending)), mp_context=context, initializer=_init_worker, initargs=(os.getpid(),)
+            min(n_workers, len(pending)), mp_context=start_method, initializer=_init_worker, initargs=(os.getpid(),)
         )
         futures = {pool.submit(process_file, task): task for task in pending}
         reported: set[Future] = set()

@@ -6,13 +6,17 @@ from __future__ import annotations
 
 import sys
 
-import typer
+from ..batch.forkserver import start_early
 
-from ..engines.registry import ENGINES, ENGINES_3D
-from . import batch, compile_kernels, pictures, run, statistics  # noqa: F401  (each registers its commands on the app)
-from .app import HELP, app
-from .batch import print_summary
-from .common import fail
+start_early(sys.argv)  # a local batch: its workers' fork server imports while the command line does (below)
+
+import typer  # noqa: E402
+
+from ..engines.registry import ENGINES, ENGINES_3D  # noqa: E402
+from . import batch, compile_kernels, pictures, run, statistics  # noqa: E402, F401  (each registers its commands)
+from .app import HELP, app  # noqa: E402
+from .batch import print_summary  # noqa: E402
+from .common import fail  # noqa: E402
 
 __all__ = ["HELP", "app", "fail", "main", "print_summary"]
 
