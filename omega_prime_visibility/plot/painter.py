@@ -205,8 +205,6 @@ class FramePainter:
                 edge, lw, ls, gid = "#333333", 0.6, "-", f"object {idx}"
             if idx in occluders:
                 edge, lw = OCCLUDER_EDGE, 2.5
-            elif idx == self.target:
-                edge, lw, ls = TARGET_EDGE, 2.0, "--"
             patch = self.patches.Polygon(view.rings[i], facecolor=face, edgecolor=edge, lw=lw, ls=ls, zorder=2)
             patch.set_gid(gid)
             add(ax.add_artist(patch))
@@ -218,16 +216,15 @@ class FramePainter:
                 add(marker)
             if idx == self.target and idx not in occluders:  # a white ring under the dashes: seen on a dark fill
                 small = size[i] < SMALL_PX
-                ring = (
-                    view.rings[i]
-                    if not small
-                    else view.position[i]
-                    + SMALL_RING
-                    * np.array([[np.cos(a), np.sin(a)] for a in np.linspace(0, 2 * np.pi, 24, endpoint=False)])
-                    * (ax.get_xlim()[1] - ax.get_xlim()[0])
-                    / max(ax.bbox.width, 1.0)
-                )
-                for colour, width, style in (("white", 4.0, "-"), (TARGET_EDGE, 2.0, "--")):
+                per_pixel = (ax.get_xlim()[1] - ax.get_xlim()[0]) / max(ax.bbox.width, 1.0)  # metres
+                if small:
+                    circle = [[np.cos(a), np.sin(a)] for a in np.linspace(0, 2 * np.pi, 24, endpoint=False)]
+                    ring = view.position[i] + SMALL_RING * per_pixel * np.array(circle)
+                else:  # around the body, not on it: a thin target (a motorbike) keeps its fill in sight
+                    around = HALO_PT / 2 * ax.figure.dpi / 72 * per_pixel
+                    body = shapely.Polygon(view.rings[i]).buffer(around, join_style="mitre")
+                    ring = np.asarray(body.exterior.coords)[:-1]
+                for colour, width, style in (("white", HALO_PT, "-"), (TARGET_EDGE, 2.0, "--")):
                     halo = self.patches.Polygon(ring, fill=False, edgecolor=colour, lw=width, ls=style, zorder=2.6)
                     halo.set_gid("target outline")
                     add(ax.add_artist(halo))
@@ -318,6 +315,8 @@ class FramePainter:
         return size
 
 
+HALO_PT = 4.0
+"""Points: the white halo under a target's dashed outline, drawn around the target (so its fill stays in sight)."""
 SMALL_RING = 9.0
 """Pixels: the radius of the dashed ring around a target drawn as a marker (too small for its outline)."""
 POINTER_INSET = 0.95
