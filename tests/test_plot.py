@@ -501,3 +501,13 @@ def test_a_legend_of_many_sensors_fits_a_portrait_picture() -> None:
     assert len(legend.get_texts()) >= 8
     extent = legend.get_window_extent(figure.canvas.get_renderer())
     assert extent.x0 >= 0 and extent.x1 <= figure.bbox.width
+
+
+def test_a_picture_on_a_figure_made_without_pyplot() -> None:
+    # a Figure's own canvas (FigureCanvasBase) draws nothing and has no renderer: labels and legend are laid out
+    # with the one matplotlib uses for such figures
+    from matplotlib.figure import Figure
+
+    figure = Figure(layout="constrained")
+    ax = plot_frame(boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 2, 0)]), 0, 0, ax=figure.add_subplot())
+    assert ax.figure is figure and "1: 100%" in texts(ax)

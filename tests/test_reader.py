@@ -277,6 +277,23 @@ def test_it_offers_the_rest_of_omega_primes_recording() -> None:
         recording.no_such_thing  # noqa: B018
     with pytest.raises(AttributeError):
         recording._private  # noqa: B018
+    recording._df = recording.table.head(10)  # as omega-prime's MetricManager sets it: built again from it
+    assert recording._omega_prime is None and recording.df.height == 10
+
+
+def test_its_own_errors_stay_its_own() -> None:
+    recording = read_mcap(REPO / "highway_merge.mcap")
+    broken = TraceRecording(recording.table, 0, Path("nowhere.mcap"))
+
+    def unreadable(self):
+        raise AttributeError("the map's reader broke")
+
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(TraceRecording, "_read_map", unreadable)
+        with pytest.raises(AttributeError, match="the map's reader broke"):  # not a recursion through omega-prime
+            broken.map  # noqa: B018
+    odd = TraceRecording(pl.DataFrame({"idx": [1]}), None, Path("odd.mcap"))
+    assert not hasattr(odd, "moving_objects")  # omega-prime cannot build a Recording of it: False, not a crash
 
 
 @pytest.mark.filterwarnings("ignore:Failed to apply projections")  # omega-prime's, on the bundled recording

@@ -15,7 +15,7 @@ PRELOAD = [
     "omega_prime_visibility.api",
     "omega_prime_visibility.inputs.io",
     "omega_prime_visibility.inputs.reader",
-    "omega_prime_visibility.batch",
+    "omega_prime_visibility.batch.task",
 ]
 """What every file needs, imported before the first one. Not omega-prime (2 to 3 s): MCAP files are read without
 it, and a batch of OSI traces imports it with the first trace."""

@@ -9,7 +9,8 @@ the map, which is read through omega-prime the first time it is asked for (pictu
 
 What it does not do it leaves to omega-prime (:class:`NotOurs`): recordings with a geographic projection (a
 ``proj_string``, a frame offset, or a map with a ``geoReference``), which omega-prime converts into the map's
-frame; files without OSI ground truth; anything it cannot decode.
+frame; files without OSI ground truth; anything it cannot decode. OSI traces (``.osi``) are read the same way by
+:mod:`.osi_trace` into the same :class:`TraceRecording`.
 """
 
 from __future__ import annotations
@@ -46,7 +47,8 @@ class NotOurs(Exception):
 
 @dataclass(eq=False)
 class TraceRecording:
-    """A recording read by :func:`read_mcap`: what the package uses of an ``omega_prime.Recording``.
+    """A recording read by :func:`read_mcap` (or :func:`.osi_trace.read_osi`): what the package uses of an
+    ``omega_prime.Recording``.
 
     Attributes
     ----------
@@ -74,13 +76,25 @@ class TraceRecording:
     _with_polygons: pl.DataFrame | None = field(default=None, repr=False)
     _omega_prime: Any = field(default=None, repr=False)
     first_ground_truth: bytes | None = field(default=None, repr=False)
+    _centre_lines: Any = field(default=None, repr=False)
 
     def __getattr__(self, name: str) -> Any:
-        """omega-prime's own attributes and methods (``plot``, ``to_mcap``, ...), from :meth:`to_omega_prime`."""
-        if name.startswith("_"):  # never copy's and pickle's probes, nor a field not set yet
+        """omega-prime's own attributes and methods (``plot``, ``to_mcap``, ...), from :meth:`to_omega_prime`.
+
+        Never for a name of this class (a property such as :attr:`map` that fails inside lands here: its own
+        error is the one to see), nor for private names (copy's and pickle's probes, a field not set yet); where
+        omega-prime cannot build its ``Recording``, an ``AttributeError`` saying why (``hasattr`` is False)."""
+        if hasattr(type(self), name):  # a property of ours that failed: raise its own error again, not ours
+            return object.__getattribute__(self, name)
+        if name.startswith("_") or name in self.__dataclass_fields__:
             raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
         if self._omega_prime is None:
-            self._omega_prime = self.to_omega_prime()
+            try:
+                self._omega_prime = self.to_omega_prime()
+            except Exception as error:  # omega-prime's own checks of the table raise many kinds
+                raise AttributeError(
+                    f"{name!r}: omega-prime could not build its Recording of {self.path.name} ({error})"
+                ) from error
         return getattr(self._omega_prime, name)
 
     @property
@@ -98,6 +112,7 @@ class TraceRecording:
     def _df(self, value: pl.DataFrame) -> None:  # (omega-prime's MetricManager sets it)
         self.table = value
         self._with_polygons = value if "polygon" in value.columns else None
+        self._omega_prime = None  # built again from the new table when next asked for
 
     @property
     def df(self) -> pl.DataFrame:
@@ -135,13 +150,17 @@ class TraceRecording:
 
     def picture_lanes(self) -> Any:
         """The lanes a picture draws: the map's (:attr:`map`), but where the file carries no OpenDRIVE map and
-        the map is not read yet, the centre lines of its first ground truth decoded without omega-prime (the same
-        lanes omega-prime's ``MapOsiCenterline`` reads; see :mod:`.centrelines`)."""
+        the map is not read yet, the centre lines of its first ground truth decoded without omega-prime, once (see
+        :mod:`.centrelines`). They are the lanes omega-prime's map has: read with ``compute_polygons=True``, as
+        :data:`OMEGA_PRIME_OPTIONS` and ``Recording.from_file`` read it, its ``MapOsi`` (lane polygons) always
+        fails (its ``create`` takes no such keyword) and ``MapOsiCenterline`` is taken."""
         if self._map_read or self.odr_xml is not None or self.first_ground_truth is None:
             return self.map
-        from .centrelines import centre_lines
+        if self._centre_lines is None:
+            from .centrelines import centre_lines
 
-        return centre_lines(self.first_ground_truth)
+            self._centre_lines = centre_lines(self.first_ground_truth)
+        return self._centre_lines
 
     def to_omega_prime(self) -> Any:
         """This recording as an ``omega_prime.Recording`` (for omega-prime's own metrics)."""

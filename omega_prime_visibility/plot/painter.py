@@ -42,6 +42,13 @@ SMALL_PX = 7.0
 size filled with its colour, as its outline alone would cover its fill."""
 
 
+def renderer_of(figure: Any) -> Any:
+    """The renderer that lays out ``figure``'s text: its canvas's (Agg, cairo), else the one matplotlib itself
+    uses to lay out a figure whose canvas draws none of its own (a ``Figure`` made without pyplot, svg, pdf)."""
+    get = getattr(figure.canvas, "get_renderer", None)
+    return get() if get is not None else figure._get_renderer()
+
+
 def drawn_sizes(ax: Any, rings: Sequence[np.ndarray]) -> np.ndarray:
     """How many pixels each outline spans at most on ``ax`` (after its limits are set)."""
     ax.apply_aspect()
@@ -117,7 +124,7 @@ class FramePainter:
         figure = ax.figure
         engine = figure.get_layout_engine()
         if engine is not None and type(engine).__name__ == "ConstrainedLayoutEngine":
-            renderer = figure.canvas.get_renderer()
+            renderer = renderer_of(figure)
             for ncol in range(min(columns, len(handles)), 0, -1):  # as many columns as the figure's width holds
                 self._legend = figure.legend(handles=handles, loc="outside lower center", ncol=ncol, fontsize=7,
                                              frameon=False)  # fmt: skip
@@ -307,7 +314,7 @@ class FramePainter:
         size = self._text_sizes.get(text)
         if size is None:
             figure = self.ax.figure
-            renderer = figure.canvas.get_renderer()
+            renderer = renderer_of(figure)
             font = require("matplotlib.font_manager").FontProperties(size=LABEL_SIZE)
             width, height, _ = renderer.get_text_width_height_descent(text, font, ismath=False)
             pad = 2 * LABEL_PAD * LABEL_SIZE * figure.dpi / 72  # the backing's pad, on both sides

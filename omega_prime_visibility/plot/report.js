@@ -88,11 +88,13 @@
     }
     // metres a screen pixel spans (the picture keeps its aspect): labels of 13 px and markers of 7 px at any size
     const shown = svg.getBoundingClientRect();
-    const perPixel = shown.width > 0 ? Math.max(2 * HW / shown.width, 2 * HH / shown.height) : Math.max(HW, HH) / 350;
+    const perPixel = shown.width > 0 && shown.height > 0 ? Math.max(2 * HW / shown.width, 2 * HH / shown.height)
+      : Math.max(HW, HH) / 350;
     const size = 13 * perPixel;  // label size in metres
     const minimum = 7 * perPixel;  // a road user drawn smaller than this across is a dot of this size
     const x0 = ex + DX - HW, y0 = ey + DY - HH;  // the view's lower left corner, metres, y up
     const placed = [[x0 + 1.45 * HW, y0, x0 + 2 * HW, y0 + 0.2 * HH]];  // the scale bar's corner stays clear
+    const labels = [];
     const boxes = f.objects.map((o) => {  // each object's bounding box, metres, y up: [left, bottom, right, top]
       let top = -Infinity, bottom = Infinity, left = Infinity, right = -Infinity;
       for (let j = 0; j < o.ring.length; j += 2) {
@@ -136,6 +138,9 @@
       const box = clear[0] || (o.ego ? free[0] : undefined);
       if (!box) continue;
       placed.push(box);
+      labels.push([box, text]);
+    }
+    for (const [box, text] of labels) {  // after every road user: a label is never under one drawn later
       const tag = el("text", { x: (box[0] + box[2]) / 2, y: -(box[1] + 0.25 * size), "font-size": size,
         "text-anchor": "middle", fill: "#222", stroke: "white", "stroke-width": size / 6, "paint-order": "stroke" },
         frameLayer);

@@ -7,6 +7,8 @@ No plotting library is imported here.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 OKABE_ITO = {
@@ -69,14 +71,14 @@ def percent(value: float) -> str:
     """A share as a picture's label says it: rounded to whole percent, but "<1%" and ">99%" where rounding would
     call a partly hidden road user hidden (0%) or fully visible (100%).
 
-    >>> percent(0.0), percent(0.004), percent(0.58), percent(0.996), percent(1.0)
-    ('0%', '<1%', '58%', '>99%', '100%')
+    >>> percent(0.0), percent(0.004), percent(0.125), percent(0.58), percent(0.996), percent(1.0)
+    ('0%', '<1%', '13%', '58%', '>99%', '100%')
     """
     if 0.0 < value < 0.005:
         return "<1%"
     if 0.995 <= value < 1.0:
         return ">99%"
-    return f"{value:.0%}"
+    return f"{math.floor(100 * value + 0.5)}%"  # halves up, as the report's Math.round: 0.125 is 13% in both
 
 
 def visibility_colour(v: float) -> str:

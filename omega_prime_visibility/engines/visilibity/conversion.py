@@ -1,5 +1,5 @@
-"""Small pieces of the VisiLibity environment's construction: overlapping boxes, groups, conversions between
-numpy, shapely and VisiLibity polygons."""
+"""Small pieces of the VisiLibity environment's construction: overlapping boxes, groups, the environment as the
+compiled module takes it (polygons as float64 vertex arrays), and the call to VisiLibity's visibility polygon."""
 
 from __future__ import annotations
 
@@ -82,7 +82,7 @@ def vis_polygons_reversed(coords: np.ndarray, offsets: np.ndarray, which: np.nda
     return [np.ascontiguousarray(coords[bounds[k] : bounds[k + 1]][::-1], dtype=np.float64) for k in which]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Environment:
     """A VisiLibity environment: the outer boundary (counter-clockwise) and the holes (clockwise), each polygon's
     vertices a float64 array (m, 2), metres, in the frame the observer is given in.

@@ -10,7 +10,9 @@
 // (x, y) pairs, counter-clockwise, in the same frame (numpy.frombuffer(...).reshape(-1, 2)).
 //
 // environment_is_valid is VisiLibity's Environment::is_valid: the precondition of the sweep. The sweep runs without
-// the GIL. Malformed arrays raise ValueError; anything the C++ side throws, RuntimeError.
+// the GIL. Arrays whose lengths or counts do not fit raise ValueError; anything the C++ side throws, RuntimeError.
+// The buffers' element types are not checked (a buffer is read as raw bytes): the Python side (conversion.py)
+// always hands over C-contiguous, aligned float64 and int64 numpy arrays.
 // This file is part of omega-prime-visibility (MPL-2.0); visilibity.cpp and visilibity.hpp are VisiLibity1
 // 1.0.10 by Karl J. Obermeyer (LGPL-3.0-or-later, see COPYING.LESSER).
 

@@ -56,7 +56,8 @@ namespace
 // nearer body (about one frame in five in a town of 250 road users and buildings; found by the package's exact
 // polygon check, engines/visilibity/polygon_check.py). Before a TYPE 1 event reads the queue's top, reorder()
 // drops the edges whose second vertex the sweep has passed (the same test the event applies to the top) and
-// rebuilds the heap at the current bearing. Everything else is version 1.0.10 as published.
+// rebuilds the heap at the current bearing. Everything else is version 1.0.10 as published on PyPI (the sdist of
+// the `visilibity` package, which its SWIG binding was built from).
 namespace VisiLibity
 {
   template <class Edge, class Compare>
