@@ -29,6 +29,7 @@ lint: .venv/.installed
 	$(UV) run --no-sync ruff format --check .
 
 test: lint docs
+	@$(UV) run --no-sync python -m compileall -q omega_prime_visibility  # (bytecode: the tests start many processes)
 	$(UV) run --no-sync pytest $(PYTEST_ARGS)
 
 # the documentation site (docs/ -> site/), warnings as errors; open site/index.html

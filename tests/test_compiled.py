@@ -179,3 +179,14 @@ def test_a_first_call_is_never_silent_while_it_compiles(monkeypatch, capsys) -> 
     assert len(said) >= 3 and all("still compiling the sweep engine's kernels" in line for line in said)
     time.sleep(0.15)
     assert capsys.readouterr().err == ""  # stopped: silent
+
+
+def test_compile_writes_the_packages_bytecode() -> None:
+    import importlib.util
+
+    import omega_prime_visibility.plot.labels as module
+    from omega_prime_visibility.cli.compile_kernels import compile_bytecode
+
+    cached = Path(importlib.util.cache_from_source(module.__file__))
+    cached.unlink(missing_ok=True)
+    assert compile_bytecode() and cached.is_file()  # (PYTHONDONTWRITEBYTECODE is set here: no import writes it)
