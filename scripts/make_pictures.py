@@ -68,7 +68,7 @@ def main() -> None:
         target=3,
         view_range=75,
         size=(8.0, 4.5),
-        colours=48,
+        colours=128,
     )
     size = gif.stat().st_size
     if size > GIF_LIMIT:

@@ -11,6 +11,7 @@ from PIL import Image
 from omega_prime_visibility import Query
 from omega_prime_visibility.plot import animate
 from omega_prime_visibility.plot.data import load_source
+from omega_prime_visibility.plot.style import EGO_FACE
 
 
 def moving_table(n_frames: int = 4, drop_ego_at: int | None = None) -> pl.DataFrame:
@@ -116,3 +117,17 @@ def test_a_target_absent_from_the_frames_drawn_is_an_error(tmp_path) -> None:
         animate(table, 0, tmp_path / "t.gif", target=7, progress=False)
     assert list(tmp_path.iterdir()) == []
     assert animate(table, 0, tmp_path / "t.gif", frames=[11, 12], target=1, dpi=30, progress=False).exists()
+
+
+def test_the_colour_bar_of_a_gif_does_not_band(tmp_path) -> None:
+    # one palette for the animation, from its first picture (whose bar holds every visibility's colour): the bar
+    # keeps its gradient (a palette of 64 colours per frame left about 20 steps in its 430 pixels)
+    out = animate(moving_table(3), 0, tmp_path / "bar.gif", progress=False)
+    with Image.open(out) as gif:
+        gif.seek(2)
+        rgb = np.asarray(gif.convert("RGB")).astype(int)
+    right = rgb[:, int(rgb.shape[1] * 0.8) :]
+    steps = [len({tuple(c) for c in right[:, x]}) for x in range(right.shape[1])]
+    assert max(steps) > 60  # the bar's column: dozens of distinct colours top to bottom
+    ego = [int(EGO_FACE[i : i + 2], 16) for i in (1, 3, 5)]
+    assert (rgb.reshape(-1, 3) == ego).all(axis=1).sum() > 20  # the key colours exact: the ego's vermillion

@@ -65,6 +65,12 @@ TARGET_EDGE = "black"  # dashed; the target's occluders are outlined solid
 OCCLUDER_EDGE = "black"
 STATIC_FACE, STATIC_EDGE = "#bbbbbb", "#555555"
 LANE_FACE, LANE_COLOUR = "#a8a8a8", "#7a7a7a"  # the road surface (opaque, under the seen region), its lines
+KEY_COLOURS = (
+    EGO_FACE, EGO_EDGE, REGION_FACE, STATIC_FACE, STATIC_EDGE, LANE_FACE, LANE_COLOUR, *OKABE_ITO.values(),
+    *SENSOR_COLOURS, "#000000", "#333333", "#ffffff", "#cccccc",
+)  # fmt: skip
+"""The colours the pictures draw things with (ego, region, statics, lanes, sensors, outlines): a GIF's one palette
+keeps each of them exact, however small the thing drawn in it."""
 
 
 def percent(value: float) -> str:
