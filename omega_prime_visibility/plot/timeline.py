@@ -167,7 +167,9 @@ def timeline_chart(
         default_title = "status of each target over time"
     else:
         scale = alt.Scale(scheme="cividis", domain=[0, 1])
-        legend = alt.Legend(title="visibility (0 hidden, 1 fully visible)", orient="bottom", gradientLength=240)
+        legend = alt.Legend(  # in % as the pictures' labels and colour bars say it
+            title="visibility (0 % hidden, 100 % fully visible)", orient="bottom", gradientLength=240, format="%"
+        )
         color = alt.Color("visibility:Q", scale=scale, legend=legend)
         default_title = "visibility of each target over time"
     tooltip = [
@@ -176,7 +178,7 @@ def timeline_chart(
         alt.Tooltip("end:Q", title="to [s]", format=".2f"),
         alt.Tooltip("first_frame:Q", title="first frame"),
         alt.Tooltip("last_frame:Q", title="last frame"),
-        alt.Tooltip("visibility:Q", format=".2f"),
+        alt.Tooltip("visibility:Q", format=".1%"),
     ]
     if "occluder_idxs" in table.columns:
         tooltip.append(alt.Tooltip("occluders:N", title="hidden by (idx)"))
