@@ -59,10 +59,10 @@ def test_report_scene_and_summary_agree_with_the_table(report, expected) -> None
         assert got == pytest.approx(want, abs=1e-4)
         assert all(o["fill"] == visibility_colour(o["vis"]) for o in f["objects"] if not o["ego"])
     summary = re.search(r'<table id="summary">(.*?)</table>', page, re.S).group(1)
-    rows = re.findall(r"<tr><td>(\d+)</td><td>(\d+)</td><td>([0-9.]+)</td>", summary)
+    rows = re.findall(r"<tr><td>(\d+)</td><td>(\d+)</td><td>([0-9.]+)%</td>", summary)  # mean visibility in %
     means = expected.group_by("idx").agg(pl.col("visibility").mean()).sort("idx").rows()
     assert [(int(i), int(n)) for i, n, _ in rows] == [(i, 201) for i, _ in means]
-    assert [float(m) for _, _, m in rows] == pytest.approx([m for _, m in means], abs=6e-4)
+    assert [float(m) / 100 for _, _, m in rows] == pytest.approx([m for _, m in means], abs=6e-4)
     timeline = embedded(page, "timeline-data")
     assert timeline["mode"] == "vega-lite"
     bands, rule = timeline["spec"]["layer"]

@@ -11,6 +11,7 @@ from ..analysis.classes import EXACT, describe
 from ..analysis.summary import target_summary
 from ..table.schema import static_names
 from .data import of_best_sensor
+from .style import percent
 
 
 def with_any_sensor(table: pl.DataFrame) -> pl.DataFrame:
@@ -84,7 +85,9 @@ def summary_html(table: pl.DataFrame, partly: tuple[float, float] = EXACT) -> st
         cells = []
         for name, value in row.items():
             if name in ("visible", "partly hidden", "hidden", "out of view"):
-                text = f"{value:.0%}"
+                text = percent(value)
+            elif name in ("mean visibility", "least visibility"):
+                text = f"{100 * value:.1f}%"  # in % as the scene and the timeline say it
             elif isinstance(value, float):
                 text = f"{value:.3f}"
             elif name == "hidden by static occluders":
