@@ -174,7 +174,7 @@ def test_the_picture_commands_take_every_table_option_run_takes(tmp_path) -> Non
               "-o", page_path)  # fmt: skip
     assert out.returncode == 0, out.stderr
     page = page_path.read_text()
-    assert "engine area, visibility as a share of the area, whom to look for: 2, 5" in page
+    assert "engine area, % = share of its area seen, whom to look for: 2, 5" in page
     scene = json.loads(re.search(r'<script id="scene-data" type="application/json">(.*?)</script>', page, re.S)[1])
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

@@ -149,12 +149,14 @@ def describe_question(question: Query) -> str:
 
     >>> describe_question(Query(observers=0, mode="3d", targets="pedestrians"))
     'engine silhouette3d, 3D, whom to look for: pedestrians'
+    >>> describe_question(Query(observers=0, measure="area"))
+    'engine area, % = share of its area seen'
     """
     words = [f"engine {question.engine}"]
     if question.three_d:
         words.append("3D")
-    if question.measure != "angle":
-        words.append(f"visibility as a share of the {question.measure}")
+    else:  # what the numbers on the picture are
+        words.append(f"% = share of its {question.measure} seen")
     for name, label in (("occluders", "who may block"), ("targets", "whom to look for")):
         value = getattr(question, name)
         if value is not None:
