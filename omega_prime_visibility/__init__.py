@@ -6,9 +6,12 @@ Importing the package is quick: each public name loads its module (and polars, n
 plotting libraries it needs) when it is first used.
 """
 
+import sys
+from collections.abc import Callable
 from importlib import import_module
 from importlib.metadata import PackageNotFoundError
 from importlib.metadata import version as _version
+from typing import Any
 
 from . import _compiled  # noqa: F401 (first: the kernels' cache follows the sources, see _compiled)
 
@@ -58,13 +61,27 @@ _WHERE = {
 __all__ = sorted(_WHERE)
 
 
-def __getattr__(name: str):
-    if name in _WHERE:
-        value = getattr(import_module(f".{_WHERE[name]}", __name__), name)
-        globals()[name] = value  # once loaded, a plain attribute
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+def _lazy_names(package: str, where: dict[str, str]) -> tuple[Callable[[str], Any], Callable[[], list[str]]]:
+    """A package's ``__getattr__`` and ``__dir__`` (PEP 562) that load each name of ``where`` (name -> module,
+    relative to ``package``) on first use, then keep it as a plain attribute; the package, ``batch`` and ``plot``
+    share them.
+
+    >>> getattr_, dir_ = _lazy_names("json", {"JSONEncoder": "encoder"})
+    >>> getattr_("JSONEncoder").__module__, "JSONEncoder" in dir_()
+    ('json.encoder', True)
+    """
+
+    def __getattr__(name: str) -> Any:
+        if name in where:
+            value = getattr(import_module(f".{where[name]}", package), name)
+            setattr(sys.modules[package], name, value)  # once loaded, a plain attribute
+            return value
+        raise AttributeError(f"module {package!r} has no attribute {name!r}")
+
+    def __dir__() -> list[str]:
+        return sorted({*vars(sys.modules[package]), *where})
+
+    return __getattr__, __dir__
 
 
-def __dir__() -> list[str]:
-    return sorted({*globals(), *_WHERE})
+__getattr__, __dir__ = _lazy_names(__name__, _WHERE)

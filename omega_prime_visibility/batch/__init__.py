@@ -9,7 +9,7 @@
 - :mod:`.campaign`: :func:`~.campaign.campaign_statistics` over a batch output folder.
 """
 
-from importlib import import_module
+from .. import _lazy_names
 
 _WHERE = {
     "FileOptions": "options",
@@ -25,13 +25,4 @@ _WHERE = {
 __all__ = sorted(_WHERE)
 
 
-def __getattr__(name: str):
-    if name in _WHERE:
-        value = getattr(import_module(f".{_WHERE[name]}", __name__), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *_WHERE})
+__getattr__, __dir__ = _lazy_names(__name__, _WHERE)

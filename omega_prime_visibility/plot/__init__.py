@@ -8,7 +8,7 @@ raises an ``ImportError`` naming the extra.
 >>> from omega_prime_visibility.plot import plot_frame
 """
 
-from importlib import import_module
+from .. import _lazy_names
 
 _WHERE = {
     "animate": "animate",
@@ -23,13 +23,4 @@ default without loading the rest."""
 __all__ = sorted(_WHERE)
 
 
-def __getattr__(name: str):
-    if name in _WHERE:
-        value = getattr(import_module(f".{_WHERE[name]}", __name__), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *_WHERE})
+__getattr__, __dir__ = _lazy_names(__name__, _WHERE)
