@@ -3,7 +3,8 @@ package and compare them with another's (``polars.DataFrame.equals``).
 
 Scenes: the bundled and the upstream ``highway_merge.mcap`` (every object as observer, with the upstream README's
 wall, both engines), random crowded highways (:func:`bench.crowded_highway`, with and without a polygon column,
-overlapping vehicles) and the tidy synthetic highway with every object as observer.
+overlapping vehicles), the tidy synthetic highway with every object as observer, and the urban junction of
+``scenarios/urban.py`` with its buildings (the ego, and every road user on a few frames; both engines).
 
 Usage (the reference from an older commit, unpacked outside the repository)::
 
@@ -24,7 +25,9 @@ import polars as pl
 import shapely
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "scenarios"))
 from bench import crowded_highway, synthetic_highway, with_polygons
+from urban import urban_scene
 
 REPO = Path(__file__).resolve().parent.parent
 SHARED_DATA = REPO.parent / "shared" / "data"
@@ -55,6 +58,11 @@ def tables(data: Path) -> Iterator[tuple[str, pl.DataFrame]]:
                 yield f"crowded-{seed}-{label}-{engine}", out
         yield f"crowded-{seed}-all-sweep", get_visibility_df(boxes, "all", engine="sweep", workers=1, progress=False)
     yield "tidy-all-sweep", get_visibility_df(synthetic_highway(50, 100), "all", engine="sweep", progress=False)
+    town, buildings = urban_scene(frames=40)
+    few = town.filter(pl.col("frame").is_in([0, 25]))
+    for engine in ("visilibity", "sweep"):
+        yield f"urban-ego-{engine}", get_visibility_df(town, 0, buildings, engine=engine, progress=False, workers=1)
+        yield f"urban-all-{engine}", get_visibility_df(few, "all", buildings, engine=engine, progress=False, workers=1)
     try:  # sensors (from stop 21 on)
         from omega_prime_visibility import Sensor
     except ImportError:

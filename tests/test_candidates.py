@@ -1,6 +1,8 @@
-"""Candidate (body, target) pairs from one viewpoint (geometry/candidates.py): the edges grouped by bearing give
-exactly the pairs, in the same order, that testing every edge against every target gives, over random scenes at
-small and at map coordinates, extents across the +-pi seam and near a full turn."""
+"""Candidate (body, target) pairs from one viewpoint (geometry/candidates.py): over random scenes (boxes, and
+L-shaped static bodies) at small and at map coordinates, extents across the +-pi seam and queues of touching extents,
+the candidates hold every pair that testing every edge against every target gives, with its certainty; the pairs
+accepted at once occlude by the exact test; decided by the exact test, the candidates give exactly the occluders
+of every edge's pairs, and the same targets hidden behind one object."""
 
 from __future__ import annotations
 
@@ -8,9 +10,11 @@ import math
 
 import numpy as np
 import pytest
+import shapely
 
-from omega_prime_visibility.geometry.candidates import MIN_PIECE, candidate_pairs
+from omega_prime_visibility.geometry.candidates import MIN_PIECE, candidate_pairs, certainly_occludes
 from omega_prime_visibility.geometry.kernels import nearest_offset
+from omega_prime_visibility.geometry.occlusion import occludes
 
 
 def wrap(angle: float) -> float:
@@ -51,30 +55,54 @@ def every_edge(ox, oy, seg, seg_body, blocking, targets, start, width, n_objects
     return pairs, hidden
 
 
-@pytest.mark.parametrize("seed", range(12))
+def box_edges(cx: float, cy: float, lx: float, ly: float) -> list:
+    corners = [
+        (cx - lx / 2, cy - ly / 2),
+        (cx + lx / 2, cy - ly / 2),
+        (cx + lx / 2, cy + ly / 2),
+        (cx - lx / 2, cy + ly / 2),
+    ]
+    return [[corners[k], corners[(k + 1) % 4]] for k in range(4)]
+
+
+def l_shape_edges(cx: float, cy: float, size: float) -> list:
+    """An L-shaped building (concave), ``size`` metres across, its corner at ``(cx, cy)``."""
+    a, b = size, size / 3
+    ring = [(cx, cy), (cx + a, cy), (cx + a, cy + b), (cx + b, cy + b), (cx + b, cy + a), (cx, cy + a)]
+    return [[ring[k], ring[(k + 1) % len(ring)]] for k in range(len(ring))]
+
+
+@pytest.mark.parametrize("seed", range(16))
 @pytest.mark.parametrize("offset", [0.0, 6.0e5], ids=["small", "map coordinates"])
-def test_bearing_bins_give_exactly_the_pairs_of_every_edge(seed: int, offset: float) -> None:
+def test_candidates_decide_exactly_the_occluders_of_every_edge(seed: int, offset: float) -> None:
     rng = np.random.default_rng(seed)
     n = int(rng.integers(5, 60))
     centres = rng.uniform(-40, 40, (n, 2))
     if seed % 3 == 0:  # bodies along the -x axis: extents across the +-pi seam
         centres[: n // 2] = np.column_stack([rng.uniform(-40, -5, n // 2), rng.uniform(-1.5, 1.5, n // 2)])
+    if seed % 5 == 2:  # a queue: bodies in a row along one bearing, touching extents
+        centres[: n // 2] = np.column_stack([np.arange(n // 2) * 5.0 + 6.0, np.zeros(n // 2)])
     sizes = rng.uniform(0.3, 12.0, (n, 2))
+    if seed % 5 == 2:
+        sizes[: n // 2] = (4.5, 1.8)
     seg, seg_body = [], []
     for b, ((cx, cy), (lx, ly)) in enumerate(zip(centres, sizes, strict=True)):
-        corners = [
-            (cx - lx / 2, cy - ly / 2),
-            (cx + lx / 2, cy - ly / 2),
-            (cx + lx / 2, cy + ly / 2),
-            (cx - lx / 2, cy + ly / 2),
-        ]
-        for k in range(4):
-            seg.append([corners[k], corners[(k + 1) % 4]])
-            seg_body.append(b)
+        seg += box_edges(cx, cy, lx, ly)
+        seg_body += [b] * 4
+    n_static = int(rng.integers(0, 4))
+    for k in range(n_static):  # static bodies (n, n + 1, ...): L-shapes, some far, some among the objects
+        corner = rng.uniform(-60, 60, 2)
+        edges_of = l_shape_edges(*corner, float(rng.uniform(4.0, 30.0)))
+        seg += edges_of
+        seg_body += [n + k] * len(edges_of)
     seg = np.asarray(seg, dtype=float) + offset
     seg_body = np.asarray(seg_body, dtype=np.int64)
-    blocking = rng.random(n) < 0.85
+    blocking = np.concatenate([rng.random(n) < 0.85, rng.random(n_static) < 0.9])
     ox = oy = offset
+    # bodies containing the viewpoint are transparent to it (the engines' policy), and no target
+    rings = [shapely.Polygon(seg[seg_body == b, 0]) for b in range(n + n_static)]
+    outside = ~shapely.intersects(rings, shapely.Point(ox, oy))
+    blocking &= outside
     start, width = np.empty(n), np.empty(n)
     for b in range(n):  # each body's extent: its corners' bearings (boxes away from the viewpoint: under pi)
         angles = np.arctan2(seg[seg_body == b, 0, 1] - oy, seg[seg_body == b, 0, 0] - ox)
@@ -83,10 +111,36 @@ def test_bearing_bins_give_exactly_the_pairs_of_every_edge(seed: int, offset: fl
         k = int(np.argmax(gaps))
         start[b] = angles[0] + order[(k + 1) % 4]
         width[b] = 2 * math.pi - gaps[k]
-    if seed % 4 == 1:
-        width[0] = 2 * math.pi - 1e-10  # an extent all but a full turn
-    targets = np.flatnonzero(rng.random(n) < 0.7).astype(np.int64)
+    targets = np.flatnonzero((rng.random(n) < 0.7) & outside[:n]).astype(np.int64)
     body, target, certain, hidden = candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n)
     want, want_hidden = every_edge(ox, oy, seg, seg_body, blocking, targets, start, width, n)
-    assert list(zip(body.tolist(), target.tolist(), certain.tolist(), strict=True)) == want
+    found = {(b, t): c for b, t, c in zip(body.tolist(), target.tolist(), certain.tolist(), strict=True)}
+    assert len(found) == len(body), "a pair found twice"
+    for b, t, c in want:  # every edge's pairs are among the candidates, objects with the same certainty
+        assert (b, t) in found
+        if b < n:
+            assert found[(b, t)] == c
+    assert not any(found[(b, t)] for (b, t) in set(found) - {(b, t) for b, t, _ in want}), "an extra pair accepted"
+    seg_offsets = np.zeros(n + n_static + 1, dtype=np.int64)
+    np.cumsum(np.bincount(seg_body, minlength=n + n_static), out=seg_offsets[1:])
+    origin = np.array([ox, oy])
+
+    def decided(pairs: list[tuple[int, int, bool]]) -> set[tuple[int, int]]:
+        b = np.array([p[0] for p in pairs], dtype=np.int64)
+        t = np.array([p[1] for p in pairs], dtype=np.int64)
+        exact = occludes(origin, seg, seg_offsets, b, t, start, width)
+        assert all(exact[[p[2] for p in pairs]]) if pairs else True, "a pair accepted at once does not occlude"
+        return {(p[0], p[1]) for p, e in zip(pairs, exact, strict=True) if e}
+
+    assert decided([(b, t, c) for (b, t), c in found.items()]) == decided(want)
     assert np.array_equal(hidden, want_hidden)
+
+
+def test_a_static_edge_is_accepted_only_nearer_by_its_margin() -> None:
+    """:func:`certainly_occludes` on paper: an object entirely nearer is accepted by any overlap wider than
+    MIN_PIECE; a static edge needs 1e-9 rad and to lie a millionth (1e-7) nearer than the target's nearest point."""
+    assert certainly_occludes(2 * MIN_PIECE, 9.999, True, 10.0)
+    assert not certainly_occludes(MIN_PIECE / 2, 9.0, True, 10.0)
+    assert certainly_occludes(2e-9, 10.0 * (1 - 2e-7), False, 10.0)
+    assert not certainly_occludes(2e-9, 10.0 * (1 - 5e-8), False, 10.0)
+    assert not certainly_occludes(5e-10, 5.0, False, 10.0)

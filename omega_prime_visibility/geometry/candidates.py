@@ -1,8 +1,16 @@
-"""Which bodies may hide which targets, from one viewpoint: the edges of the blocking bodies grouped by bearing,
-and the (body, target) pairs whose bearings meet and whose distances allow it (each pair once), with the pairs
-certain to occlude. The exact decision per pair is :mod:`.occlusion`'s.
+"""Which bodies may hide which targets, from one viewpoint: the (body, target) pairs whose bearings meet and whose
+distances allow it (each pair once), with the pairs certain to occlude. The exact decision per pair is
+:mod:`.occlusion`'s.
 
-Public, for the engines: :func:`candidate_pairs`, :func:`bearing_bins`, :func:`bin_range`.
+A blocking object is one item, its angular extent (with :data:`CANDIDATE_EPS` to spare); a blocking static body
+(a building, a wall: concave, long) is one item per edge. Items are grouped by bearing, so a target meets only the
+items of its own bearings. A pair is a candidate when an item overlaps the target's extent and comes nearer than
+the target's farthest point: every body with an edge doing so is among them (an object's extent holds all its
+edges' bearings, its nearest point is at most any edge's distance), and a pair found only through the object's
+whole extent is left to the exact test, which finds no occlusion where no edge is nearer.
+
+Public, for the engines: :func:`candidate_pairs`, :func:`certainly_occludes`, :func:`bearing_bins`,
+:func:`bin_range`.
 """
 
 from __future__ import annotations
@@ -10,14 +18,42 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .kernels import TWO_PI, argsort_stable, nearest_offset, prefix_sum, reserve, wrap_positive
+from .kernels import TWO_PI, nearest_offset, prefix_sum, reserve, wrap_positive
 
 MIN_PIECE = 1e-12
 """Radians: thinner pieces of a bearing interval are ignored (here and in :mod:`.occlusion`)."""
 
+CANDIDATE_EPS = 1e-9
+"""Radians: intervals this close count as overlapping (the exact test decides)."""
+
+STATIC_ACCEPT_ANGLE = 1e-9
+"""Radians of overlap a static edge needs with a target's extent to be accepted without the exact test ..."""
+
+STATIC_ACCEPT_RELATIVE = 1e-7
+"""... and it must lie nearer than ``1 - STATIC_ACCEPT_RELATIVE`` times the target's nearest distance."""
+
 BEARING_BINS = 256
-"""Bins over the full turn that edges are grouped into by bearing, so a target meets only the edges of its own
-bearings (:func:`candidate_pairs`; in town a target's extent holds a few per cent of the edges)."""
+"""Bins over the full turn that items are grouped into by bearing, so a target meets only the items of its own
+bearings (:func:`candidate_pairs`; in town a target's extent holds a few per cent of them)."""
+
+
+@numba.njit(cache=True, inline="always")
+def certainly_occludes(overlap, far, is_object, near_t):
+    """Whether a body's bearing interval overlapping a target's extent by ``overlap`` radians, lying within ``far``
+    metres of the observer, certainly occludes a target whose nearest point is ``near_t`` metres away: an object
+    entirely nearer with more than :data:`MIN_PIECE` of overlap, a static edge nearer by a safety margin
+    (:data:`STATIC_ACCEPT_ANGLE`, :data:`STATIC_ACCEPT_RELATIVE`). Shared by the engines' candidate searches.
+
+    Examples
+    --------
+    >>> bool(certainly_occludes(0.1, 5.0, True, 10.0)), bool(certainly_occludes(0.1, 10.0, True, 10.0))
+    (True, False)
+    >>> bool(certainly_occludes(1e-10, 5.0, False, 10.0))
+    False
+    """
+    if is_object:
+        return overlap > MIN_PIECE and far < near_t
+    return overlap > STATIC_ACCEPT_ANGLE and far < near_t * (1.0 - STATIC_ACCEPT_RELATIVE)
 
 
 @numba.njit(cache=True, inline="always")
@@ -33,100 +69,144 @@ def bin_range(lo, width, n_bins):
 
 
 @numba.njit(cache=True)
-def bearing_bins(e_start, e_width, seg_body, blocking):
-    """The edges of blocking bodies grouped by the bins their bearings cover (:func:`_bin_range`): CSR offsets
-    over :data:`BEARING_BINS` bins and the edges, ascending within a bin."""
+def bearing_bins(item_lo, item_width):
+    """Items grouped by the bins their bearings cover (:func:`bin_range`): CSR offsets over
+    :data:`BEARING_BINS` bins and the items, ascending within a bin."""
     n_bins = BEARING_BINS
     offsets = np.zeros(n_bins + 1, dtype=np.int64)
-    for j in range(len(e_start)):
-        if blocking[seg_body[j]]:
-            first, last = bin_range(e_start[j], e_width[j], n_bins)
-            for q in range(first, last + 1):
-                offsets[q % n_bins + 1] += 1
+    for j in range(len(item_lo)):
+        first, last = bin_range(item_lo[j], item_width[j], n_bins)
+        for q in range(first, last + 1):
+            offsets[q % n_bins + 1] += 1
     prefix_sum(offsets)
     fill = offsets[:-1].copy()
     members = np.empty(offsets[-1], dtype=np.int64)
-    for j in range(len(e_start)):
-        if blocking[seg_body[j]]:
-            first, last = bin_range(e_start[j], e_width[j], n_bins)
-            for q in range(first, last + 1):
-                c = q % n_bins
-                members[fill[c]] = j
-                fill[c] += 1
+    for j in range(len(item_lo)):
+        first, last = bin_range(item_lo[j], item_width[j], n_bins)
+        for q in range(first, last + 1):
+            c = q % n_bins
+            members[fill[c]] = j
+            fill[c] += 1
     return offsets, members
+
+
+@numba.njit(cache=True, inline="always")
+def _overlap(lo, width, start_t, width_t):
+    """Radians shared by the bearings ``[lo, lo + width]`` and a target's extent ``[start_t, start_t + width_t]``
+    (at most one of the two wraps round the other); -1 when they do not meet."""
+    rel = wrap_positive(lo - start_t)
+    if rel < width_t:
+        return min(width_t - rel, width)
+    if rel + width > TWO_PI:
+        return min(rel + width - TWO_PI, width_t)
+    return -1.0
 
 
 @numba.njit(cache=True)
 def candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_objects):
-    """Pairs (body, target) where some edge of a blocking body overlaps the target's extent and comes nearer
-    than the target's farthest point, each pair once; and whether the pair is certainly occluding (an object
-    entirely nearer than the target's nearest point, with overlapping extents)."""
+    """Pairs (body, target) where a blocking body's item (see the module docstring) overlaps the target's extent
+    and comes nearer than the target's farthest point, each pair once, grouped by target in the order of
+    ``targets``; whether the pair certainly occludes (:func:`certainly_occludes`); and the targets found hidden
+    behind a single object (wholly inside the extent of an object entirely nearer).
+
+    Parameters
+    ----------
+    ox, oy : float
+        The viewpoint, metres.
+    seg : ndarray, shape (s, 2, 2)
+        Edges of all bodies (objects ``0 .. n_objects - 1``, then static sources), metres; ``seg_body`` (s,) their
+        body numbers, ascending.
+    blocking : ndarray of bool, shape (n_bodies,)
+    targets : ndarray, shape (t,), int64
+        Objects with the viewpoint outside.
+    start, width : ndarray, shape (n_objects,)
+        The objects' angular extents, radians.
+
+    Returns
+    -------
+    body, target : ndarray, shape (p,), int64
+    certain : ndarray of bool, shape (p,)
+    hidden : ndarray of bool, shape (n_bodies,)
+    """
     n_bodies = len(blocking)
     m = len(seg)
-    e_start = np.empty(m)
-    e_width = np.empty(m)
-    e_near = np.empty(m)
     near = np.full(n_bodies, np.inf)
     far = np.zeros(n_bodies)
+    n_items = 0
+    for b in range(n_objects):
+        n_items += blocking[b]
+    for j in range(m):
+        n_items += seg_body[j] >= n_objects and blocking[seg_body[j]]
+    item_lo = np.empty(n_items)
+    item_width = np.empty(n_items)
+    item_near = np.empty(n_items)
+    item_far = np.empty(n_items)
+    item_body = np.empty(n_items, dtype=np.int64)
+    k = 0
     for j in range(m):
         ax, ay = seg[j, 0, 0] - ox, seg[j, 0, 1] - oy
         bx, by = seg[j, 1, 0] - ox, seg[j, 1, 1] - oy
-        span = np.arctan2(ax * by - ay * bx, ax * bx + ay * by)
-        ta = np.arctan2(ay, ax)
-        e_start[j] = ta if span >= 0 else ta + span
-        e_width[j] = abs(span)
         dx, dy = nearest_offset(-ax, -ay, bx - ax, by - ay)
-        e_near[j] = np.hypot(dx, dy)
+        e_near = np.hypot(dx, dy)
+        e_far = max(np.hypot(ax, ay), np.hypot(bx, by))
         b = seg_body[j]
-        near[b] = min(near[b], e_near[j])
-        far[b] = max(far[b], np.hypot(ax, ay), np.hypot(bx, by))
+        near[b] = min(near[b], e_near)
+        far[b] = max(far[b], e_far)
+        if b >= n_objects and blocking[b]:
+            span = np.arctan2(ax * by - ay * bx, ax * bx + ay * by)
+            ta = np.arctan2(ay, ax)
+            item_lo[k] = ta if span >= 0 else ta + span
+            item_width[k] = abs(span)
+            item_near[k], item_far[k], item_body[k] = e_near, e_far, b
+            k += 1
+    for b in range(n_objects):
+        if blocking[b]:
+            item_lo[k], item_width[k] = start[b] - CANDIDATE_EPS, width[b] + 2.0 * CANDIDATE_EPS
+            item_near[k], item_far[k], item_body[k] = near[b], far[b], b
+            k += 1
     cap = 8 * len(targets) + 16
     out_body = np.empty(cap, dtype=np.int64)
     out_target = np.empty(cap, dtype=np.int64)
     out_certain = np.empty(cap, dtype=np.bool_)
     hidden = np.zeros(n_bodies, dtype=np.bool_)
     k = 0
-    seen = np.full(n_bodies, -1, dtype=np.int64)
-    bin_offsets, bin_segments = bearing_bins(e_start, e_width, seg_body, blocking)
+    seen = np.full(n_bodies, -1, dtype=np.int64)  # the last target each body was paired with ...
+    pair_of = np.empty(n_bodies, dtype=np.int64)  # ... and that pair's number
+    bin_offsets, bin_items = bearing_bins(item_lo, item_width)
     n_bins = len(bin_offsets) - 1
-    stamp = np.full(m, -1, dtype=np.int64)
-    gathered = np.empty(m, dtype=np.int64)
+    stamp = np.full(n_items, -1, dtype=np.int64)
     for r in range(len(targets)):
         t = targets[r]
-        # the blocking edges whose bearings may meet the target's extent (its bins, one to spare on each side), in
-        # ascending order: the pairs come out exactly as from a loop over every edge
         first, last = bin_range(start[t], width[t], n_bins)
-        n = 0
         for q in range(first, last + 1):
             c = q % n_bins
             for i in range(bin_offsets[c], bin_offsets[c + 1]):
-                j = bin_segments[i]
-                if stamp[j] != r:
-                    stamp[j] = r
-                    gathered[n] = j
-                    n += 1
-        candidates = gathered[:n][argsort_stable(gathered[:n])]
-        for j in candidates:
-            b = seg_body[j]
-            if b == t or not blocking[b] or seen[b] == t or e_near[j] >= far[t]:
-                continue
-            rel = wrap_positive(e_start[j] - start[t])
-            if rel < width[t] or rel + e_width[j] > TWO_PI:
-                seen[b] = t
+                it = bin_items[i]
+                if stamp[it] == r:
+                    continue
+                stamp[it] = r
+                b = item_body[it]
+                if b == t or item_near[it] >= far[t]:
+                    continue
+                is_object = b < n_objects
+                overlap = _overlap(item_lo[it], item_width[it], start[t], width[t])
+                if overlap < 0.0:
+                    continue
+                if is_object:  # the rule as for the whole extent, unwidened
+                    rel = wrap_positive(start[b] - start[t])
+                    inside = rel < width[t] - MIN_PIECE or rel + width[b] > TWO_PI + MIN_PIECE
+                    certain = item_far[it] < near[t] and inside
+                else:
+                    certain = certainly_occludes(overlap, item_far[it], False, near[t])
+                if seen[b] == t:  # a static body met through another edge
+                    out_certain[pair_of[b]] |= certain
+                    continue
+                seen[b], pair_of[b] = t, k
                 out_body = reserve(out_body, k, k + 1)
                 out_target = reserve(out_target, k, k + 1)
                 out_certain = reserve(out_certain, k, k + 1)
-                out_body[k] = b
-                out_target[k] = t
-                certain = False
-                if b < n_objects and far[b] < near[t]:
-                    # the body's whole extent is nearer; it occludes iff the two extents overlap
-                    rel2 = wrap_positive(start[b] - start[t])
-                    certain = rel2 < width[t] - MIN_PIECE or rel2 + width[b] > TWO_PI + MIN_PIECE
-                    # the target's whole extent inside the body's: the target is hidden behind it
-                    rel3 = wrap_positive(start[t] - start[b])
-                    if rel3 + width[t] <= width[b]:
-                        hidden[t] = True
-                out_certain[k] = certain
+                out_body[k], out_target[k], out_certain[k] = b, t, certain
+                if is_object and item_far[it] < near[t] and wrap_positive(start[t] - start[b]) + width[t] <= width[b]:
+                    hidden[t] = True  # the target's whole extent inside that of an object entirely nearer
                 k += 1
     return out_body[:k], out_target[:k], out_certain[:k], hidden

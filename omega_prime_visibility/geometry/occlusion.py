@@ -272,9 +272,10 @@ def occluding_pairs(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """All pairs ``(occluder, target)`` of body numbers where the occluder is hit before the target somewhere.
 
-    Candidates are blocking bodies with an edge inside the target's angular extent that comes nearer than the
-    target's farthest point; objects lying entirely nearer than the target are accepted at once, the rest are
-    decided by :func:`occludes`.
+    Candidates are blocking objects whose extent meets the target's and static bodies with an edge doing so, nearer
+    than the target's farthest point (:func:`.candidates.candidate_pairs`); those certain to occlude (an object
+    entirely nearer, a static edge nearer by a margin) are accepted at once, the rest are decided by
+    :func:`occludes`.
 
     Parameters
     ----------

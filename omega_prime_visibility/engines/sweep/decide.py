@@ -13,11 +13,10 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from ...geometry.candidates import CANDIDATE_EPS
 from ...geometry.kernels import TWO_PI, copy_rows, insertion_sort, wrap_positive
 from ...geometry.occlusion import MIN_PIECE, RELATIVE_TOLERANCE, _edge_line_distance, _nearest_edge
 from .pieces import R_HI, R_LO
-
-CANDIDATE_EPS = 1e-9  # radians; intervals this close count as overlapping (the exact test decides)
 
 
 @numba.njit(cache=True)

@@ -4,12 +4,12 @@ A body ``J`` can only occlude target ``T`` when their bearing intervals overlap 
 farthest point. Candidates are enumerated by sweeping the targets' extents (sorted by start) over the bodies'
 intervals (objects: their angular extent; statics: the records of their kept edges), sorted by start, and grouped
 by (target, body) with a counting sort. An object lying entirely nearer than ``T``'s nearest point with an extent
-overlapping ``T``'s by more than ``MIN_PIECE`` is accepted at once (the rule of the VisiLibity engine), so is a
-static edge with a safety margin; all other candidates are decided (:mod:`.decide`) by the exact pairwise test of
-:mod:`...occlusion` (``occludes_one``) on the same shifted segments. For a static body only its kept edges that
-meet ``T``'s extent nearer than ``T``'s farthest point are handed to that test: a ray from outside enters a body
-through a front-facing edge, so the others cannot decide anything, and a long guard rail would otherwise cost the
-test O(pieces x all its edges).
+overlapping ``T``'s by more than ``MIN_PIECE`` is accepted at once, so is a static edge with a safety margin (the
+rule both engines use, :func:`...geometry.candidates.certainly_occludes`); all other candidates are decided
+(:mod:`.decide`) by the exact pairwise test of :mod:`...occlusion` (``occludes_one``) on the same shifted segments.
+For a static body only its kept edges that meet ``T``'s extent nearer than ``T``'s farthest point are handed to
+that test: a ray from outside enters a body through a front-facing edge, so the others cannot decide anything, and
+a long guard rail would otherwise cost the test O(pieces x all its edges).
 
 Bodies are numbered objects first (``0..n-1``), then static sources (``n + source``).
 """
@@ -22,14 +22,12 @@ from collections import namedtuple
 import numba
 import numpy as np
 
+from ...geometry.candidates import CANDIDATE_EPS, certainly_occludes
 from ...geometry.kernels import TWO_PI, argsort_stable, counting_sort, group_by_key, prefix_sum, reserve
-from ...geometry.occlusion import MIN_PIECE
-from .decide import CANDIDATE_EPS, decided_pairs
+from .decide import decided_pairs
 from .pieces import R_HI, R_LO
 
 PI = math.pi
-STATIC_ACCEPT_ANGLE = 1e-9  # radians of overlap needed to accept a static edge without the exact test
-STATIC_ACCEPT_RELATIVE = 1e-7  # ... and it must lie nearer than (1 - this) times the target's nearest distance
 
 #: The objects as one observer sees them: ``seg`` (m, 2, 2) their edges relative to the observer (metres),
 #: ``offsets`` (n + 1,) object ``i``'s edges are ``seg[offsets[i]:offsets[i + 1]]``, ``transparent`` (n,) bool,
@@ -51,16 +49,6 @@ def _records_by_static_body(record_edge, kept_body, n, n_src):
             static_records[k] = r
             k += 1
     return group_by_key(source, n_src, static_records[:k])
-
-
-@numba.njit(cache=True)
-def _accept(overlap, far, is_object, near_t, static_near_t):
-    """Whether an interval of a body, overlapping a target's extent by ``overlap`` radians and lying within
-    ``far`` metres of the observer, certainly occludes the target (the rule the VisiLibity engine uses for
-    objects); ``near_t`` is the target's nearest distance and ``static_near_t`` that with the static margin."""
-    if is_object:
-        return overlap > MIN_PIECE and far < near_t
-    return overlap > STATIC_ACCEPT_ANGLE and far < static_near_t
 
 
 @numba.njit(cache=True)
@@ -133,7 +121,7 @@ def _candidate_pairs(items, queries, objects):
     -------
     pair_target, pair_body : ndarray, shape (p,), int64
     pair_certain : ndarray of bool, shape (p,)
-        Certainly occluding (:func:`_accept`); the rest go to the exact test.
+        Certainly occluding (:func:`...geometry.candidates.certainly_occludes`); the rest go to the exact test.
     """
     n_items = len(items[0])
     capacity = 4 * n_items + 16
@@ -178,7 +166,6 @@ def _pairs_into(items, queries, near, far, n, active, state, pair_target, pair_b
             p += 1
         far_t = far[t]
         near_t = near[t]
-        static_near_t = near_t * (1.0 - STATIC_ACCEPT_RELATIVE)
         keep = 0
         for a in range(n_active):
             it = active[a]
@@ -191,7 +178,7 @@ def _pairs_into(items, queries, near, far, n, active, state, pair_target, pair_b
                 pair_target[n_pairs] = t
                 pair_body[n_pairs] = j
                 overlap = min(hi, item_hi[it]) - lo
-                pair_certain[n_pairs] = _accept(overlap, item_far[it], j < n, near_t, static_near_t)
+                pair_certain[n_pairs] = certainly_occludes(overlap, item_far[it], j < n, near_t)
                 n_pairs += 1
         n_active = keep
         it = p
@@ -201,7 +188,7 @@ def _pairs_into(items, queries, near, far, n, active, state, pair_target, pair_b
                 pair_target[n_pairs] = t
                 pair_body[n_pairs] = j
                 overlap = min(hi, item_hi[it]) - item_lo[it]
-                pair_certain[n_pairs] = _accept(overlap, item_far[it], j < n, near_t, static_near_t)
+                pair_certain[n_pairs] = certainly_occludes(overlap, item_far[it], j < n, near_t)
                 n_pairs += 1
             it += 1
         q += 1
