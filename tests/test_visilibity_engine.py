@@ -174,10 +174,17 @@ def test_the_chunk_path_takes_each_environment_and_recomputes_polygons_that_skip
 
         return call
 
-    monkeypatch.setattr(chunk, "vis_polygons_reversed", counted("plain", chunk.vis_polygons_reversed))
+    plain_environment = chunk.plain_environment
+
+    def plain_where_it_applies(*args):
+        answer = plain_environment(*args)
+        calls["plain"] += bool(answer[0])
+        return answer
+
+    monkeypatch.setattr(chunk, "plain_environment", plain_where_it_applies)
     monkeypatch.setattr(VisiLibityEngine, "_build_environment", counted("general", VisiLibityEngine._build_environment))
     monkeypatch.setattr(chunk, "_frame_observation", counted("recomputed", chunk._frame_observation))
-    # a car passes another and runs over a wall: plain environments, and general ones while boxes overlap
+    # a car passes another and runs over a wall: plain environments, and general ones while bodies meet
     objects = load_objects(moving_scene(12))
     statics = load_static_occluders([shapely.LineString([(15, -3), (15, -1)])])
     egos = np.array([0, 3])
@@ -192,7 +199,8 @@ def test_the_chunk_path_takes_each_environment_and_recomputes_polygons_that_skip
     statics = load_static_occluders([shapely.from_wkt(SLIVER_WALL)])
     columns, _ = run_chunk(objects, statics, np.array([0]), "visilibity")
     assert calls["recomputed"] == 0  # VisiLibity's own polygon passes the check
-    monkeypatch.setattr(chunk, "visibility_polygon_coords", skipping_target_32(chunk.visibility_polygon_coords))
+    for name in ("visibility_polygon_coords", "visibility_polygon_flat"):  # the general and the plain path
+        monkeypatch.setattr(chunk, name, skipping_target_32(getattr(chunk, name)))
     columns, _ = run_chunk(objects, statics, np.array([0]), "visilibity")
     assert calls["recomputed"] == 1
     assert_same_columns(columns, frame_by_frame(objects, statics, np.array([0]), None, "visilibity")[0])

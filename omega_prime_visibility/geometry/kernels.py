@@ -17,6 +17,8 @@ hand-written copy changes no result in the last bit.
   kind, dtype and layout: several seconds of a first call);
 - distances: :func:`nearest_offset` (point to segment), :func:`segment_distance2` (origin to segment),
   :func:`ray_line_distance` (origin along a ray to a line);
+- orientation: :func:`orient`, :func:`cross_properly` (two segments), :func:`ring_covers_point` (a ring and a
+  point, even-odd rule or within a tolerance);
 - angles: :func:`wrap_positive`.
 """
 
@@ -260,6 +262,60 @@ def ray_line_distance(dx, dy, ax, ay, ex, ey):
 def wrap_positive(angle):
     """``angle - 2 pi floor(angle / 2 pi)``: an angle (radians) taken into ``[0, 2 pi]`` (2 pi only by rounding)."""
     return angle - TWO_PI * np.floor(angle / TWO_PI)
+
+
+# -- orientation -----------------------------------------------------------------------------------------------
+
+
+@numba.njit(cache=True, inline="always")
+def orient(ax, ay, bx, by, cx, cy):
+    """Twice the signed area of triangle abc, square metres: positive when c lies left of the line a -> b."""
+    return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+
+
+@numba.njit(cache=True)
+def cross_properly(ax, ay, bx, by, cx, cy, dx, dy):
+    """Whether segments ab and cd cross at a single point interior to both.
+
+    Examples
+    --------
+    The diagonals of a square cross; two segments meeting at an end do not cross properly:
+
+    >>> bool(cross_properly(0.0, 0.0, 2.0, 2.0, 0.0, 2.0, 2.0, 0.0))
+    True
+    >>> bool(cross_properly(0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 2.0, 0.0))
+    False
+    """
+    d1 = orient(ax, ay, bx, by, cx, cy)
+    d2 = orient(ax, ay, bx, by, dx, dy)
+    if not ((d1 > 0.0 and d2 < 0.0) or (d1 < 0.0 and d2 > 0.0)):
+        return False
+    d3 = orient(cx, cy, dx, dy, ax, ay)
+    d4 = orient(cx, cy, dx, dy, bx, by)
+    return (d3 > 0.0 and d4 < 0.0) or (d3 < 0.0 and d4 > 0.0)
+
+
+@numba.njit(cache=True)
+def ring_covers_point(coords, s, e, px, py, tolerance):
+    """Whether the ring ``coords[s:e]`` (metres, closing vertex not repeated) contains the point ``(px, py)``
+    (even-odd rule) or passes within ``tolerance`` metres of it.
+
+    Examples
+    --------
+    >>> square = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]])
+    >>> [bool(ring_covers_point(square, 0, 4, x, 1.0, 1e-9)) for x in (1.0, 2.0 + 1e-10, 2.1)]
+    [True, True, False]
+    """
+    inside = False
+    best = np.inf
+    for j in range(s, e):
+        k = j + 1 if j + 1 < e else s
+        ax, ay = coords[j, 0] - px, coords[j, 1] - py
+        bx, by = coords[k, 0] - px, coords[k, 1] - py
+        if (ay > 0) != (by > 0) and ax + (bx - ax) * (0 - ay) / (by - ay) > 0:
+            inside = not inside
+        best = min(best, segment_distance2(ax, ay, bx, by))
+    return inside or best <= tolerance * tolerance
 
 
 # -- sorting ---------------------------------------------------------------------------------------------------

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ..geometry.kernels import copy_into, segment_distance2
+from ..geometry.kernels import copy_into, ring_covers_point
 from ..geometry.rings import Rings
 
 TOUCH_TOLERANCE = 1e-9  # metres: a body passing this near a viewpoint touches it (and is transparent to it)
@@ -43,17 +43,7 @@ def _covers_in_boxes(px, py, coords, offsets, tolerance, boxes):
         x0, y0, x1, y1 = boxes[i, 0], boxes[i, 1], boxes[i, 2], boxes[i, 3]
         if px < x0 - tolerance or px > x1 + tolerance or py < y0 - tolerance or py > y1 + tolerance:
             continue
-        s, e = offsets[i], offsets[i + 1]
-        inside = False
-        best = np.inf
-        for j in range(s, e):
-            k = j + 1 if j + 1 < e else s
-            ax, ay = coords[j, 0] - px, coords[j, 1] - py
-            bx, by = coords[k, 0] - px, coords[k, 1] - py
-            if (ay > 0) != (by > 0) and ax + (bx - ax) * (0 - ay) / (by - ay) > 0:
-                inside = not inside
-            best = min(best, segment_distance2(ax, ay, bx, by))
-        out[i] = inside or best <= tolerance * tolerance
+        out[i] = ring_covers_point(coords, offsets[i], offsets[i + 1], px, py, tolerance)
     return out
 
 

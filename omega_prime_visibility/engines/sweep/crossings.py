@@ -16,6 +16,7 @@ from ...geometry.kernels import (
     MIN_CAPACITY,
     argsort_stable,
     copy_into,
+    cross_properly,
     next_vertex_index,
     prefix_sum,
     push_pair,
@@ -24,27 +25,6 @@ from ...geometry.kernels import (
 )
 
 GRID_CELLS = 256  # cells along the longer side of the static edges' grid
-
-
-# -- small geometric kernels ---------------------------------------------------------------------------------
-
-
-@numba.njit(cache=True)
-def _orient(ax, ay, bx, by, cx, cy):
-    """Twice the signed area of triangle abc, square metres: positive when c lies left of the line a -> b."""
-    return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
-
-
-@numba.njit(cache=True)
-def _cross_properly(ax, ay, bx, by, cx, cy, dx, dy):
-    """Whether segments ab and cd cross at a single point interior to both."""
-    d1 = _orient(ax, ay, bx, by, cx, cy)
-    d2 = _orient(ax, ay, bx, by, dx, dy)
-    if not ((d1 > 0.0 and d2 < 0.0) or (d1 < 0.0 and d2 > 0.0)):
-        return False
-    d3 = _orient(cx, cy, dx, dy, ax, ay)
-    d4 = _orient(cx, cy, dx, dy, bx, by)
-    return (d3 > 0.0 and d4 < 0.0) or (d3 < 0.0 and d4 > 0.0)
 
 
 # -- crossings ---------------------------------------------------------------------------------------------
@@ -144,7 +124,7 @@ def static_crossings(a, b, group, grid_f, grid_i, cell_off, items):
                     if j <= i or stamp[j] == i or group[j] == group[i]:
                         continue
                     stamp[j] = i
-                    if _cross_properly(a[i, 0], a[i, 1], b[i, 0], b[i, 1], a[j, 0], a[j, 1], b[j, 0], b[j, 1]):
+                    if cross_properly(a[i, 0], a[i, 1], b[i, 0], b[i, 1], a[j, 0], a[j, 1], b[j, 0], b[j, 1]):
                         first, second, k = push_pair(first, second, k, i, j)
     return first[:k].copy(), second[:k].copy()
 
@@ -176,7 +156,7 @@ def _object_crossings_into(coords, offsets, nxt, bbox, order, axis, state, first
                     pa, pb = p, nxt[p]
                     for q in range(offsets[j], offsets[j + 1]):
                         qa, qb = q, nxt[q]
-                        if _cross_properly(
+                        if cross_properly(
                             coords[pa, 0], coords[pa, 1], coords[pb, 0], coords[pb, 1],
                             coords[qa, 0], coords[qa, 1], coords[qb, 0], coords[qb, 1],
                         ):  # fmt: skip
@@ -235,7 +215,7 @@ def _static_crossings_into(
                         continue
                     for p in range(offsets[i], offsets[i + 1]):
                         pb = nxt[p]
-                        if _cross_properly(
+                        if cross_properly(
                             coords[p, 0], coords[p, 1], coords[pb, 0], coords[pb, 1],
                             st_a[t, 0], st_a[t, 1], st_b[t, 0], st_b[t, 1],
                         ):  # fmt: skip

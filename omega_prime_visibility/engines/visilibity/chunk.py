@@ -7,11 +7,10 @@ compiled loops, with numpy's ``arctan2`` and ``mod`` applied once to all their a
 numpy's, as frame by frame, to be the same to the bit):
 
 1. :func:`.chunk_geometry.angular_extents`: every target's angular extent;
-2. :func:`occlusion_by_view`: the occluding pairs as CSR over the chunk's targets, reason codes, the bodies left in
-   each environment, and whether the environment is the plain one (no two bounding boxes overlap, nothing encloses
-   or contains the viewpoint) with its outer box;
-3. per viewpoint in Python: the environment (plain: the holes straight from the rings; otherwise the engine's
-   general construction) and VisiLibity's visibility polygon, read in one call;
+2. :func:`occlusion_by_view`: the occluding pairs as CSR over the chunk's targets, reason codes, and the bodies
+   left in each environment;
+3. per viewpoint: the environment (:func:`.plain.plain_environment` in one compiled call where no two bodies meet;
+   otherwise the engine's general construction) and VisiLibity's visibility polygon, read in one call;
 4. :func:`checked_visible_angles`: the polygon check and the attribution.
 
 A polygon that fails the check is computed again by the engine frame by frame (:meth:`.VisiLibityEngine.observe`
@@ -33,7 +32,8 @@ from ...inputs.objects import ObjectTable
 from .. import ChunkObservation, ChunkViewpoints, Observation, Viewpoint, reason_of
 from .attribution import attribute_visible_angles
 from .chunk_geometry import angular_extents, static_blocking, view_segments
-from .conversion import box_overlaps, grid_origin, vis_polygon, vis_polygons_reversed, visibility_polygon_coords
+from .conversion import grid_origin, visibility_polygon_coords, visibility_polygon_flat
+from .plain import plain_environment
 from .polygon_check import CHECK_ABSOLUTE, CHECK_RELATIVE, ON_EDGE, polygon_fails
 
 
@@ -54,11 +54,6 @@ def occlusion_by_view(
     n_sources,
     start,
     width,
-    view_key,
-    part_offsets,
-    part_boxes,
-    key_plain,
-    box_margin,
 ):
     """What :meth:`.VisiLibityEngine.observe` finds before VisiLibity, for every viewpoint of a chunk.
 
@@ -74,12 +69,6 @@ def occlusion_by_view(
         Every static edge, world frame, grouped by source; ``st_source`` (shape (s,)) is its source.
     start, width : ndarray, shape (t,)
         Every target's angular extent, radians.
-    view_key : ndarray, shape (v,), int64
-        The static parts (see :meth:`.VisiLibityEngine._static_parts`) in viewpoint ``v``'s origin: bounding boxes
-        ``part_boxes[part_offsets[k]:part_offsets[k + 1]]`` (``x0, y0, x1, y1``, metres, relative to the origin)
-        of key ``k = view_key[v]``; ``key_plain[k]``: none of them encloses anything.
-    box_margin : float
-        Metres of free space around everything (the environment's outer box).
 
     Returns
     -------
@@ -91,10 +80,6 @@ def occlusion_by_view(
         Targets that are holes of the viewpoint's environment (blocking, and not hidden behind one object).
     blocked : ndarray of bool, shape (v,)
         Viewpoints for which something blocks the view (the others see every target whole).
-    plain : ndarray of bool, shape (v,)
-        Viewpoints whose environment is the plain one: each hole one body, inside ``outer``.
-    outer : ndarray, shape (v, 4)
-        The plain environment's outer box ``x0, y0, x1, y1``, metres, relative to the origin.
     """
     n_views = len(eyes)
     n_targets = target_offsets[-1]
@@ -107,8 +92,6 @@ def occlusion_by_view(
     n_st = 0
     in_env = np.zeros(n_targets, dtype=np.bool_)
     blocked = np.zeros(n_views, dtype=np.bool_)
-    plain = np.zeros(n_views, dtype=np.bool_)
-    outer = np.zeros((n_views, 4))
     for f in range(len(frame_starts) - 1):
         s, e = frame_starts[f], frame_starts[f + 1]
         n = e - s
@@ -155,41 +138,7 @@ def occlusion_by_view(
                 reason[t0 + i] = reason_of(transparent[t0 + i], counts_occ, counts_st)
                 in_env[t0 + i] = blocking[i] and not hidden[i]
             blocked[v] = blocking.any()
-            if not blocked[v]:
-                continue
-            # the plain environment: no two boxes of its holes overlap, nothing encloses or contains the viewpoint
-            k = view_key[v]
-            n_env = 0
-            for i in range(n):
-                n_env += in_env[t0 + i]
-            n_parts = part_offsets[k + 1] - part_offsets[k]
-            lo = np.empty((n_env + n_parts, 2))
-            hi = np.empty((n_env + n_parts, 2))
-            j = 0
-            for i in range(n):
-                if in_env[t0 + i]:
-                    a0, a1 = offsets[s + i], offsets[s + i + 1]
-                    for c in range(2):
-                        least, most = np.inf, -np.inf
-                        for q in range(a0, a1):
-                            value = coords[q, c] - (gx if c == 0 else gy)
-                            least = min(least, value)
-                            most = max(most, value)
-                        lo[j, c], hi[j, c] = least, most
-                    j += 1
-            for p in range(part_offsets[k], part_offsets[k + 1]):
-                lo[j, 0], lo[j, 1] = part_boxes[p, 0], part_boxes[p, 1]
-                hi[j, 0], hi[j, 1] = part_boxes[p, 2], part_boxes[p, 3]
-                j += 1
-            inside_static = static_offsets[v + 1] > static_offsets[v]
-            plain[v] = key_plain[k] and not inside_static and len(box_overlaps(lo, hi)[0]) == 0
-            x0, y0, x1, y1 = ox, oy, ox, oy
-            for j in range(len(lo)):
-                x0, y0 = min(x0, lo[j, 0]), min(y0, lo[j, 1])
-                x1, y1 = max(x1, hi[j, 0]), max(y1, hi[j, 1])
-            outer[v, 0], outer[v, 1] = x0 - box_margin, y0 - box_margin
-            outer[v, 2], outer[v, 3] = x1 + box_margin, y1 + box_margin
-    return reason, occ_offsets, occ[:n_occ], st_offsets, st[:n_st], in_env, blocked, plain, outer
+    return reason, occ_offsets, occ[:n_occ], st_offsets, st[:n_st], in_env, blocked
 
 
 @numba.njit(cache=True)
@@ -303,21 +252,12 @@ def observe_chunk(engine: Any, objects: ObjectTable, views: ChunkViewpoints) -> 
 
     start, width = angular_extents(coords, offsets, frame_starts, view_starts, target_offsets, origins, eyes)
 
-    keys, view_key = np.unique(origins, axis=0, return_inverse=True)
-    parts = [_parts_at(engine, origin) for origin in keys]
-    part_offsets = np.zeros(len(keys) + 1, dtype=np.int64)
-    np.cumsum([len(bounds) for _, bounds, _ in parts], out=part_offsets[1:])
-    part_boxes = np.concatenate([bounds for _, bounds, _ in parts]).reshape(-1, 4)
-    key_plain = np.array([plain for _, _, plain in parts], dtype=np.bool_)
     common = (coords, offsets, frame_starts, view_starts, target_offsets, origins, eyes, transparent)
     statics = (static_offsets, static_inside, st_seg, st_source, engine.statics.n_sources, start, width)
-    reason, occ_offsets, occ, static_occ_offsets, static_occ, in_env, blocked, plain, outer = occlusion_by_view(
-        *common, *statics, view_key.ravel().astype(np.int64), part_offsets, part_boxes, key_plain, engine.box_margin
-    )
+    reason, occ_offsets, occ, static_occ_offsets, static_occ, in_env, blocked = occlusion_by_view(*common, *statics)
 
     frame_of_view = np.repeat(np.arange(objects.n_frames), np.diff(view_starts))
-    environments = (in_env, blocked, plain, outer, parts, view_key)
-    polygons = _visibility_polygons(engine, objects, views, frame_of_view, origins, eyes, *environments)
+    polygons = _visibility_polygons(engine, objects, views, frame_of_view, origins, eyes, in_env, blocked)
     polygon_offsets = np.zeros(len(eyes) + 1, dtype=np.int64)
     np.cumsum([len(p) for p in polygons], out=polygon_offsets[1:])
     points = np.concatenate(polygons).reshape(-1, 2) if polygons else np.zeros((0, 2))
@@ -331,37 +271,48 @@ def observe_chunk(engine: Any, objects: ObjectTable, views: ChunkViewpoints) -> 
     return ChunkObservation(visible, width, reason, occ_offsets, occ, static_occ_offsets, static_occ)
 
 
-def _parts_at(engine: Any, origin: np.ndarray) -> tuple[list, np.ndarray, bool]:
-    """The static parts blocking a viewpoint inside none of them, in the grid cell of ``origin``: their VisiLibity
-    holes, bounding boxes (relative to the origin), and whether none encloses anything."""
+def _parts_at(engine: Any, origin: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The static parts blocking a viewpoint inside none of them, in the grid cell of ``origin``, as
+    :func:`.plain.plain_environment` takes them: their VisiLibity holes back to back (relative to the origin), each
+    one's first vertex, and whether it has a courtyard."""
     engine._use_origin(origin)
-    _, bounds, holes, enclosing = engine._static_parts(np.ones(engine.statics.n_sources, dtype=bool))
-    return holes, np.asarray(bounds, dtype=np.float64).reshape(-1, 4), not enclosing
+    _, _, holes, enclosing = engine._static_parts(np.ones(engine.statics.n_sources, dtype=bool))
+    part_offsets = np.zeros(len(holes) + 1, dtype=np.int64)
+    np.cumsum([len(hole) for hole in holes], out=part_offsets[1:])
+    vertices = np.ascontiguousarray(np.concatenate(holes), dtype=np.float64) if holes else np.zeros((0, 2))
+    encloses = np.zeros(len(holes), dtype=np.bool_)
+    encloses[list(enclosing)] = True
+    return vertices, part_offsets, encloses
 
 
-def _visibility_polygons(
-    engine, objects, views, frame_of_view, origins, eyes, in_env, blocked, plain, outer, parts, view_key
-):
-    """VisiLibity's visibility polygon of every blocked viewpoint (relative to its origin; empty where none)."""
-    coords, offsets, frame_starts = objects.rings.coords, objects.rings.offsets, objects.frame_starts
+def _visibility_polygons(engine, objects, views, frame_of_view, origins, eyes, in_env, blocked) -> list[np.ndarray]:
+    """VisiLibity's visibility polygon of every blocked viewpoint (relative to its origin; empty where none), in the
+    plain environment where it applies (:mod:`.plain`), else in the engine's general construction."""
+    coords = np.ascontiguousarray(objects.rings.coords, dtype=np.float64)
+    offsets = np.ascontiguousarray(objects.rings.offsets, dtype=np.int64)
+    frame_starts, target_offsets = objects.frame_starts, views.target_offsets
+    parts_at: dict[tuple[float, float], tuple] = {}
     polygons = [_NO_POLYGON] * len(eyes)
     for v in np.flatnonzero(blocked).tolist():
         f = int(frame_of_view[v])
         s, e = int(frame_starts[f]), int(frame_starts[f + 1])
-        t0 = int(views.target_offsets[v])
+        env = in_env[target_offsets[v] : target_offsets[v] + e - s]
+        (gx, gy), (ox, oy) = origins[v].tolist(), eyes[v].tolist()
+        plain = False
+        if views.static_offsets[v + 1] == views.static_offsets[v]:  # inside no static occluder
+            parts = parts_at.get((gx, gy)) or parts_at.setdefault((gx, gy), _parts_at(engine, origins[v]))
+            plain, vertices, counts = plain_environment(coords, offsets, s, e, gx, gy, ox, oy, env, *parts,
+                                                        engine.box_margin)  # fmt: skip
+        if plain:
+            polygons[v] = visibility_polygon_flat(vertices, counts, ox, oy, engine.epsilon)
+            continue
+        # groups of bodies that meet, enclosures, viewpoints inside static occluders
         rel = coords[offsets[s] : offsets[e]] - origins[v]
         local = offsets[s : e + 1] - offsets[s]
-        env = in_env[t0 : t0 + e - s]
-        if plain[v]:
-            x0, y0, x1, y1 = outer[v]
-            box = vis_polygon(np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]]))
-            holes = vis_polygons_reversed(rel, local, np.flatnonzero(env).tolist())
-            polys = [box, *holes, *parts[view_key.flat[v]][0]]
-        else:  # groups of overlapping bodies, enclosures, viewpoints inside static occluders
-            engine._use_origin(views.position[v])
-            static_blocking = ~_static_transparent(views, engine.statics.n_sources, v)
-            polys = engine._build_environment(Rings(rel, local), env, static_blocking, eyes[v])
-        polygons[v] = visibility_polygon_coords(polys, float(eyes[v, 0]), float(eyes[v, 1]), engine.epsilon)
+        engine._use_origin(views.position[v])
+        static_blocking = ~_static_transparent(views, engine.statics.n_sources, v)
+        polys = engine._build_environment(Rings(rel, local), env, static_blocking, eyes[v])
+        polygons[v] = visibility_polygon_coords(polys, ox, oy, engine.epsilon)
     return polygons
 
 

@@ -134,7 +134,12 @@ def visibility_polygon_coords(environment, x: float, y: float, epsilon: float) -
     70.0
     """
     polygons = environment.polygons if isinstance(environment, Environment) else environment
-    vertices, counts = Environment(polygons).flat()
+    return visibility_polygon_flat(*Environment(polygons).flat(), x, y, epsilon)
+
+
+def visibility_polygon_flat(vertices: np.ndarray, counts: np.ndarray, x: float, y: float, epsilon: float) -> np.ndarray:
+    """:func:`visibility_polygon_coords` of an environment given as :meth:`Environment.flat` gives it: all
+    vertices back to back (float64, C-ordered, (m, 2)) and each polygon's vertex count (int64)."""
     coords = _visilibity1.visibility_polygon(vertices, counts, x, y, epsilon)
     return np.frombuffer(coords, dtype=np.float64).reshape(-1, 2)
 
