@@ -17,8 +17,7 @@ hand-written copy changes no result in the last bit.
   kind, dtype and layout: several seconds of a first call);
 - distances: :func:`nearest_offset` (point to segment), :func:`segment_distance2` (origin to segment),
   :func:`ray_line_distance` (origin along a ray to a line);
-- orientation: :func:`orient`, :func:`cross_properly` (two segments), :func:`ring_covers_point` (a ring and a
-  point, even-odd rule or within a tolerance);
+- orientation: :func:`orient`, :func:`cross_properly` (two segments);
 - angles: :func:`wrap_positive`.
 """
 
@@ -293,29 +292,6 @@ def cross_properly(ax, ay, bx, by, cx, cy, dx, dy):
     d3 = orient(cx, cy, dx, dy, ax, ay)
     d4 = orient(cx, cy, dx, dy, bx, by)
     return (d3 > 0.0 and d4 < 0.0) or (d3 < 0.0 and d4 > 0.0)
-
-
-@numba.njit(cache=True)
-def ring_covers_point(coords, s, e, px, py, tolerance):
-    """Whether the ring ``coords[s:e]`` (metres, closing vertex not repeated) contains the point ``(px, py)``
-    (even-odd rule) or passes within ``tolerance`` metres of it.
-
-    Examples
-    --------
-    >>> square = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]])
-    >>> [bool(ring_covers_point(square, 0, 4, x, 1.0, 1e-9)) for x in (1.0, 2.0 + 1e-10, 2.1)]
-    [True, True, False]
-    """
-    inside = False
-    best = np.inf
-    for j in range(s, e):
-        k = j + 1 if j + 1 < e else s
-        ax, ay = coords[j, 0] - px, coords[j, 1] - py
-        bx, by = coords[k, 0] - px, coords[k, 1] - py
-        if (ay > 0) != (by > 0) and ax + (bx - ax) * (0 - ay) / (by - ay) > 0:
-            inside = not inside
-        best = min(best, segment_distance2(ax, ay, bx, by))
-    return inside or best <= tolerance * tolerance
 
 
 # -- sorting ---------------------------------------------------------------------------------------------------

@@ -20,7 +20,7 @@ import numba
 import numpy as np
 import shapely
 
-from .kernels import TWO_PI
+from .kernels import TWO_PI, segment_distance2
 
 
 @dataclass(frozen=True, slots=True)
@@ -307,3 +307,26 @@ def rings_from(geoms: Sequence[Any]) -> Rings:
     offsets = np.zeros(len(geoms) + 1, dtype=np.int64)
     np.cumsum(sizes - 1, out=offsets[1:])
     return Rings(np.ascontiguousarray(coords[keep]), offsets)
+
+
+@numba.njit(cache=True)
+def ring_covers_point(coords, s, e, px, py, tolerance):
+    """Whether the ring ``coords[s:e]`` (metres, closing vertex not repeated) contains the point ``(px, py)``
+    (even-odd rule) or passes within ``tolerance`` metres of it.
+
+    Examples
+    --------
+    >>> square = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]])
+    >>> [bool(ring_covers_point(square, 0, 4, x, 1.0, 1e-9)) for x in (1.0, 2.0 + 1e-10, 2.1)]
+    [True, True, False]
+    """
+    inside = False
+    best = np.inf
+    for j in range(s, e):
+        k = j + 1 if j + 1 < e else s
+        ax, ay = coords[j, 0] - px, coords[j, 1] - py
+        bx, by = coords[k, 0] - px, coords[k, 1] - py
+        if (ay > 0) != (by > 0) and ax + (bx - ax) * (0 - ay) / (by - ay) > 0:
+            inside = not inside
+        best = min(best, segment_distance2(ax, ay, bx, by))
+    return inside or best <= tolerance * tolerance

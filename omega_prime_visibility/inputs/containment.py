@@ -10,8 +10,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ..geometry.kernels import copy_into, ring_covers_point
-from ..geometry.rings import Rings
+from ..geometry.kernels import copy_into
+from ..geometry.rings import Rings, ring_covers_point
 
 TOUCH_TOLERANCE = 1e-9  # metres: a body passing this near a viewpoint touches it (and is transparent to it)
 

@@ -16,7 +16,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...geometry.kernels import cross_properly, nearest_offset, ring_covers_point
+from ...geometry.kernels import cross_properly, nearest_offset
+from ...geometry.rings import ring_covers_point
 from .conversion import box_overlaps
 
 APART = 1e-9
