@@ -57,12 +57,19 @@ def certainly_occludes(overlap, far, is_object, near_t):
 
 
 @numba.njit(cache=True, inline="always")
-def bin_range(lo, width, n_bins):
-    """The bins (unwrapped, ``first <= last``) covering the bearings ``[lo, lo + width]`` with one bin to spare on
-    each side; all of them once the interval is within two bins of a full turn."""
+def bin_range(lo, width, n_bins, spare):
+    """The bins (unwrapped, ``first <= last``) covering the bearings ``[lo, lo + width]``, with ``spare`` bins to
+    spare on each side; all of them once that makes a full turn. Items are binned with one to spare, so a target
+    looking in its own bins (none to spare) meets every item whose bearings meet its own, whatever the rounding.
+
+    Examples
+    --------
+    >>> bin_range(0.01, 0.02, 256, 0), bin_range(0.01, 0.02, 256, 1), bin_range(-0.01, 0.02, 256, 0)
+    ((0, 1), (-1, 2), (255, 256))
+    """
     size = TWO_PI / n_bins
-    first = int(np.floor(wrap_positive(lo) / size)) - 1
-    last = first + 2 + int(np.floor(max(width, 0.0) / size)) + 1
+    first = int(np.floor(wrap_positive(lo) / size)) - spare
+    last = first + 2 * spare + int(np.floor(max(width, 0.0) / size)) + 1
     if last - first + 1 >= n_bins:
         return 0, n_bins - 1
     return first, last
@@ -70,19 +77,19 @@ def bin_range(lo, width, n_bins):
 
 @numba.njit(cache=True)
 def bearing_bins(item_lo, item_width):
-    """Items grouped by the bins their bearings cover (:func:`bin_range`): CSR offsets over
+    """Items grouped by the bins their bearings cover (:func:`bin_range`, one to spare): CSR offsets over
     :data:`BEARING_BINS` bins and the items, ascending within a bin."""
     n_bins = BEARING_BINS
     offsets = np.zeros(n_bins + 1, dtype=np.int64)
     for j in range(len(item_lo)):
-        first, last = bin_range(item_lo[j], item_width[j], n_bins)
+        first, last = bin_range(item_lo[j], item_width[j], n_bins, 1)
         for q in range(first, last + 1):
             offsets[q % n_bins + 1] += 1
     prefix_sum(offsets)
     fill = offsets[:-1].copy()
     members = np.empty(offsets[-1], dtype=np.int64)
     for j in range(len(item_lo)):
-        first, last = bin_range(item_lo[j], item_width[j], n_bins)
+        first, last = bin_range(item_lo[j], item_width[j], n_bins, 1)
         for q in range(first, last + 1):
             c = q % n_bins
             members[fill[c]] = j
@@ -177,7 +184,11 @@ def candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_ob
     stamp = np.full(n_items, -1, dtype=np.int64)
     for r in range(len(targets)):
         t = targets[r]
-        first, last = bin_range(start[t], width[t], n_bins)
+        # room for a pair with every body (grown per target: an array rebound per pair costs reference counting)
+        out_body = reserve(out_body, k, k + n_bodies)
+        out_target = reserve(out_target, k, k + n_bodies)
+        out_certain = reserve(out_certain, k, k + n_bodies)
+        first, last = bin_range(start[t], width[t], n_bins, 0)
         for q in range(first, last + 1):
             c = q % n_bins
             for i in range(bin_offsets[c], bin_offsets[c + 1]):
@@ -202,9 +213,6 @@ def candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_ob
                     out_certain[pair_of[b]] |= certain
                     continue
                 seen[b], pair_of[b] = t, k
-                out_body = reserve(out_body, k, k + 1)
-                out_target = reserve(out_target, k, k + 1)
-                out_certain = reserve(out_certain, k, k + 1)
                 out_body[k], out_target[k], out_certain[k] = b, t, certain
                 if is_object and item_far[it] < near[t] and wrap_positive(start[t] - start[b]) + width[t] <= width[b]:
                     hidden[t] = True  # the target's whole extent inside that of an object entirely nearer

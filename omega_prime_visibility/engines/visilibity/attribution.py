@@ -13,6 +13,8 @@ from .polygon_check import on_edge
 # radians: two edges of a target meeting at a vertex may share this much of a polygon edge through rounding of
 # their bearings; only wider overlaps (both sides of a sliver) are credited once
 ROUNDING_OVERLAP = 1e-9
+# radians: extents narrower than half a turn by this much skip the polygon edges ending before them
+NARROW_MARGIN = 1e-6
 
 
 @numba.njit(cache=True)
@@ -71,6 +73,13 @@ def attribute_visible_angles(
         span[i] = np.arctan2(ax * by - ay * bx, ax * bx + ay * by)
     order = argsort_stable(bearing)
     sorted_bearing = bearing[order]
+    # the farthest bearing reached by the edges up to each one in bearing order: a window needs to start no earlier
+    # than the first edge reaching the target's extent (for extents under half a turn, see below)
+    reach = np.empty(m)
+    farthest = -np.inf
+    for q in range(m):
+        farthest = max(farthest, sorted_bearing[q] + max(span[order[q]], 0.0))
+        reach[q] = farthest
     most_edges = 0
     for t in targets:
         most_edges = max(most_edges, seg_offsets[t + 1] - seg_offsets[t])
@@ -80,12 +89,16 @@ def attribute_visible_angles(
     for t in targets:
         s0 = extent_start[t]
         # edges starting within [s0 - pi, s0 + width]: an edge spans < pi, so this holds all that can overlap
-        for lo, hi in (
-            (s0 - np.pi, s0 + extent_width[t]),
-            (s0 - np.pi - two_pi, s0 + extent_width[t] - two_pi),
-            (s0 - np.pi + two_pi, s0 + extent_width[t] + two_pi),
+        for lo, hi, shift in (
+            (s0 - np.pi, s0 + extent_width[t], 0.0),
+            (s0 - np.pi - two_pi, s0 + extent_width[t] - two_pi, -two_pi),
+            (s0 - np.pi + two_pi, s0 + extent_width[t] + two_pi, two_pi),
         ):
             a = np.searchsorted(sorted_bearing, lo)
+            if extent_width[t] < np.pi - NARROW_MARGIN:
+                # edges ending before the extent (by 1e-8 rad) start before it by over half a turn less its width:
+                # the test below skips them all, so the window skips them too (the same edges, in the same order)
+                a = max(a, np.searchsorted(reach, s0 + shift - 1e-8))
             b = np.searchsorted(sorted_bearing, hi, side="right")
             for q in range(a, b):
                 i = order[q]

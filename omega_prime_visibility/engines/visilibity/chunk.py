@@ -214,10 +214,10 @@ def checked_visible_angles(
             if polygon_fails(pts, seg, check, check_absolute, check_relative, ON_EDGE):
                 failed[v] = True
                 continue
-            targets = np.empty(n, dtype=np.int64)
+            targets = np.empty(n, dtype=np.int64)  # blocking, and not hidden behind a single nearer object
             k = 0
             for i in range(n):
-                if not transparent[t0 + i]:
+                if in_env[t0 + i]:
                     targets[k] = i
                     k += 1
             attributed = attribute_visible_angles(

@@ -180,7 +180,10 @@ class VisiLibityEngine:
             seg = np.ascontiguousarray(segments - o)
             view = (viewpoint.heading - 0.5 * viewpoint.fov, viewpoint.fov, viewpoint.range)
             occluders = (occ_offsets, occ, st_offsets, st)
-            visible = attribute_visible_angles(pts, seg, seg_offsets, targets, start, width, ON_EDGE, *occluders, *view)
+            # a target hidden behind a single nearer object sees nothing (none of its edges is first along any ray)
+            unhidden = np.flatnonzero(in_env)
+            extents = (start, width, ON_EDGE)
+            visible = attribute_visible_angles(pts, seg, seg_offsets, unhidden, *extents, *occluders, *view)
         else:
             visible = width.copy()
         observation = Observation.from_parts(visible, width, occ_offsets, occ, st_offsets, st, transparent)
