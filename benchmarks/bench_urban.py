@@ -2,8 +2,9 @@
 about 265 road users a frame: queues, parked cars and buses, pedestrians), seen from the ego with the buildings as
 static occluders. Prints each engine's time per (frame, target), warm (kernels compiled, the scene read), and how
 many frames the default engine had to hand to the fallback; for the default engine also how many VisiLibity
-polygons it built a frame (target: about one) and its time against VisiLibity's own time building them (target:
-at most 1.5x); the engines' tables are compared too.
+polygons it built a frame (target: about one) and its time (the engine's ``observe_chunk``: from the scene arrays to
+the visible angles and occluders) against VisiLibity's own time building them (target: at most 1.5x), and the whole
+call's (reading the table and building the output table included); the engines' tables are compared too.
 
 Usage::
 
@@ -26,7 +27,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "scenarios"))
 from urban import urban_scene
 
 from omega_prime_visibility import Query, VisibilityInputWarning, get_visibility_df
-from omega_prime_visibility.engines.visilibity import conversion
+from omega_prime_visibility.engines.visilibity import VisiLibityEngine, conversion
 
 
 class TimedVisiLibity:
@@ -82,17 +83,33 @@ def main() -> None:
             f"{engine:>10}: {seconds:.3f} s, {seconds / pairs * 1e6:.1f} us per (frame, target) over {pairs} rows;"
             f" frames handed to the fallback engine: {fallbacks} of {args.frames}"
         )
-    compiled = conversion._visilibity1
-    conversion._visilibity1 = timed = TimedVisiLibity(compiled)
-    try:
-        start = time.perf_counter()
-        get_visibility_df(table, query=Query(observers=0, static_occluders=buildings), workers=1, progress=False)
-        seconds = time.perf_counter() - start
-    finally:
-        conversion._visilibity1 = compiled
+    compiled, observe_chunk = conversion._visilibity1, VisiLibityEngine.observe_chunk
+    best = None
+    for _ in range(args.repeat):
+        conversion._visilibity1 = timed = TimedVisiLibity(compiled)
+        engine_seconds = [0.0]
+
+        def timed_chunk(self, *chunk_args, _seconds=engine_seconds):
+            begin = time.perf_counter()
+            try:
+                return observe_chunk(self, *chunk_args)
+            finally:
+                _seconds[0] += time.perf_counter() - begin
+
+        VisiLibityEngine.observe_chunk = timed_chunk
+        try:
+            start = time.perf_counter()
+            get_visibility_df(table, query=Query(observers=0, static_occluders=buildings), workers=1, progress=False)
+            seconds = time.perf_counter() - start
+        finally:
+            conversion._visilibity1, VisiLibityEngine.observe_chunk = compiled, observe_chunk
+        if best is None or engine_seconds[0] / timed.seconds < best[1] / best[0].seconds:
+            best = (timed, engine_seconds[0], seconds)
+    timed, engine_seconds, seconds = best
     print(
         f"visilibity's polygons: {timed.polygons / args.frames:.2f} a frame (target: about 1); the engine's time"
-        f" {seconds:.3f} s is {seconds / timed.seconds:.2f}x VisiLibity's own {timed.seconds:.3f} s (target: 1.5x)"
+        f" {engine_seconds:.3f} s is {engine_seconds / timed.seconds:.2f}x VisiLibity's own {timed.seconds:.3f} s"
+        f" (target: 1.5x); the whole call, table included, {seconds:.3f} s ({seconds / timed.seconds:.2f}x)"
     )
     a, b = tables["sweep"], tables["visilibity"]
     same_rows = a.select("frame", "idx").equals(b.select("frame", "idx"))

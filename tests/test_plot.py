@@ -108,6 +108,23 @@ def test_plot_frame_sensor_layouts_are_sized_to_the_ego() -> None:
     assert radar.center == pytest.approx((2.5, 0.0))  # front bumper of a 5 m ego
 
 
+@pytest.mark.parametrize("view_range", ["auto", 12.0])
+def test_a_small_ego_keeps_its_colour_under_the_star_and_the_sensors(view_range) -> None:
+    """At the sensors' reach of 80 m a 5 m ego is a few pixels across: no mount dots on it, and a star of at most
+    0.4 of its size (at least 4 points); at 12 m it is large: a dot at each of the six mounts and the 10 pt star."""
+    df = boxes_table([(0, 0, 5.0, 2.0, 0), (75, 0, 4, 2, 0), (-75, 0, 4, 2, 0), (0, 60, 4, 2, 0)])
+    ax = plot_frame(df, 0, 0, sensors="typical", view_range=view_range)
+    ego_px = float(np.ptp(ax.transData.transform(by_gid(ax, "ego")[0].get_xy()), axis=0).max())
+    (star,) = by_gid(ax, "star")
+    star_px = star.get_markersize() * ax.figure.dpi / 72
+    if view_range == "auto":
+        assert ego_px < 40 and not by_gid(ax, "mount")
+        assert star_px <= max(0.4 * ego_px, 4 * ax.figure.dpi / 72) + 1e-9
+    else:
+        assert ego_px >= 40 and len(by_gid(ax, "mount")) == 6
+        assert star.get_markersize() == 10
+
+
 def test_plot_frame_statics_hatched_and_black_when_they_hide_the_target() -> None:
     df = boxes_table([(0, 0, 4, 2, 0), (20, 0, 4, 2, 0), (0, 30, 4, 2, 0)])
     wall = shapely.box(9, -3, 10, 3)  # hides idx 1
@@ -380,7 +397,7 @@ def test_a_picture_in_3d_takes_its_numbers_from_the_3d_table() -> None:
     assert "3D: seen from the eye (no ground region)" in labels and "seen from the ego" not in labels
     assert "3D" in ax.get_title().splitlines()[-1]
     flat = plot_frame(df, 0, 0, static_occluder_polys=rail)  # in 2D the region is shaded and named
-    assert by_gid(flat, "region") and "engine visilibity" in flat.get_title()
+    assert by_gid(flat, "region") and "engine VisiLibity" in flat.get_title()
 
 
 def test_a_small_road_user_keeps_its_fill_and_the_legend_lists_only_what_is_drawn() -> None:

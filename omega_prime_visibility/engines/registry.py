@@ -61,6 +61,18 @@ ENGINES_AREA: dict[str, Callable[[], type]] = {"area": _area}
 """The engine of the area measure (``measure="area"``): exact polygon clipping of footprints and shadows."""
 
 
+ENGINE_TITLES = {
+    "visilibity": "VisiLibity",
+    "sweep": "sweep",
+    "raycast3d": "3D ray casting",
+    "raycast3d-high": "3D ray casting (high)",
+    "raycast3d-fast": "3D ray casting (fast)",
+    "silhouette3d": "3D silhouettes",
+    "area": "area",
+}
+"""How pictures and pages name each engine (``engine=`` takes the keys)."""
+
+
 def get_engine(name: str) -> type[Engine]:
     """The engine class registered under ``name`` (2D, 3D or the area measure's)."""
     try:

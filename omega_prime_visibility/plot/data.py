@@ -16,7 +16,7 @@ import numpy as np
 import polars as pl
 import shapely
 
-from ..engines.registry import get_engine
+from ..engines.registry import ENGINE_TITLES, get_engine
 from ..engines.visilibity import VisiLibityEngine
 from ..inputs.objects import ObjectTable
 from ..inputs.scene import as_polars
@@ -148,11 +148,11 @@ def describe_question(question: Query) -> str:
     """The choices of ``question`` in a few words, for a picture's title or a page's subtitle.
 
     >>> describe_question(Query(observers=0, mode="3d", targets="pedestrians"))
-    'engine silhouette3d, 3D, whom to look for: pedestrians'
+    'engine 3D silhouettes, 3D, whom to look for: pedestrians'
     >>> describe_question(Query(observers=0, measure="area"))
     'engine area, % = share of its area seen'
     """
-    words = [f"engine {question.engine}"]
+    words = [f"engine {ENGINE_TITLES.get(question.engine, question.engine)}"]
     if question.three_d:
         words.append("3D")
     else:  # what the numbers on the picture are

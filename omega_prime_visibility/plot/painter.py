@@ -40,6 +40,11 @@ OUTLINE_PX = 2.0  # pixels an object's outline reaches beyond its ring (half the
 SMALL_PX = 7.0
 """Pixels: a road user drawn smaller than this across (a pedestrian, a bicycle far out) is shown as a marker of this
 size filled with its colour, as its outline alone would cover its fill."""
+EGO_DETAIL_PX = 40.0
+"""Pixels: an ego drawn smaller than this across (a sensors' reach of 80 m) gets no dots at its sensors' mounts (the
+fields of view start there) and a star of at most :data:`STAR_SHARE` of its size, so its colour stays in sight."""
+STAR_SHARE = 0.4
+STAR_PT = 10.0  # points: the star at the ego's centre where the ego is large enough
 
 
 def renderer_of(figure: Any) -> Any:
@@ -235,11 +240,14 @@ class FramePainter:
                     halo = self.patches.Polygon(ring, fill=False, edgecolor=colour, lw=width, ls=style, zorder=2.6)
                     halo.set_gid("target outline")
                     add(ax.add_artist(halo))
-        add(ax.plot(*view.observer, marker="*", color="white", mec="black", ms=10, zorder=4)[0])
+        ego_px = size[view.ego_row] if view.ego_row is not None else np.inf
+        star = STAR_PT if ego_px >= EGO_DETAIL_PX else max(4.0, STAR_SHARE * ego_px * 72 / ax.figure.dpi)
+        add(ax.plot(*view.observer, marker="*", color="white", mec="black", ms=star, mew=0.8, zorder=4, gid="star")[0])
         if target_row is not None and not shown:
             add(self._pointer(view, target_row, limits))
         for k, s in enumerate(self.sensors):
-            self._dynamic.extend(draw_sensor(ax, s, view, sensor_colour(k), limits))
+            mount = ego_px >= EGO_DETAIL_PX
+            self._dynamic.extend(draw_sensor(ax, s, view, sensor_colour(k), limits, mount=mount))
         self._dynamic.extend(self._labels(view, limits, occluders))
         title = title or f"frame {view.frame}, t = {view.total_nanos / 1e9:.2f} s, seen from idx {self.ego_idx}"
         ax.set_title(f"{title}\n{self.choices}" if self.choices else title, fontsize=9)

@@ -113,10 +113,12 @@ def _far(limits: tuple[float, float, float, float]) -> float:
     return 2.0 * math.hypot(limits[1] - limits[0], limits[3] - limits[2])
 
 
-def draw_sensor(ax: Any, s: Sensor, view: FrameView, colour: str, limits: tuple[float, float, float, float]) -> list:
+def draw_sensor(
+    ax: Any, s: Sensor, view: FrameView, colour: str, limits: tuple[float, float, float, float], mount: bool = True
+) -> list:
     """A sensor's field of view outlined in ``colour`` (its range as the arc; a circle for a 360° sensor; the two
-    edges only when unlimited) and a dot at its position. The outline lies under the road users (zorder 1.5: a
-    field's edge never crosses a car), above the seen region and the road."""
+    edges only when unlimited) and, with ``mount``, a dot at its position. The outline lies under the road users
+    (zorder 1.5: a field's edge never crosses a car), above the seen region and the road."""
     patches = require("matplotlib.patches")
     pos, heading = sensor_pose(s, view)
     radius = min(s.range, _far(limits))
@@ -127,7 +129,8 @@ def draw_sensor(ax: Any, s: Sensor, view: FrameView, colour: str, limits: tuple[
         half = math.degrees(s.fov) / 2
         shape = patches.Wedge(pos, radius, math.degrees(heading) - half, math.degrees(heading) + half, **style)
     out = [] if s.fov >= 2 * math.pi - 1e-9 and math.isinf(s.range) else [ax.add_artist(shape)]
-    out.extend(ax.plot(*pos, marker="o", ms=3, color=colour, mec="white", mew=0.5, zorder=4))
+    if mount:
+        out.extend(ax.plot(*pos, marker="o", ms=3, color=colour, mec="white", mew=0.5, zorder=4, gid="mount"))
     return out
 
 
