@@ -1,6 +1,7 @@
 """Candidate (body, target) pairs from one viewpoint (geometry/candidates.py): over random scenes (boxes, and
 L-shaped static bodies) at small and at map coordinates, extents across the +-pi seam and queues of touching extents,
-the candidates hold every pair that testing every edge against every target gives, with its certainty; the pairs
+the candidates hold every pair of objects that testing every edge against every target gives, with its certainty
+(a static body only where one of its edges comes nearer than the target within the target's bearings); the pairs
 accepted at once occlude by the exact test; decided by the exact test, the candidates give exactly the occluders
 of every edge's pairs, and the same targets hidden behind one object."""
 
@@ -116,10 +117,9 @@ def test_candidates_decide_exactly_the_occluders_of_every_edge(seed: int, offset
     want, want_hidden = every_edge(ox, oy, seg, seg_body, blocking, targets, start, width, n)
     found = {(b, t): c for b, t, c in zip(body.tolist(), target.tolist(), certain.tolist(), strict=True)}
     assert len(found) == len(body), "a pair found twice"
-    for b, t, c in want:  # every edge's pairs are among the candidates, objects with the same certainty
-        assert (b, t) in found
+    for b, t, c in want:  # every edge's pairs of objects are among the candidates, with the same certainty
         if b < n:
-            assert found[(b, t)] == c
+            assert (b, t) in found and found[(b, t)] == c
     assert not any(found[(b, t)] for (b, t) in set(found) - {(b, t) for b, t, _ in want}), "an extra pair accepted"
     seg_offsets = np.zeros(n + n_static + 1, dtype=np.int64)
     np.cumsum(np.bincount(seg_body, minlength=n + n_static), out=seg_offsets[1:])
@@ -134,6 +134,36 @@ def test_candidates_decide_exactly_the_occluders_of_every_edge(seed: int, offset
 
     assert decided([(b, t, c) for (b, t), c in found.items()]) == decided(want)
     assert np.array_equal(hidden, want_hidden)
+
+
+def test_a_wall_beside_a_target_is_no_candidate_unless_nearer_within_its_bearings() -> None:
+    """On paper: the observer at the origin, a car (a 2 m square) centred at (20, 0): bearings -3.01 to 3.01
+    degrees (atan(1 / 19)), farthest point 21.02 m away, nearest 19 m.
+
+    - A wall along the street from (5, 1.2) to (40, 1.2): its nearest point is 5.14 m away and its bearings (1.72 to
+      13.5 degrees) meet the car's, but within 1.72 to 3.01 degrees it lies 1.2 / sin(3.01 deg) = 22.85 m away or
+      more, behind the car's farthest point: no pair.
+    - From (5, 3) to (40, 3): bearings 4.29 to 31 degrees, beside the car's: no pair.
+    - From (5, 0.5) to (15, 0.5): bearings 1.91 to 5.71 degrees; within 1.91 to 3.01 degrees it lies 9.5 to 15 m
+      away, all of it nearer than the car: a pair, and certain.
+    - Across the street, from (10, -3) to (10, 3): a pair, and certain.
+    """
+    car = [[(19, -1), (21, -1)], [(21, -1), (21, 1)], [(21, 1), (19, 1)], [(19, 1), (19, -1)]]
+    angles = np.arctan2([-1, -1, 1, 1], [19, 21, 21, 19])
+    start, width = np.array([angles.min()]), np.array([np.ptp(angles)])
+    walls = [
+        (((5, 1.2), (40, 1.2)), False),
+        (((5, 3), (40, 3)), False),
+        (((5, 0.5), (15, 0.5)), True),
+        (((10, -3), (10, 3)), True),
+    ]
+    for wall, pair in walls:
+        seg = np.array([*car, wall], dtype=float)
+        seg_body = np.array([0, 0, 0, 0, 1], dtype=np.int64)
+        blocking = np.array([True, True])
+        body, _, certain, _ = candidate_pairs(0.0, 0.0, seg, seg_body, blocking, np.array([0]), start, width, 1)
+        assert body.tolist() == ([1] if pair else [])
+        assert certain.all()
 
 
 def test_a_static_edge_is_accepted_only_nearer_by_its_margin() -> None:

@@ -18,7 +18,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .kernels import TWO_PI, nearest_offset, prefix_sum, reserve, wrap_positive
+from .kernels import TWO_PI, nearest_offset, prefix_sum, ray_line_distance, reserve, wrap_positive
 
 MIN_PIECE = 1e-12
 """Radians: thinner pieces of a bearing interval are ignored (here and in :mod:`.occlusion`)."""
@@ -31,6 +31,10 @@ STATIC_ACCEPT_ANGLE = 1e-9
 
 STATIC_ACCEPT_RELATIVE = 1e-7
 """... and it must lie nearer than ``1 - STATIC_ACCEPT_RELATIVE`` times the target's nearest distance."""
+
+NEARER_MARGIN = 1e-9
+"""A static edge coming no nearer than ``1 + NEARER_MARGIN`` times a target's farthest point within its bearings
+cannot hide it (the exact test asks for ``1 - 1e-9`` times the target's distance): no candidate pair."""
 
 BEARING_BINS = 256
 """Bins over the full turn that items are grouped into by bearing, so a target meets only the items of its own
@@ -97,6 +101,36 @@ def bearing_bins(item_lo, item_width):
     return offsets, members
 
 
+@numba.njit(cache=True)
+def nearest_within(ax, ay, bx, by, lo, width):
+    """The least distance (metres) from the origin to the segment ``a b`` (metres) along the bearings
+    ``[lo, lo + width]`` (radians, within the segment's own): at the foot of the perpendicular to its line where
+    that lies within them, else at one of their ends.
+
+    Examples
+    --------
+    The wall x = 10 from y = -10 to 10, seen between 0 and 45 degrees: nearest straight ahead (10 m); between 30 and
+    45 degrees, at 30 degrees (10 / cos 30 = 11.547 m):
+
+    >>> round(nearest_within(10.0, -10.0, 10.0, 10.0, 0.0, np.pi / 4), 3)
+    10.0
+    >>> round(nearest_within(10.0, -10.0, 10.0, 10.0, np.pi / 6, np.pi / 12), 3)
+    11.547
+    """
+    ex, ey = bx - ax, by - ay
+    ee = ex * ex + ey * ey
+    if ee == 0.0:
+        return np.hypot(ax, ay)
+    u = -(ax * ex + ay * ey) / ee
+    fx, fy = ax + u * ex, ay + u * ey  # the foot of the perpendicular from the origin to the line
+    if wrap_positive(np.arctan2(fy, fx) - lo) <= width:
+        return np.hypot(fx, fy)
+    return min(
+        abs(ray_line_distance(np.cos(lo), np.sin(lo), ax, ay, ex, ey)),
+        abs(ray_line_distance(np.cos(lo + width), np.sin(lo + width), ax, ay, ex, ey)),
+    )
+
+
 @numba.njit(cache=True, inline="always")
 def _overlap(lo, width, start_t, width_t):
     """Radians shared by the bearings ``[lo, lo + width]`` and a target's extent ``[start_t, start_t + width_t]``
@@ -149,6 +183,7 @@ def candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_ob
     item_near = np.empty(n_items)
     item_far = np.empty(n_items)
     item_body = np.empty(n_items, dtype=np.int64)
+    item_edge = np.full(n_items, -1, dtype=np.int64)  # a static item's edge
     k = 0
     for j in range(m):
         ax, ay = seg[j, 0, 0] - ox, seg[j, 0, 1] - oy
@@ -164,7 +199,7 @@ def candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_ob
             ta = np.arctan2(ay, ax)
             item_lo[k] = ta if span >= 0 else ta + span
             item_width[k] = abs(span)
-            item_near[k], item_far[k], item_body[k] = e_near, e_far, b
+            item_near[k], item_far[k], item_body[k], item_edge[k] = e_near, e_far, b, j
             k += 1
     for b in range(n_objects):
         if blocking[b]:
@@ -212,6 +247,16 @@ def candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_ob
                 if seen[b] == t:  # a static body met through another edge
                     out_certain[pair_of[b]] |= certain
                     continue
+                if not is_object and not certain:
+                    # a wall beside the target (a building's side along the street) is nearer somewhere, but not
+                    # within the target's bearings: no pair unless it comes nearer than the target there
+                    j = item_edge[it]
+                    rel = wrap_positive(item_lo[it] - start[t])
+                    lo = item_lo[it] if rel < width[t] else start[t]
+                    ax, ay = seg[j, 0, 0] - ox, seg[j, 0, 1] - oy
+                    bx, by = seg[j, 1, 0] - ox, seg[j, 1, 1] - oy
+                    if nearest_within(ax, ay, bx, by, lo, overlap) >= far[t] * (1.0 + NEARER_MARGIN):
+                        continue
                 seen[b], pair_of[b] = t, k
                 out_body[k], out_target[k], out_certain[k] = b, t, certain
                 if is_object and item_far[it] < near[t] and wrap_positive(start[t] - start[b]) + width[t] <= width[b]:
