@@ -26,6 +26,7 @@ import numpy as np
 
 from ...geometry.candidates import candidate_pairs
 from ...geometry.kernels import copy_into, reserve, unique_values
+from ...geometry.object_pairs import objects_occluded
 from ...geometry.occlusion import _occludes_pairs
 from ...geometry.rings import Rings
 from ...inputs.objects import ObjectTable
@@ -110,7 +111,15 @@ def occlusion_by_view(
                 body, target, certain, hidden = candidate_pairs(
                     ox, oy, seg, seg_body, blocking, targets, start[t0 : t0 + n], width[t0 : t0 + n], n
                 )
-                check = np.flatnonzero(~certain)
+                # the exact test: pairs of objects all at once (grouped by target), static bodies pair by pair
+                check = np.flatnonzero(~certain & (body < n))
+                occluding = objects_occluded(
+                    seg, seg_offsets[: n + 1], start[t0 : t0 + n], width[t0 : t0 + n], target[check], body[check],
+                    ox, oy,
+                )  # fmt: skip
+                for q in range(len(check)):
+                    certain[check[q]] = occluding[q]
+                check = np.flatnonzero(~certain & (body >= n))
                 occluding = _occludes_pairs(
                     ox, oy, seg, seg_offsets, body[check], target[check], start[t0 : t0 + n], width[t0 : t0 + n]
                 )
