@@ -346,41 +346,6 @@ def test_registered() -> None:
 
 
 @pytest.mark.parametrize("seed", range(4))
-def test_object_occlusion_test_is_occludes_one(seed: int) -> None:
-    """The sweep's per-pair object test gives ``occludes_one``'s answer for every pair, also on coordinates snapped to
-    a coarse grid (shared vertices, edges through the observer, touching and overlapping boxes)."""
-    from omega_prime_visibility.engines.sweep.decide import _objects_occluded
-    from omega_prime_visibility.engines.sweep.pieces import object_extents, shifted_object_edges
-    from omega_prime_visibility.geometry.occlusion import occludes_one
-    from omega_prime_visibility.geometry.rings import box_rings
-
-    rng = np.random.default_rng(seed)
-    n = 40
-    rings = box_rings(
-        rng.uniform(-12, 12, n), rng.uniform(-8, 8, n), rng.uniform(1, 6, n), rng.uniform(1, 3, n),
-        rng.choice([0.0, 0.5 * math.pi, rng.uniform(-3, 3)], n),
-    )  # fmt: skip
-    coords = np.round(rings.coords * (2 if seed % 2 else 1e6)) / (2 if seed % 2 else 1e6)
-    offsets = rings.offsets.astype(np.int64)
-    observer = np.array([[0.0, 0.0]]) if seed < 2 else coords[[3]]  # seeds 2, 3: on a box's corner
-    no_statics = np.zeros((0, 2))
-    grid = (np.zeros(3), np.ones(2, dtype=np.int64), np.zeros(2, dtype=np.int64), np.zeros(0, dtype=np.int64))
-    empty = np.zeros(0, dtype=np.int64)
-    nxt, _, _, y, x = prepare_frame(observer, coords, offsets, no_statics, no_statics, *grid, empty, empty)
-    seg = shifted_object_edges(coords, nxt, observer[0, 0], observer[0, 1])
-    start, width = object_extents(offsets, np.arctan2(y, x)[0])
-    target, body = (a.ravel() for a in np.meshgrid(np.arange(n), np.arange(n), indexing="ij"))
-    target, body = target[target != body], body[target != body]
-    fast = _objects_occluded(seg, offsets, start, width, target, body)
-    exact = [
-        occludes_one(0.0, 0.0, seg, offsets[j], offsets[j + 1], offsets[t], offsets[t + 1], start[t], width[t])
-        for t, j in zip(target.tolist(), body.tolist(), strict=True)
-    ]
-    assert 0 < np.count_nonzero(exact) < len(exact)
-    assert np.array_equal(fast, exact)
-
-
-@pytest.mark.parametrize("seed", range(4))
 def test_static_occlusion_test_is_occludes_one(seed: int) -> None:
     """The sweep's static test (a target's edges against some loose edges of a static body, in work space) gives
     ``occludes_one``'s answer, also on coordinates snapped to a coarse grid (shared end points, edges through the
