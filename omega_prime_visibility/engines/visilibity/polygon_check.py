@@ -51,6 +51,13 @@ def on_edge(theta, px, py, qx, qy, ax, ay, bx, by, tolerance):
     dx, dy = np.cos(theta), np.sin(theta)
     boundary = ray_line_distance(dx, dy, px, py, qx - px, qy - py)
     body = ray_line_distance(dx, dy, ax, ay, ex, ey)
+    return lines_meet(dx, dy, boundary, body, ex, ey, tolerance)
+
+
+@numba.njit(cache=True, inline="always")
+def lines_meet(dx, dy, boundary, body, ex, ey, tolerance):
+    """:func:`on_edge` once the distances along the unit direction ``(dx, dy)`` to the polygon edge's line
+    (``boundary``) and to the body edge's (``body``, direction ``(ex, ey)``) are known, metres."""
     gap = abs(boundary - body)
     allowed = tolerance * max(1.0, boundary)
     return gap <= allowed or gap * (abs(dx * ey - dy * ex) / np.hypot(ex, ey)) <= allowed
@@ -129,15 +136,16 @@ def polygon_fails(pts, seg, check, absolute_tolerance, relative_tolerance, on_to
             while k < m and start[k] < hi - shift:
                 shared_lo, shared_hi = max(lo - shift, start[k]), min(hi - shift, start[k + 1])
                 if start[k + 1] - start[k] >= MIN_SPAN and shared_hi - shared_lo >= MIN_SHARED:
-                    p0, p1 = pts[k], pts[(k + 1) % m]
+                    px, py = pts[k, 0], pts[k, 1]
+                    qx, qy = pts[(k + 1) % m, 0], pts[(k + 1) % m, 1]
                     along = True
                     for theta in (shared_lo, shared_hi):
                         dx, dy = np.cos(theta), np.sin(theta)
-                        boundary = ray_line_distance(dx, dy, p0[0], p0[1], p1[0] - p0[0], p1[1] - p0[1])
+                        boundary = ray_line_distance(dx, dy, px, py, qx - px, qy - py)
                         body = ray_line_distance(dx, dy, ax, ay, bx - ax, by - ay)
                         if body < boundary - absolute_tolerance - relative_tolerance * boundary:
                             return True
-                        along = along and on_edge(theta, p0[0], p0[1], p1[0], p1[1], ax, ay, bx, by, on_tolerance)
+                        along = along and lines_meet(dx, dy, boundary, body, bx - ax, by - ay, on_tolerance)
                     if along:
                         covered = reserve_rows(covered, n_covered, n_covered + 1)
                         covered[n_covered, 0], covered[n_covered, 1], covered[n_covered, 2] = k, shared_lo, shared_hi
