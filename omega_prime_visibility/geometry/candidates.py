@@ -185,12 +185,12 @@ def candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_ob
     item_body = np.empty(n_items, dtype=np.int64)
     item_edge = np.full(n_items, -1, dtype=np.int64)  # a static item's edge
     k = 0
-    for j in range(m):
+    for j in range(m):  # squared distances here, roots once per body (a hypot per edge end cost a third)
         ax, ay = seg[j, 0, 0] - ox, seg[j, 0, 1] - oy
         bx, by = seg[j, 1, 0] - ox, seg[j, 1, 1] - oy
         dx, dy = nearest_offset(-ax, -ay, bx - ax, by - ay)
-        e_near = np.hypot(dx, dy)
-        e_far = max(np.hypot(ax, ay), np.hypot(bx, by))
+        e_near = dx * dx + dy * dy
+        e_far = max(ax * ax + ay * ay, bx * bx + by * by)
         b = seg_body[j]
         near[b] = min(near[b], e_near)
         far[b] = max(far[b], e_far)
@@ -199,8 +199,10 @@ def candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_ob
             ta = np.arctan2(ay, ax)
             item_lo[k] = ta if span >= 0 else ta + span
             item_width[k] = abs(span)
-            item_near[k], item_far[k], item_body[k], item_edge[k] = e_near, e_far, b, j
+            item_near[k], item_far[k], item_body[k], item_edge[k] = np.sqrt(e_near), np.sqrt(e_far), b, j
             k += 1
+    for b in range(n_bodies):
+        near[b], far[b] = np.sqrt(near[b]), np.sqrt(far[b])
     for b in range(n_objects):
         if blocking[b]:
             item_lo[k], item_width[k] = start[b] - CANDIDATE_EPS, width[b] + 2.0 * CANDIDATE_EPS
