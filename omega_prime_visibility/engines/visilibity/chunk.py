@@ -25,7 +25,7 @@ import numba
 import numpy as np
 
 from ...geometry.candidates import candidate_pairs
-from ...geometry.kernels import copy_into, reserve, unique_values
+from ...geometry.kernels import copy_into, reserve
 from ...geometry.object_pairs import objects_occluded
 from ...geometry.occlusion import _occludes_pairs
 from ...geometry.rings import Rings
@@ -125,8 +125,24 @@ def occlusion_by_view(
                 )
                 for q in range(len(check)):
                     certain[check[q]] = occluding[q]
-                # grouped by target, ascending within: objects first (body < n), static sources after
-                codes = unique_values(target[certain] * (n + n_sources) + body[certain])
+                # grouped by target, ascending within: objects first (body < n), static sources after (the pairs
+                # come grouped by target, ascending, each once: each group is sorted by insertion)
+                codes = np.empty(len(body), dtype=np.int64)
+                n_codes = 0
+                group = 0
+                for p in range(len(body)):
+                    if not certain[p]:
+                        continue
+                    code = target[p] * (n + n_sources) + body[p]
+                    if n_codes and codes[n_codes - 1] // (n + n_sources) != target[p]:
+                        group = n_codes
+                    a = n_codes
+                    while a > group and codes[a - 1] > code:
+                        codes[a] = codes[a - 1]
+                        a -= 1
+                    codes[a] = code
+                    n_codes += 1
+                codes = codes[:n_codes]
             occ = reserve(occ, n_occ, n_occ + len(codes))
             st = reserve(st, n_st, n_st + len(codes))
             q = 0
