@@ -174,14 +174,14 @@ def test_the_chunk_path_takes_each_environment_and_recomputes_polygons_that_skip
 
         return call
 
-    plain_environment = chunk.plain_environment
+    plain_environments = chunk.plain_environments
 
     def plain_where_it_applies(*args):
-        answer = plain_environment(*args)
-        calls["plain"] += bool(answer[0])
+        answer = plain_environments(*args)
+        calls["plain"] += int(answer[0].sum())
         return answer
 
-    monkeypatch.setattr(chunk, "plain_environment", plain_where_it_applies)
+    monkeypatch.setattr(chunk, "plain_environments", plain_where_it_applies)
     monkeypatch.setattr(VisiLibityEngine, "_build_environment", counted("general", VisiLibityEngine._build_environment))
     monkeypatch.setattr(chunk, "_frame_observation", counted("recomputed", chunk._frame_observation))
     # a car passes another and runs over a wall: plain environments, and general ones while bodies meet

@@ -1,5 +1,6 @@
 """The plain environment (engines/visilibity/plain.py): where it applies it is, to the bit, the environment the
-engine's general construction builds; it applies whenever no two bodies meet and no courtyard holds the viewpoint.
+engine's general construction builds; it applies whenever no two bodies meet and no courtyard holds the viewpoint;
+built for many viewpoints in one call, it is each one's.
 Random scenes (boxes, L, U and star-shaped buildings, lines, a courtyard building) with and without overlaps, at
 small and at map coordinates; the ring test on paper."""
 
@@ -13,7 +14,7 @@ from reference import random_scene
 
 from omega_prime_visibility.engines.visilibity import VisiLibityEngine
 from omega_prime_visibility.engines.visilibity.chunk import _parts_at
-from omega_prime_visibility.engines.visilibity.plain import APART, plain_environment, rings_apart
+from omega_prime_visibility.engines.visilibity.plain import APART, plain_environment, plain_environments, rings_apart
 from omega_prime_visibility.geometry.rings import Rings
 from omega_prime_visibility.inputs.scene import load_objects
 from omega_prime_visibility.inputs.statics import load_static_occluders
@@ -96,3 +97,50 @@ def test_the_plain_environment_is_the_general_construction(seed: int, offset: fl
         assert plain, "no two bodies meet, no courtyard holds the viewpoint: the environment is the plain one"
     if enclosed:
         assert not plain
+
+
+def test_many_viewpoints_in_one_call_are_each_ones() -> None:
+    """Three frames of traffic beside a courtyard building and one with the viewpoint in the courtyard, two
+    viewpoints a frame (all objects but the ego as holes; every other one): the batch gives each viewpoint's own
+    answer, back to back."""
+    rng = np.random.default_rng(3)
+    frames = []
+    for f in range(3):
+        observer, objects, _, _ = random_scene(rng, 8, overlap=f == 1, with_statics=False, include_ego=True)
+        frames.append((observer, objects))
+    frames.append((np.array([55.0, -25.0]), frames[0][1]))  # in the courtyard (the objects stay where they were)
+    engine = VisiLibityEngine(load_static_occluders([courtyard(40.0, -40.0)]))
+    singles, coords, offsets, starts, targets, eyes, in_envs = [], [], [0], [0], [0], [], []
+    for observer, objects in frames:
+        frame = load_objects(scene_table(observer, objects, True)).frame_objects(0)
+        origin = engine._use_origin(np.asarray(observer, dtype=np.float64))
+        ring_coords = np.ascontiguousarray(frame.rings.coords, dtype=np.float64)
+        ring_offsets = np.ascontiguousarray(frame.rings.offsets, dtype=np.int64)
+        eye = np.asarray(observer, dtype=np.float64) - origin
+        where = (*origin.tolist(), *eye.tolist())
+        parts = _parts_at(engine, origin)
+        for every in (1, 2):
+            env = np.zeros(len(frame), dtype=bool)
+            env[1::every] = True
+            single = plain_environment(ring_coords, ring_offsets, 0, len(frame), *where, env, *parts, engine.box_margin)
+            singles.append(single)
+            targets.append(targets[-1] + len(frame))
+            eyes.append(eye)
+            in_envs.append(env)
+        coords.append(ring_coords)
+        offsets += (ring_offsets[1:] + offsets[-1]).tolist()
+        starts.append(starts[-1] + len(frame))
+    views = np.arange(len(singles), dtype=np.int64)
+    origins = np.zeros((len(views), 2))
+    frame_of_view = views // 2
+    rings = (np.concatenate(coords), np.array(offsets, dtype=np.int64))
+    plain, vertex_offsets, vertices, count_offsets, counts = plain_environments(
+        views, frame_of_view, np.array(starts, dtype=np.int64), np.array(targets, dtype=np.int64),
+        np.concatenate(in_envs), *rings, origins, np.array(eyes), *_parts_at(engine, origins[0]), engine.box_margin,
+    )  # fmt: skip
+    assert plain.tolist() == [single[0] for single in singles]
+    assert plain[0] and not plain[6] and not plain[7]  # the courtyard holds the last two viewpoints
+    for i, (ok, own_vertices, own_counts) in enumerate(singles):
+        if ok:
+            assert np.array_equal(vertices[vertex_offsets[i] : vertex_offsets[i + 1]], own_vertices)
+            assert np.array_equal(counts[count_offsets[i] : count_offsets[i + 1]], own_counts)

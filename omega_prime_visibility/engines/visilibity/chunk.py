@@ -34,7 +34,7 @@ from .. import ChunkObservation, ChunkViewpoints, Observation, Viewpoint, reason
 from .attribution import attribute_visible_angles
 from .chunk_geometry import angular_extents, static_blocking, view_segments
 from .conversion import grid_origin, visibility_polygon_coords, visibility_polygon_flat
-from .plain import plain_environment
+from .plain import plain_environments
 from .polygon_check import CHECK_ABSOLUTE, CHECK_RELATIVE, ON_EDGE, polygon_fails
 
 
@@ -312,33 +312,50 @@ def _parts_at(engine: Any, origin: np.ndarray) -> tuple[np.ndarray, np.ndarray, 
 
 def _visibility_polygons(engine, objects, views, frame_of_view, origins, eyes, in_env, blocked) -> list[np.ndarray]:
     """VisiLibity's visibility polygon of every blocked viewpoint (relative to its origin; empty where none), in the
-    plain environment where it applies (:mod:`.plain`), else in the engine's general construction."""
+    plain environment where it applies (:mod:`.plain`, a batch of viewpoints of a grid cell at a time), else in the
+    engine's general construction."""
     coords = np.ascontiguousarray(objects.rings.coords, dtype=np.float64)
     offsets = np.ascontiguousarray(objects.rings.offsets, dtype=np.int64)
-    frame_starts, target_offsets = objects.frame_starts, views.target_offsets
-    parts_at: dict[tuple[float, float], tuple] = {}
+    frame_starts = np.ascontiguousarray(objects.frame_starts, dtype=np.int64)
+    target_offsets = np.ascontiguousarray(views.target_offsets, dtype=np.int64)
     polygons = [_NO_POLYGON] * len(eyes)
-    for v in np.flatnonzero(blocked).tolist():
+    blocked_views = np.flatnonzero(blocked)
+    inside_static = views.static_offsets[blocked_views + 1] > views.static_offsets[blocked_views]
+    general = blocked_views[inside_static].tolist()
+    candidates = blocked_views[~inside_static]
+    keys, key_of = np.unique(origins[candidates], axis=0, return_inverse=True)
+    for key, origin in enumerate(keys):
+        parts = _parts_at(engine, origin)
+        in_cell = candidates[key_of.ravel() == key]
+        for first in range(0, len(in_cell), PLAIN_BATCH):
+            batch = np.ascontiguousarray(in_cell[first : first + PLAIN_BATCH], dtype=np.int64)
+            plain, vertex_offsets, vertices, count_offsets, counts = plain_environments(
+                batch, frame_of_view, frame_starts, target_offsets, in_env, coords, offsets, origins, eyes, *parts,
+                engine.box_margin,
+            )  # fmt: skip
+            for i, v in enumerate(batch.tolist()):
+                if not plain[i]:
+                    general.append(v)
+                    continue
+                ox, oy = eyes[v].tolist()
+                own = vertices[vertex_offsets[i] : vertex_offsets[i + 1]]
+                polygons[v] = visibility_polygon_flat(own, counts[count_offsets[i] : count_offsets[i + 1]], ox, oy,
+                                                      engine.epsilon)  # fmt: skip
+    for v in general:  # groups of bodies that meet, enclosures, viewpoints inside static occluders
         f = int(frame_of_view[v])
         s, e = int(frame_starts[f]), int(frame_starts[f + 1])
         env = in_env[target_offsets[v] : target_offsets[v] + e - s]
-        (gx, gy), (ox, oy) = origins[v].tolist(), eyes[v].tolist()
-        plain = False
-        if views.static_offsets[v + 1] == views.static_offsets[v]:  # inside no static occluder
-            parts = parts_at.get((gx, gy)) or parts_at.setdefault((gx, gy), _parts_at(engine, origins[v]))
-            plain, vertices, counts = plain_environment(coords, offsets, s, e, gx, gy, ox, oy, env, *parts,
-                                                        engine.box_margin)  # fmt: skip
-        if plain:
-            polygons[v] = visibility_polygon_flat(vertices, counts, ox, oy, engine.epsilon)
-            continue
-        # groups of bodies that meet, enclosures, viewpoints inside static occluders
         rel = coords[offsets[s] : offsets[e]] - origins[v]
         local = offsets[s : e + 1] - offsets[s]
         engine._use_origin(views.position[v])
         static_blocking = ~_static_transparent(views, engine.statics.n_sources, v)
         polys = engine._build_environment(Rings(rel, local), env, static_blocking, eyes[v])
-        polygons[v] = visibility_polygon_coords(polys, ox, oy, engine.epsilon)
+        polygons[v] = visibility_polygon_coords(polys, *eyes[v].tolist(), engine.epsilon)
     return polygons
+
+
+PLAIN_BATCH = 256
+"""Viewpoints whose plain environments are built in one call (their vertices held at once)."""
 
 
 _NO_POLYGON = np.zeros((0, 2))

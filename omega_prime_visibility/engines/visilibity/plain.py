@@ -16,7 +16,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...geometry.kernels import cross_properly, nearest_offset
+from ...geometry.kernels import copy_into, copy_rows, cross_properly, nearest_offset, reserve, reserve_rows
 from ...geometry.rings import ring_covers_point
 from .conversion import box_overlaps
 
@@ -139,3 +139,50 @@ def plain_environment(coords, offsets, s, e, gx, gy, ox, oy, in_env, parts, part
     vertices[2, 0], vertices[2, 1] = x1, y1
     vertices[3, 0], vertices[3, 1] = x0, y1
     return True, vertices, counts
+
+
+@numba.njit(cache=True)
+def plain_environments(
+    views, frame_of_view, frame_starts, target_offsets, in_env, coords, offsets, origins, eyes, parts, part_offsets,
+    part_encloses, margin,
+):  # fmt: skip
+    """:func:`plain_environment` of each viewpoint ``views[i]`` of a chunk (all in one grid cell, whose static parts
+    are given, and inside no static occluder), in one call.
+
+    Parameters
+    ----------
+    views : ndarray, shape (k,), int64
+        Viewpoint numbers; ``frame_of_view[v]`` is the frame position of viewpoint ``v``, ``frame_starts`` the
+        frames' first rows, ``target_offsets[v]`` its first target (one per object of its frame), ``in_env`` the
+        holes of its environment, ``origins[v]`` and ``eyes[v]`` its grid origin and position relative to it.
+
+    Returns
+    -------
+    plain : ndarray of bool, shape (k,)
+    vertex_offsets, count_offsets : ndarray, shape (k + 1,), int64
+    vertices, counts : ndarray
+        Viewpoint ``views[i]``'s environment (where plain) is ``vertices[vertex_offsets[i]:vertex_offsets[i + 1]]``
+        and ``counts[count_offsets[i]:count_offsets[i + 1]]``, as :func:`plain_environment` gives them.
+    """
+    k = len(views)
+    plain = np.zeros(k, dtype=np.bool_)
+    vertex_offsets = np.zeros(k + 1, dtype=np.int64)
+    count_offsets = np.zeros(k + 1, dtype=np.int64)
+    vertices = np.empty((0, 2))
+    counts = np.empty(0, dtype=np.int64)
+    for i in range(k):
+        v = views[i]
+        f = frame_of_view[v]
+        s, e = frame_starts[f], frame_starts[f + 1]
+        t0 = target_offsets[v]
+        plain[i], found, found_counts = plain_environment(
+            coords, offsets, s, e, origins[v, 0], origins[v, 1], eyes[v, 0], eyes[v, 1], in_env[t0 : t0 + e - s],
+            parts, part_offsets, part_encloses, margin,
+        )  # fmt: skip
+        vertices = reserve_rows(vertices, vertex_offsets[i], vertex_offsets[i] + len(found))
+        copy_rows(vertices, vertex_offsets[i], found)
+        vertex_offsets[i + 1] = vertex_offsets[i] + len(found)
+        counts = reserve(counts, count_offsets[i], count_offsets[i] + len(found_counts))
+        copy_into(counts, count_offsets[i], found_counts)
+        count_offsets[i + 1] = count_offsets[i] + len(found_counts)
+    return plain, vertex_offsets, vertices[: vertex_offsets[k]], count_offsets, counts[: count_offsets[k]]
