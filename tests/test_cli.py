@@ -420,12 +420,15 @@ def test_help_reads_as_a_shell_user_expects() -> None:
         assert "sampled" not in out.stdout
 
 
-def test_a_run_imports_nothing_it_does_not_need() -> None:
+@pytest.mark.parametrize("output", ["print", "parquet"])
+def test_a_run_imports_nothing_it_does_not_need(output: str, tmp_path) -> None:
     # issue 41: the plotting package (its animation module pulled in matplotlib's friends: 0.17 s) and
-    # pyarrow.compute (polars converting a pyarrow list column: 0.13 s) are not needed to print a table
+    # pyarrow.compute (polars converting a pyarrow list column: 0.13 s) are not needed to print a table; nor is
+    # pandas to write one (pyarrow's pa.array of a numpy array imported it: 0.25 s)
+    where = "'--rows', '0'" if output == "print" else f"'-o', {str(tmp_path / 'out.parquet')!r}"
     code = (
         "import sys; from omega_prime_visibility.cli import main; "
-        "sys.argv = ['omega-prime-visibility', 'run', 'highway_merge.mcap', '--engine', 'sweep', '--rows', '0', "
+        f"sys.argv = ['omega-prime-visibility', 'run', 'highway_merge.mcap', '--engine', 'sweep', {where}, "
         "'--no-progress']\n"
         "try:\n    main()\nexcept SystemExit:\n    pass\n"
         "loaded = ('omega_prime', 'matplotlib', 'pyarrow.compute', 'omega_prime_visibility.plot.animate', 'pandas')\n"
