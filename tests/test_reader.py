@@ -34,7 +34,7 @@ def omega_primes(path: Path) -> omega_prime.Recording:
 def assert_same_as_omega_prime(path: Path) -> TraceRecording:
     ours, theirs = read_mcap(path), omega_primes(path)
     columns = [c for c in theirs._df.columns if c not in ("geometry", "polygon")]
-    assert_frame_equal(ours.table, theirs._df.select(columns))  # rows, order, dtypes, values, box corners
+    assert_frame_equal(ours.table, theirs._df.select(columns), check_exact=True)  # rows, order, dtypes, values, corners
     assert ours._df.columns == [*columns, "polygon"]  # the shapely outlines when asked for
     mine, omegas = (shapely.get_coordinates(r._df["polygon"].to_numpy()) for r in (ours, theirs))
     assert np.array_equal(mine, omegas)  # the outlines to the bit

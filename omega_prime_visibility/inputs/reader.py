@@ -305,10 +305,12 @@ def _as_omega_prime(df: pl.DataFrame) -> pl.DataFrame:
     )
     if df.height == 0:  # (reshaping nothing is refused)
         return df.with_columns(pl.Series("coords", [], dtype=pl.Array(pl.Float64, (1, 5, 2))))
-    dxl = (pl.col("length") / 2) * pl.col("yaw").cos()
-    dxw = (pl.col("width") / 2) * pl.col("yaw").sin()
-    dyl = (pl.col("length") / 2) * pl.col("yaw").sin()
-    dyw = (pl.col("width") / 2) * pl.col("yaw").cos()
+    # omega-prime's expressions, the sine and cosine from polars, the arithmetic in numpy (the same operations on
+    # the same numbers; polars' nested lists took a third of a second on 150,000 rows)
+    turn = df.select(pl.col("yaw").cos().alias("cos"), pl.col("yaw").sin().alias("sin"))
+    cos, sin = turn["cos"].to_numpy(), turn["sin"].to_numpy()
+    half_length, half_width = df["length"].to_numpy() / 2, df["width"].to_numpy() / 2
+    dxl, dxw, dyl, dyw = half_length * cos, half_width * sin, half_length * sin, half_width * cos
     corners = [
         (dxl - dxw, dyl + dyw),
         (dxl + dxw, dyl - dyw),
@@ -316,8 +318,12 @@ def _as_omega_prime(df: pl.DataFrame) -> pl.DataFrame:
         (-dxl - dxw, -dyl + dyw),
         (dxl - dxw, dyl + dyw),
     ]
-    ring = pl.concat_list(pl.concat_list(pl.col("x") + dx, pl.col("y") + dy) for dx, dy in corners)
-    return df.with_columns(ring.reshape((df.height, 1, 5, 2)).alias("coords"))
+    x, y = df["x"].to_numpy(), df["y"].to_numpy()
+    ring = np.empty((df.height, 1, 5, 2))
+    for k, (dx, dy) in enumerate(corners):
+        ring[:, 0, k, 0] = x + dx
+        ring[:, 0, k, 1] = y + dy
+    return df.with_columns(pl.Series("coords", ring, dtype=pl.Array(pl.Float64, (1, 5, 2))))
 
 
 def warm_up() -> None:
