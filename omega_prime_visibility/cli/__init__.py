@@ -4,6 +4,7 @@ or MP4, ``report`` an interactive HTML page."""
 
 from __future__ import annotations
 
+import gc
 import sys
 
 from ..batch.forkserver import start_early
@@ -36,5 +37,13 @@ def engines() -> None:
 
 
 def main() -> None:
-    """The ``omega-prime-visibility`` command."""
-    app(sys.argv[1:])
+    """The ``omega-prime-visibility`` command.
+
+    The objects made so far (the imported modules') are frozen out of the garbage collector's way, and again what
+    is left at the end: a short run spent a fifth of its time collecting and tearing down garbage that was none.
+    """
+    gc.freeze()
+    try:
+        app(sys.argv[1:])
+    finally:
+        gc.freeze()
