@@ -324,6 +324,7 @@ def _visibility_polygons(engine, objects, views, frame_of_view, origins, eyes, i
     general = blocked_views[inside_static].tolist()
     candidates = blocked_views[~inside_static]
     keys, key_of = np.unique(origins[candidates], axis=0, return_inverse=True)
+    eye = eyes.tolist()
     for key, origin in enumerate(keys):
         parts = _parts_at(engine, origin)
         in_cell = candidates[key_of.ravel() == key]
@@ -333,13 +334,13 @@ def _visibility_polygons(engine, objects, views, frame_of_view, origins, eyes, i
                 batch, frame_of_view, frame_starts, target_offsets, in_env, coords, offsets, origins, eyes, *parts,
                 engine.box_margin,
             )  # fmt: skip
+            vertex_offsets, count_offsets, plain = vertex_offsets.tolist(), count_offsets.tolist(), plain.tolist()
             for i, v in enumerate(batch.tolist()):
                 if not plain[i]:
                     general.append(v)
                     continue
-                ox, oy = eyes[v].tolist()
                 own = vertices[vertex_offsets[i] : vertex_offsets[i + 1]]
-                polygons[v] = visibility_polygon_flat(own, counts[count_offsets[i] : count_offsets[i + 1]], ox, oy,
+                polygons[v] = visibility_polygon_flat(own, counts[count_offsets[i] : count_offsets[i + 1]], *eye[v],
                                                       engine.epsilon)  # fmt: skip
     for v in general:  # groups of bodies that meet, enclosures, viewpoints inside static occluders
         f = int(frame_of_view[v])
