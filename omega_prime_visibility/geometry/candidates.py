@@ -222,9 +222,10 @@ def candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_ob
     for r in range(len(targets)):
         t = targets[r]
         # room for a pair with every body (grown per target: an array rebound per pair costs reference counting)
-        out_body = reserve(out_body, k, k + n_bodies)
-        out_target = reserve(out_target, k, k + n_bodies)
-        out_certain = reserve(out_certain, k, k + n_bodies)
+        if k + n_bodies > len(out_body):
+            out_body = reserve(out_body, k, k + n_bodies)
+            out_target = reserve(out_target, k, k + n_bodies)
+            out_certain = reserve(out_certain, k, k + n_bodies)
         first, last = bin_range(start[t], width[t], n_bins, 0)
         for q in range(first, last + 1):
             c = q % n_bins

@@ -202,7 +202,8 @@ def _unhidden(px, py, start, lo, hi, ax, ay, bx, by, seg, seg_offsets, occluders
                 fx, fy = dx - cx, dy - cy
                 h_lo, h_hi = hidden_span(start, shared_lo, shared_hi, num_e, ex, ey, cx * fy - cy * fx, fx, fy)
                 if h_hi > h_lo:
-                    hidden = reserve_rows(hidden, n_hidden, n_hidden + 1)
+                    if n_hidden == len(hidden):  # (rebinding the array on every pass costs reference counting)
+                        hidden = reserve_rows(hidden, n_hidden, n_hidden + 1)
                     hidden[n_hidden, 0], hidden[n_hidden, 1] = h_lo, h_hi
                     n_hidden += 1
     pieces = np.empty((n_hidden + 1, 2))

@@ -147,7 +147,8 @@ def polygon_fails(pts, seg, check, absolute_tolerance, relative_tolerance, on_to
                             return True
                         along = along and lines_meet(dx, dy, boundary, body, bx - ax, by - ay, on_tolerance)
                     if along:
-                        covered = reserve_rows(covered, n_covered, n_covered + 1)
+                        if n_covered == len(covered):  # (rebinding on every pass costs reference counting)
+                            covered = reserve_rows(covered, n_covered, n_covered + 1)
                         covered[n_covered, 0], covered[n_covered, 1], covered[n_covered, 2] = k, shared_lo, shared_hi
                         n_covered += 1
                 k += 1
