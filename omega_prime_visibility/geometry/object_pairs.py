@@ -49,7 +49,7 @@ def pieces_occlude(seg, t_start, t_stop, j_start, j_stop, extent_start, extent_w
     return False
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def objects_occluded(seg, offsets, start, width, pair_target, pair_body, ox, oy):
     """``occludes_one`` for each pair of objects ``(pair_body[p], pair_target[p])`` (grouped by target), shape (p,)
     bool: the same floating-point operations on the same operands, without the work it repeats on every call.
