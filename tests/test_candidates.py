@@ -16,6 +16,7 @@ import shapely
 from omega_prime_visibility.geometry.candidates import MIN_PIECE, candidate_pairs, certainly_occludes
 from omega_prime_visibility.geometry.kernels import nearest_offset
 from omega_prime_visibility.geometry.occlusion import occludes
+from omega_prime_visibility.geometry.rings import Rings, angular_extent
 
 
 def wrap(angle: float) -> float:
@@ -164,6 +165,31 @@ def test_a_wall_beside_a_target_is_no_candidate_unless_nearer_within_its_bearing
         body, _, certain, _ = candidate_pairs(0.0, 0.0, seg, seg_body, blocking, np.array([0]), start, width, 1)
         assert body.tolist() == ([1] if pair else [])
         assert certain.all()
+
+
+def test_a_wall_meeting_a_wide_target_twice_is_found() -> None:
+    """A U-shaped target around the observer's side, (-3, 5), (5, 5), (5, -5), (-3, -5), (-3, -4), (4, -4), (4, 4),
+    (-3, 4): its extent runs from -126.9 degrees round through 0 to 126.9 degrees (253.7 degrees), its farthest
+    point 7.07 m away. A thin static triangle from 40 m out at 124 to 125 degrees to 3.5 m out at -110 degrees: each
+    long edge meets the extent in two pieces, 124 to 126.9 degrees (23 to 40 m away, behind the target) and -126.9
+    to -110 degrees (2.9 to 3.5 m away, in front of its arm). The pair is kept and the exact test finds it hides the
+    target (judging the first piece alone lost it)."""
+    u = np.array([(-3, 5), (5, 5), (5, -5), (-3, -5), (-3, -4), (4, -4), (4, 4), (-3, 4)], dtype=float)
+    base = [40 * np.array([np.cos(np.radians(d)), np.sin(np.radians(d))]) for d in (124.0, 125.0)]
+    apex = 3.5 * np.array([np.cos(np.radians(-110.0)), np.sin(np.radians(-110.0))])
+    triangle = np.array([base[0], base[1], apex])
+    seg = np.array(
+        [[u[k], u[(k + 1) % len(u)]] for k in range(len(u))] + [[triangle[k], triangle[(k + 1) % 3]] for k in range(3)]
+    )
+    seg_body = np.array([0] * len(u) + [1] * 3, dtype=np.int64)
+    start, width, _ = angular_extent(np.zeros(2), Rings(u, np.array([0, len(u)])))
+    assert np.degrees(width[0]) == pytest.approx(253.74, abs=0.01)
+    body, target, certain, _ = candidate_pairs(
+        0.0, 0.0, seg, seg_body, np.array([True, True]), np.array([0]), start, width, 1
+    )
+    assert body.tolist() == [1] and not certain[0]
+    offsets = np.array([0, len(u), len(u) + 3], dtype=np.int64)
+    assert occludes(np.zeros(2), seg, offsets, body, target, start, width).tolist() == [True]
 
 
 def test_a_static_edge_is_accepted_only_nearer_by_its_margin() -> None:

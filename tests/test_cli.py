@@ -430,9 +430,11 @@ def test_a_run_imports_nothing_it_does_not_need(output: str, tmp_path) -> None:
         "import sys; from omega_prime_visibility.cli import main; "
         f"sys.argv = ['omega-prime-visibility', 'run', 'highway_merge.mcap', '--engine', 'sweep', {where}, "
         "'--no-progress']\n"
-        "try:\n    main()\nexcept SystemExit:\n    pass\n"
+        "status = 0\ntry:\n    main()\nexcept SystemExit as stop:\n    status = stop.code or 0\n"
         "loaded = ('omega_prime', 'matplotlib', 'pyarrow.compute', 'omega_prime_visibility.plot.animate', 'pandas')\n"
-        "print('imported:', sorted(m for m in loaded if m in sys.modules))"
+        "print('exit', status, 'imported:', sorted(m for m in loaded if m in sys.modules))"
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=REPO, timeout=600)
-    assert done.stdout.strip().splitlines()[-1] == "imported: []", done.stderr
+    assert done.stdout.strip().splitlines()[-1] == "exit 0 imported: []", done.stderr
+    if output == "parquet":  # the run did its work
+        assert pl.read_parquet(tmp_path / "out.parquet").height == 1206  # every row of the printed table

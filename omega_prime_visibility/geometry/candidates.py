@@ -7,7 +7,10 @@ A blocking object is one item, its angular extent (with :data:`CANDIDATE_EPS` to
 items of its own bearings. A pair is a candidate when an item overlaps the target's extent and comes nearer than
 the target's farthest point: every body with an edge doing so is among them (an object's extent holds all its
 edges' bearings, its nearest point is at most any edge's distance), and a pair found only through the object's
-whole extent is left to the exact test, which finds no occlusion where no edge is nearer.
+whole extent is left to the exact test, which finds no occlusion where no edge is nearer. A static edge must
+moreover come nearer than the target's farthest point *within the target's bearings* (:func:`nearest_within`: a
+building's side along the street is near the observer, but beside the targets on the street); where that cannot
+be told safely (the edge meets the extent in two pieces, or over under :data:`FILTER_MIN_OVERLAP`) the pair stays.
 
 Public, for the engines: :func:`candidate_pairs`, :func:`certainly_occludes`, :func:`bearing_bins`,
 :func:`bin_range`.
@@ -31,6 +34,10 @@ STATIC_ACCEPT_ANGLE = 1e-9
 
 STATIC_ACCEPT_RELATIVE = 1e-7
 """... and it must lie nearer than ``1 - STATIC_ACCEPT_RELATIVE`` times the target's nearest distance."""
+
+FILTER_MIN_OVERLAP = 1e-6
+"""Radians: a static edge meeting a target's bearings over less (nearly pointing at the observer, where distances
+along those bearings are ill-conditioned) is left to the exact test."""
 
 NEARER_MARGIN = 1e-9
 """A static edge coming no nearer than ``1 + NEARER_MARGIN`` times a target's farthest point within its bearings
@@ -132,9 +139,18 @@ def nearest_within(ax, ay, bx, by, lo, width):
 
 
 @numba.njit(cache=True, inline="always")
+def _two_pieces(lo, width, start_t, width_t):
+    """Whether the bearings ``[lo, lo + width]`` meet a target's extent in two pieces (a concave target's extent
+    wider than half a turn, an edge reaching round to its other end)."""
+    rel = wrap_positive(lo - start_t)
+    return rel < width_t and rel + width > TWO_PI
+
+
+@numba.njit(cache=True, inline="always")
 def _overlap(lo, width, start_t, width_t):
-    """Radians shared by the bearings ``[lo, lo + width]`` and a target's extent ``[start_t, start_t + width_t]``
-    (at most one of the two wraps round the other); -1 when they do not meet."""
+    """Radians shared by the bearings ``[lo, lo + width]`` and a target's extent ``[start_t, start_t + width_t]``,
+    the piece that starts in the extent, else the one the interval enters it with; -1 when they do not meet. (Where
+    the two widths exceed a full turn, they can meet in two pieces: see :func:`_two_pieces`.)"""
     rel = wrap_positive(lo - start_t)
     if rel < width_t:
         return min(width_t - rel, width)
@@ -185,24 +201,33 @@ def candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_ob
     item_body = np.empty(n_items, dtype=np.int64)
     item_edge = np.full(n_items, -1, dtype=np.int64)  # a static item's edge
     k = 0
-    for j in range(m):  # squared distances here, roots once per body (a hypot per edge end cost a third)
+    # each body's nearest and farthest point, chosen by squared norms, measured once by hypot (a hypot per edge end
+    # cost a third of the search)
+    nearest = np.zeros((n_bodies, 3))  # squared norm, x, y
+    farthest = np.zeros((n_bodies, 3))
+    nearest[:, 0] = np.inf
+    farthest[:, 0] = -1.0
+    for j in range(m):
         ax, ay = seg[j, 0, 0] - ox, seg[j, 0, 1] - oy
         bx, by = seg[j, 1, 0] - ox, seg[j, 1, 1] - oy
         dx, dy = nearest_offset(-ax, -ay, bx - ax, by - ay)
-        e_near = dx * dx + dy * dy
-        e_far = max(ax * ax + ay * ay, bx * bx + by * by)
+        fx, fy = (ax, ay) if ax * ax + ay * ay >= bx * bx + by * by else (bx, by)
         b = seg_body[j]
-        near[b] = min(near[b], e_near)
-        far[b] = max(far[b], e_far)
+        if dx * dx + dy * dy < nearest[b, 0]:
+            nearest[b, 0], nearest[b, 1], nearest[b, 2] = dx * dx + dy * dy, dx, dy
+        if fx * fx + fy * fy > farthest[b, 0]:
+            farthest[b, 0], farthest[b, 1], farthest[b, 2] = fx * fx + fy * fy, fx, fy
         if b >= n_objects and blocking[b]:
             span = np.arctan2(ax * by - ay * bx, ax * bx + ay * by)
             ta = np.arctan2(ay, ax)
             item_lo[k] = ta if span >= 0 else ta + span
             item_width[k] = abs(span)
-            item_near[k], item_far[k], item_body[k], item_edge[k] = np.sqrt(e_near), np.sqrt(e_far), b, j
+            item_near[k], item_far[k] = np.hypot(dx, dy), np.hypot(fx, fy)
+            item_body[k], item_edge[k] = b, j
             k += 1
     for b in range(n_bodies):
-        near[b], far[b] = np.sqrt(near[b]), np.sqrt(far[b])
+        if np.isfinite(nearest[b, 0]):
+            near[b], far[b] = np.hypot(nearest[b, 1], nearest[b, 2]), np.hypot(farthest[b, 1], farthest[b, 2])
     for b in range(n_objects):
         if blocking[b]:
             item_lo[k], item_width[k] = start[b] - CANDIDATE_EPS, width[b] + 2.0 * CANDIDATE_EPS
@@ -250,7 +275,7 @@ def candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_ob
                 if seen[b] == t:  # a static body met through another edge
                     out_certain[pair_of[b]] |= certain
                     continue
-                if not is_object and not certain:
+                if not is_object and not certain and overlap >= FILTER_MIN_OVERLAP:
                     # a wall beside the target (a building's side along the street) is nearer somewhere, but not
                     # within the target's bearings: no pair unless it comes nearer than the target there
                     j = item_edge[it]
@@ -258,7 +283,8 @@ def candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_ob
                     lo = item_lo[it] if rel < width[t] else start[t]
                     ax, ay = seg[j, 0, 0] - ox, seg[j, 0, 1] - oy
                     bx, by = seg[j, 1, 0] - ox, seg[j, 1, 1] - oy
-                    if nearest_within(ax, ay, bx, by, lo, overlap) >= far[t] * (1.0 + NEARER_MARGIN):
+                    two = _two_pieces(item_lo[it], item_width[it], start[t], width[t])
+                    if not two and nearest_within(ax, ay, bx, by, lo, overlap) >= far[t] * (1.0 + NEARER_MARGIN):
                         continue
                 seen[b], pair_of[b] = t, k
                 out_body[k], out_target[k], out_certain[k] = b, t, certain

@@ -42,7 +42,8 @@ SMALL_PX = 7.0
 size filled with its colour, as its outline alone would cover its fill."""
 EGO_DETAIL_PX = 40.0
 """Pixels: an ego drawn smaller than this across (a sensors' reach of 80 m) gets no dots at its sensors' mounts (the
-fields of view start there) and a star of at most :data:`STAR_SHARE` of its size, so its colour stays in sight."""
+fields of view start there) and a star of :data:`STAR_SHARE` of its size (4 points at least), so its colour stays
+in sight."""
 STAR_SHARE = 0.4
 STAR_PT = 10.0  # points: the star at the ego's centre where the ego is large enough
 

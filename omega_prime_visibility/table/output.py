@@ -225,9 +225,24 @@ def _numbers(values, type_: pa.DataType) -> pa.Array:
     [1, 2]
     >>> _numbers(np.array([True, False, True]), pa.bool_()).to_pylist()
     [True, False, True]
+    >>> _numbers(np.array([1.5]), pa.int64())
+    Traceback (most recent call last):
+    ...
+    TypeError: the values of an Arrow int64 column changed on conversion from float64
     """
     if pa.types.is_boolean(type_):
-        bits = np.packbits(np.asarray(values, dtype=bool), bitorder="little")
-        return pa.Array.from_buffers(type_, len(values), [None, pa.py_buffer(bits)])
+        flags = np.asarray(values, dtype=bool)
+        _same(flags, values, type_)
+        bits = np.packbits(flags, bitorder="little")
+        return pa.Array.from_buffers(type_, len(flags), [None, pa.py_buffer(bits)])
     data = np.ascontiguousarray(values, dtype=type_.to_pandas_dtype())
+    _same(data, values, type_)
     return pa.Array.from_buffers(type_, len(data), [None, pa.py_buffer(data)])
+
+
+def _same(converted: np.ndarray, values, type_: pa.DataType) -> None:
+    """A TypeError where converting ``values`` to ``type_`` changed them (a fraction cut, a negative number made
+    unsigned, a missing value made False), as ``pa.array`` refused them."""
+    original = np.asarray(values)
+    if original.dtype != converted.dtype and not np.array_equal(converted, original):
+        raise TypeError(f"the values of an Arrow {type_} column changed on conversion from {original.dtype}")

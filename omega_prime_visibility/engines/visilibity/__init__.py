@@ -15,11 +15,15 @@ Per frame and observer:
    along some body's boundary (it then lies on one original edge, found as the nearest edge to the edge's
    midpoint) or points straight at the observer (it subtends no angle). The angle subtended by a body's edges is
    its visible angle.
-4. Occluders: candidate bodies have an edge inside the target's angular extent nearer than the target's farthest
-   point; the exact pairwise test of :mod:`..occlusion` keeps those really hit before the target.
+4. Occluders: candidates are blocking objects whose extent meets the target's and static edges that come nearer
+   than the target's farthest point within its bearings (:mod:`...geometry.candidates`); those certain to occlude
+   (wholly nearer) are kept at once, the exact pairwise test of :mod:`...geometry.occlusion` keeps the others
+   really hit before the target. A target hidden behind a single nearer object is left out of the environment and
+   sees nothing.
 
 When every viewpoint of a chunk of frames sees all around without range, :mod:`.chunk` runs these steps over the
-whole chunk in compiled loops around VisiLibity's calls, with the same numbers.
+whole chunk in compiled loops around VisiLibity's calls, with the same numbers; where no two bodies meet, step 2
+is the plain environment of :mod:`.plain` (the bodies themselves as holes).
 """
 
 from .engine import VisiLibityEngine
