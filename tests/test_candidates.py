@@ -87,14 +87,27 @@ def test_candidates_decide_exactly_the_occluders_of_every_edge(seed: int, offset
     sizes = rng.uniform(0.3, 12.0, (n, 2))
     if seed % 5 == 2:
         sizes[: n // 2] = (4.5, 1.8)
+    object_rings = [
+        np.array(box_edges(cx, cy, lx, ly))[:, 0] for (cx, cy), (lx, ly) in zip(centres, sizes, strict=True)
+    ]
+    if seed % 4 == 1:  # a U-shaped object round the viewpoint: a concave extent wider than half a turn
+        turn = rng.uniform(-math.pi, math.pi)
+        u = np.array([(-3, 5), (5, 5), (5, -5), (-3, -5), (-3, -4), (4, -4), (4, 4), (-3, 4)], dtype=float)
+        object_rings[0] = u @ np.array([[math.cos(turn), math.sin(turn)], [-math.sin(turn), math.cos(turn)]])
     seg, seg_body = [], []
-    for b, ((cx, cy), (lx, ly)) in enumerate(zip(centres, sizes, strict=True)):
-        seg += box_edges(cx, cy, lx, ly)
-        seg_body += [b] * 4
-    n_static = int(rng.integers(0, 4))
-    for k in range(n_static):  # static bodies (n, n + 1, ...): L-shapes, some far, some among the objects
-        corner = rng.uniform(-60, 60, 2)
-        edges_of = l_shape_edges(*corner, float(rng.uniform(4.0, 30.0)))
+    for b, ring in enumerate(object_rings):
+        seg += [[ring[k], ring[(k + 1) % len(ring)]] for k in range(len(ring))]
+        seg_body += [b] * len(ring)
+    n_static = int(rng.integers(1 if seed % 4 == 1 else 0, 4))
+    for k in range(n_static):  # static bodies (n, n + 1, ...): L-shapes and thin triangles reaching round
+        if k == 0 and seed % 4 == 1:  # far beyond one end of the U's extent, near in front of its other arm
+            a = turn + math.radians(124.0 + rng.uniform(-1.0, 1.0))
+            b = turn - math.radians(110.0 + rng.uniform(-5.0, 5.0))
+            ring = [40 * np.array([math.cos(a), math.sin(a)]), 40 * np.array([math.cos(a + 0.02), math.sin(a + 0.02)]),
+                    3.5 * np.array([math.cos(b), math.sin(b)])]  # fmt: skip
+            edges_of = [[ring[q], ring[(q + 1) % 3]] for q in range(3)]
+        else:
+            edges_of = l_shape_edges(*rng.uniform(-60, 60, 2), float(rng.uniform(4.0, 30.0)))
         seg += edges_of
         seg_body += [n + k] * len(edges_of)
     seg = np.asarray(seg, dtype=float) + offset
@@ -105,14 +118,11 @@ def test_candidates_decide_exactly_the_occluders_of_every_edge(seed: int, offset
     rings = [shapely.Polygon(seg[seg_body == b, 0]) for b in range(n + n_static)]
     outside = ~shapely.intersects(rings, shapely.Point(ox, oy))
     blocking &= outside
-    start, width = np.empty(n), np.empty(n)
-    for b in range(n):  # each body's extent: its corners' bearings (boxes away from the viewpoint: under pi)
-        angles = np.arctan2(seg[seg_body == b, 0, 1] - oy, seg[seg_body == b, 0, 0] - ox)
-        order = np.sort(np.mod(angles - angles[0], 2 * math.pi))
-        gaps = np.diff(np.concatenate([order, [order[0] + 2 * math.pi]]))
-        k = int(np.argmax(gaps))
-        start[b] = angles[0] + order[(k + 1) % 4]
-        width[b] = 2 * math.pi - gaps[k]
+    coords = np.concatenate(object_rings) + offset
+    ring_offsets = np.concatenate([[0], np.cumsum([len(r) for r in object_rings])]).astype(np.int64)
+    start, width, _ = angular_extent(np.array([ox, oy]), Rings(coords, ring_offsets))
+    if seed % 4 == 1:
+        assert width[0] > math.pi and outside[0]
     targets = np.flatnonzero((rng.random(n) < 0.7) & outside[:n]).astype(np.int64)
     body, target, certain, hidden = candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n)
     want, want_hidden = every_edge(ox, oy, seg, seg_body, blocking, targets, start, width, n)
