@@ -139,24 +139,73 @@ def nearest_within(ax, ay, bx, by, lo, width):
 
 
 @numba.njit(cache=True, inline="always")
-def _two_pieces(lo, width, start_t, width_t):
-    """Whether the bearings ``[lo, lo + width]`` meet a target's extent in two pieces (a concave target's extent
-    wider than half a turn, an edge reaching round to its other end)."""
+def _shared(lo, width, start_t, width_t):
+    """How the bearings ``[lo, lo + width]`` meet a target's extent ``[start_t, start_t + width_t]`` (radians):
+    the piece that starts in the extent, else the one the interval enters it with, as its width (-1 when they do
+    not meet) and first bearing; and whether they meet in two pieces (the two widths exceed a full turn: a concave
+    target's extent wider than half a turn, an edge reaching round to its other end)."""
     rel = wrap_positive(lo - start_t)
-    return rel < width_t and rel + width > TWO_PI
-
-
-@numba.njit(cache=True, inline="always")
-def _overlap(lo, width, start_t, width_t):
-    """Radians shared by the bearings ``[lo, lo + width]`` and a target's extent ``[start_t, start_t + width_t]``,
-    the piece that starts in the extent, else the one the interval enters it with; -1 when they do not meet. (Where
-    the two widths exceed a full turn, they can meet in two pieces: see :func:`_two_pieces`.)"""
-    rel = wrap_positive(lo - start_t)
+    two = rel < width_t and rel + width > TWO_PI
     if rel < width_t:
-        return min(width_t - rel, width)
+        return min(width_t - rel, width), lo, two
     if rel + width > TWO_PI:
-        return min(rel + width - TWO_PI, width_t)
-    return -1.0
+        return min(rel + width - TWO_PI, width_t), start_t, two
+    return -1.0, start_t, two
+
+
+@numba.njit(cache=True)
+def _items(ox, oy, seg, seg_body, blocking, start, width, n_objects):
+    """The bodies' nearest and farthest distances from ``(ox, oy)`` (metres, shape (n_bodies,): chosen by squared
+    norms, measured once by hypot; a hypot per edge end cost a third of the search), and the items of the search
+    (see the module docstring): ``(lo, width, near, far, body, edge)``, static edges first (``edge`` their edge), then
+    the blocking objects (``edge`` -1)."""
+    n_bodies = len(blocking)
+    m = len(seg)
+    n_items = 0
+    for b in range(n_objects):
+        n_items += blocking[b]
+    for j in range(m):
+        n_items += seg_body[j] >= n_objects and blocking[seg_body[j]]
+    item_lo = np.empty(n_items)
+    item_width = np.empty(n_items)
+    item_near = np.empty(n_items)
+    item_far = np.empty(n_items)
+    item_body = np.empty(n_items, dtype=np.int64)
+    item_edge = np.full(n_items, -1, dtype=np.int64)
+    nearest = np.zeros((n_bodies, 3))  # squared norm, x, y
+    farthest = np.zeros((n_bodies, 3))
+    nearest[:, 0] = np.inf
+    farthest[:, 0] = -1.0
+    k = 0
+    for j in range(m):
+        ax, ay = seg[j, 0, 0] - ox, seg[j, 0, 1] - oy
+        bx, by = seg[j, 1, 0] - ox, seg[j, 1, 1] - oy
+        dx, dy = nearest_offset(-ax, -ay, bx - ax, by - ay)
+        fx, fy = (ax, ay) if ax * ax + ay * ay >= bx * bx + by * by else (bx, by)
+        b = seg_body[j]
+        if dx * dx + dy * dy < nearest[b, 0]:
+            nearest[b, 0], nearest[b, 1], nearest[b, 2] = dx * dx + dy * dy, dx, dy
+        if fx * fx + fy * fy > farthest[b, 0]:
+            farthest[b, 0], farthest[b, 1], farthest[b, 2] = fx * fx + fy * fy, fx, fy
+        if b >= n_objects and blocking[b]:
+            span = np.arctan2(ax * by - ay * bx, ax * bx + ay * by)
+            ta = np.arctan2(ay, ax)
+            item_lo[k] = ta if span >= 0 else ta + span
+            item_width[k] = abs(span)
+            item_near[k], item_far[k] = np.hypot(dx, dy), np.hypot(fx, fy)
+            item_body[k], item_edge[k] = b, j
+            k += 1
+    near = np.full(n_bodies, np.inf)
+    far = np.zeros(n_bodies)
+    for b in range(n_bodies):
+        if np.isfinite(nearest[b, 0]):
+            near[b], far[b] = np.hypot(nearest[b, 1], nearest[b, 2]), np.hypot(farthest[b, 1], farthest[b, 2])
+    for b in range(n_objects):
+        if blocking[b]:
+            item_lo[k], item_width[k] = start[b] - CANDIDATE_EPS, width[b] + 2.0 * CANDIDATE_EPS
+            item_near[k], item_far[k], item_body[k] = near[b], far[b], b
+            k += 1
+    return near, far, (item_lo, item_width, item_near, item_far, item_body, item_edge)
 
 
 @numba.njit(cache=True)
@@ -186,53 +235,9 @@ def candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_ob
     hidden : ndarray of bool, shape (n_bodies,)
     """
     n_bodies = len(blocking)
-    m = len(seg)
-    near = np.full(n_bodies, np.inf)
-    far = np.zeros(n_bodies)
-    n_items = 0
-    for b in range(n_objects):
-        n_items += blocking[b]
-    for j in range(m):
-        n_items += seg_body[j] >= n_objects and blocking[seg_body[j]]
-    item_lo = np.empty(n_items)
-    item_width = np.empty(n_items)
-    item_near = np.empty(n_items)
-    item_far = np.empty(n_items)
-    item_body = np.empty(n_items, dtype=np.int64)
-    item_edge = np.full(n_items, -1, dtype=np.int64)  # a static item's edge
-    k = 0
-    # each body's nearest and farthest point, chosen by squared norms, measured once by hypot (a hypot per edge end
-    # cost a third of the search)
-    nearest = np.zeros((n_bodies, 3))  # squared norm, x, y
-    farthest = np.zeros((n_bodies, 3))
-    nearest[:, 0] = np.inf
-    farthest[:, 0] = -1.0
-    for j in range(m):
-        ax, ay = seg[j, 0, 0] - ox, seg[j, 0, 1] - oy
-        bx, by = seg[j, 1, 0] - ox, seg[j, 1, 1] - oy
-        dx, dy = nearest_offset(-ax, -ay, bx - ax, by - ay)
-        fx, fy = (ax, ay) if ax * ax + ay * ay >= bx * bx + by * by else (bx, by)
-        b = seg_body[j]
-        if dx * dx + dy * dy < nearest[b, 0]:
-            nearest[b, 0], nearest[b, 1], nearest[b, 2] = dx * dx + dy * dy, dx, dy
-        if fx * fx + fy * fy > farthest[b, 0]:
-            farthest[b, 0], farthest[b, 1], farthest[b, 2] = fx * fx + fy * fy, fx, fy
-        if b >= n_objects and blocking[b]:
-            span = np.arctan2(ax * by - ay * bx, ax * bx + ay * by)
-            ta = np.arctan2(ay, ax)
-            item_lo[k] = ta if span >= 0 else ta + span
-            item_width[k] = abs(span)
-            item_near[k], item_far[k] = np.hypot(dx, dy), np.hypot(fx, fy)
-            item_body[k], item_edge[k] = b, j
-            k += 1
-    for b in range(n_bodies):
-        if np.isfinite(nearest[b, 0]):
-            near[b], far[b] = np.hypot(nearest[b, 1], nearest[b, 2]), np.hypot(farthest[b, 1], farthest[b, 2])
-    for b in range(n_objects):
-        if blocking[b]:
-            item_lo[k], item_width[k] = start[b] - CANDIDATE_EPS, width[b] + 2.0 * CANDIDATE_EPS
-            item_near[k], item_far[k], item_body[k] = near[b], far[b], b
-            k += 1
+    near, far, items = _items(ox, oy, seg, seg_body, blocking, start, width, n_objects)
+    item_lo, item_width, item_near, item_far, item_body, item_edge = items
+    n_items = len(item_lo)
     cap = 8 * len(targets) + 16
     out_body = np.empty(cap, dtype=np.int64)
     out_target = np.empty(cap, dtype=np.int64)
@@ -263,7 +268,7 @@ def candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_ob
                 if b == t or item_near[it] >= far[t]:
                     continue
                 is_object = b < n_objects
-                overlap = _overlap(item_lo[it], item_width[it], start[t], width[t])
+                overlap, lo, two = _shared(item_lo[it], item_width[it], start[t], width[t])
                 if overlap < 0.0:
                     continue
                 if is_object:  # the rule as for the whole extent, unwidened
@@ -279,11 +284,8 @@ def candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_ob
                     # a wall beside the target (a building's side along the street) is nearer somewhere, but not
                     # within the target's bearings: no pair unless it comes nearer than the target there
                     j = item_edge[it]
-                    rel = wrap_positive(item_lo[it] - start[t])
-                    lo = item_lo[it] if rel < width[t] else start[t]
                     ax, ay = seg[j, 0, 0] - ox, seg[j, 0, 1] - oy
                     bx, by = seg[j, 1, 0] - ox, seg[j, 1, 1] - oy
-                    two = _two_pieces(item_lo[it], item_width[it], start[t], width[t])
                     if not two and nearest_within(ax, ay, bx, by, lo, overlap) >= far[t] * (1.0 + NEARER_MARGIN):
                         continue
                 seen[b], pair_of[b] = t, k

@@ -64,22 +64,7 @@ def attribute_visible_angles(
     if m < 3:
         return visible
     two_pi = 2.0 * np.pi
-    bearing = np.empty(m)
-    span = np.empty(m)
-    for i in range(m):
-        ax, ay = pts[i, 0], pts[i, 1]
-        bx, by = pts[(i + 1) % m, 0], pts[(i + 1) % m, 1]
-        bearing[i] = np.arctan2(ay, ax)
-        span[i] = np.arctan2(ax * by - ay * bx, ax * bx + ay * by)
-    order = argsort_stable(bearing)
-    sorted_bearing = bearing[order]
-    # the farthest bearing reached by the edges up to each one in bearing order: a window needs to start no earlier
-    # than the first edge reaching the target's extent (for extents under half a turn, see below)
-    reach = np.empty(m)
-    farthest = -np.inf
-    for q in range(m):
-        farthest = max(farthest, sorted_bearing[q] + max(span[order[q]], 0.0))
-        reach[q] = farthest
+    bearing, span, order, sorted_bearing, reach = _edges_by_bearing(pts)
     most_edges = 0
     for t in targets:
         most_edges = max(most_edges, seg_offsets[t + 1] - seg_offsets[t])
@@ -94,12 +79,7 @@ def attribute_visible_angles(
             (s0 - np.pi - two_pi, s0 + extent_width[t] - two_pi, -two_pi),
             (s0 - np.pi + two_pi, s0 + extent_width[t] + two_pi, two_pi),
         ):
-            a = np.searchsorted(sorted_bearing, lo)
-            if extent_width[t] < np.pi - NARROW_MARGIN:
-                # edges ending before the extent (by 1e-8 rad) start before it by over half a turn less its width:
-                # the test below skips them all, so the window skips them too (the same edges, in the same order)
-                a = max(a, np.searchsorted(reach, s0 + shift - 1e-8))
-            b = np.searchsorted(sorted_bearing, hi, side="right")
+            a, b = _window(sorted_bearing, reach, lo, hi, s0 + shift, extent_width[t])
             for q in range(a, b):
                 i = order[q]
                 if span[i] <= 0.0 or visited[i] == t:  # (the windows overlap for extents over half a turn)
@@ -178,6 +158,42 @@ def wedges_apart(px, py, qx, qy, ax, ay, bx, by):
     a_in = px * ay - py * ax >= 0.0 and ax * qy - ay * qx > 0.0
     p_in = ax * py - ay * px >= 0.0 and px * by - py * bx > 0.0
     return not (a_in or p_in)
+
+
+@numba.njit(cache=True)
+def _edges_by_bearing(pts):
+    """The polygon's edges (from vertex ``i`` to ``i + 1``, relative to the observer) by bearing: each edge's
+    ``bearing`` and ``span`` (radians), their ``order`` by bearing and the bearings in that order, and ``reach``:
+    the farthest bearing reached by the edges up to each one in that order (a window of edges need start no
+    earlier than the first edge reaching the target's extent)."""
+    m = len(pts)
+    bearing = np.empty(m)
+    span = np.empty(m)
+    for i in range(m):
+        ax, ay = pts[i, 0], pts[i, 1]
+        bx, by = pts[(i + 1) % m, 0], pts[(i + 1) % m, 1]
+        bearing[i] = np.arctan2(ay, ax)
+        span[i] = np.arctan2(ax * by - ay * bx, ax * bx + ay * by)
+    order = argsort_stable(bearing)
+    sorted_bearing = bearing[order]
+    reach = np.empty(m)
+    farthest = -np.inf
+    for q in range(m):
+        farthest = max(farthest, sorted_bearing[q] + max(span[order[q]], 0.0))
+        reach[q] = farthest
+    return bearing, span, order, sorted_bearing, reach
+
+
+@numba.njit(cache=True, inline="always")
+def _window(sorted_bearing, reach, lo, hi, first, width):
+    """The positions ``a .. b - 1`` (in bearing order) of the edges starting within ``[lo, hi]`` (radians) that can
+    meet an extent starting at ``first`` (shifted as the window is) of ``width``: for extents under half a turn,
+    edges ending before it (by 1e-8 rad) start before it by over half a turn less its width, and the caller's test
+    would skip them all, so the window skips them too (the same edges, in the same order)."""
+    a = np.searchsorted(sorted_bearing, lo)
+    if width < np.pi - NARROW_MARGIN:
+        a = max(a, np.searchsorted(reach, first - 1e-8))
+    return a, np.searchsorted(sorted_bearing, hi, side="right")
 
 
 @numba.njit(cache=True)

@@ -125,24 +125,7 @@ def occlusion_by_view(
                 )
                 for q in range(len(check)):
                     certain[check[q]] = occluding[q]
-                # grouped by target, ascending within: objects first (body < n), static sources after (the pairs
-                # come grouped by target, ascending, each once: each group is sorted by insertion)
-                codes = np.empty(len(body), dtype=np.int64)
-                n_codes = 0
-                group = 0
-                for p in range(len(body)):
-                    if not certain[p]:
-                        continue
-                    code = target[p] * (n + n_sources) + body[p]
-                    if n_codes and codes[n_codes - 1] // (n + n_sources) != target[p]:
-                        group = n_codes
-                    a = n_codes
-                    while a > group and codes[a - 1] > code:
-                        codes[a] = codes[a - 1]
-                        a -= 1
-                    codes[a] = code
-                    n_codes += 1
-                codes = codes[:n_codes]
+                codes = _occluder_codes(body, target, certain, n + n_sources)
             occ = reserve(occ, n_occ, n_occ + len(codes))
             st = reserve(st, n_st, n_st + len(codes))
             q = 0
@@ -164,6 +147,29 @@ def occlusion_by_view(
                 in_env[t0 + i] = blocking[i] and not hidden[i]
             blocked[v] = blocking.any()
     return reason, occ_offsets, occ[:n_occ], st_offsets, st[:n_st], in_env, blocked
+
+
+@numba.njit(cache=True)
+def _occluder_codes(body, target, occluding, n_bodies):
+    """``target * n_bodies + body`` of the occluding pairs, grouped by target and ascending within (objects first,
+    static sources after): the pairs come grouped by target, ascending, each once, so each group is sorted by
+    insertion (a few each) rather than all of them at once."""
+    codes = np.empty(len(body), dtype=np.int64)
+    n_codes = 0
+    group = 0
+    for p in range(len(body)):
+        if not occluding[p]:
+            continue
+        code = target[p] * n_bodies + body[p]
+        if n_codes and codes[n_codes - 1] // n_bodies != target[p]:
+            group = n_codes
+        a = n_codes
+        while a > group and codes[a - 1] > code:
+            codes[a] = codes[a - 1]
+            a -= 1
+        codes[a] = code
+        n_codes += 1
+    return codes[:n_codes]
 
 
 @numba.njit(cache=True)
