@@ -61,8 +61,37 @@ def test_shares_by_band_and_type_on_paper() -> None:
     hist = stats["histogram"]
     assert hist["rows"].to_list() == [2, 1, 0, 0, 0, 1, 0, 0, 0, 3]
     assert hist["share"].sum() == pytest.approx(1.0) and hist["bin_start"][9] == pytest.approx(0.9)
-    # occluders: car 1 twice (rows of 2 and 3), truck 4 three times (rows of 3, of 1 and of 2 in frame 1)
-    assert stats["occluder_types"].rows() == [("vehicle", 5)]
+    # occluders: car 1 twice (rows of 2 and 3), truck 4 three times (rows of 3, of 1 and of 2 in frame 1): vehicles
+    # hide the target in 4 rows (the row of 3 counted once though two vehicles hide it), 5 occluding objects in all
+    assert stats["occluder_types"].rows() == [("vehicle", 4, 5)]
+
+
+def test_occluder_types_count_rows_once_per_type() -> None:
+    # one target hidden by two cars and a pedestrian, another by one car, a third by nothing: cars hide 2 rows
+    # (3 cars in all), pedestrians 1 row; a type whose objects repeat in a row's list still counts that row once
+    objects = pl.DataFrame(
+        {
+            "total_nanos": [0] * 7,
+            "idx": [0, 1, 2, 3, 4, 5, 6],
+            "x": [0.0, 10.0, 12.0, 30.0, 14.0, 40.0, 50.0],
+            "y": [0.0] * 7,
+            "type": [2, 2, 2, 2, 3, 2, 2],
+        }
+    )
+    table = pl.DataFrame(
+        {
+            "frame": [0, 0, 0],
+            "total_nanos": [0, 0, 0],
+            "idx": [3, 5, 6],
+            "visibility": [0.0, 0.4, 1.0],
+            "occluder_idxs": [[1, 2, 4], [1, 1], []],
+        },
+        schema_overrides={"occluder_idxs": pl.List(pl.Int64)},
+    )
+    stats = occlusion_statistics(table, objects, ego_idx=0)
+    assert stats["occluder_types"].rows() == [("vehicle", 2, 4), ("pedestrian", 1, 1)]
+    # never more rows than the table has, for every type
+    assert (stats["occluder_types"]["rows"] <= table.height).all()
 
 
 def test_the_default_is_the_exact_definition() -> None:
@@ -145,8 +174,11 @@ def test_campaign_over_a_batch_folder_equals_the_tables_own(campaign) -> None:
     assert stats["by_band"]["rows"].to_list() == [2 * n for n in one["by_band"]["rows"]]
     assert stats["histogram"]["rows"].to_list() == [2 * n for n in one["histogram"]["rows"]]
     assert stats["by_recording"]["rows"].to_list() == [1206, 1206]
-    # in the bundled merge only vehicles occlude (the truck 1 and car 4)
-    assert stats["occluder_types"]["occluder_type"].to_list() == ["vehicle"]
+    # in the bundled merge only vehicles occlude (the truck 1 and car 4): in every row with an occluder, counted once
+    table = get_visibility_df(r, 0, progress=False)
+    hidden_rows = table.filter(pl.col("occluder_idxs").list.len() > 0).height
+    pairs = int(table["occluder_idxs"].list.len().sum())
+    assert stats["occluder_types"].rows() == [("vehicle", 2 * hidden_rows, 2 * pairs)]
 
 
 def test_campaign_bad_folders(campaign, tmp_path) -> None:

@@ -56,8 +56,10 @@ def occlusion_statistics(
     dict of polars.DataFrame
         ``"by_band"``: ``band, target_type, rows, visible, partly, hidden, out_of_view`` (shares of the band's rows,
         per type and ``"all"``; ``out_of_view`` is 0 for a table without the sensors' ``in_view``);
-        ``"histogram"``: ``bin_start, bin_end, rows, share``; ``"occluder_types"``: ``occluder_type, rows``
-        (rows in which an object of that type occludes the target), most first.
+        ``"histogram"``: ``bin_start, bin_end, rows, share``; ``"occluder_types"``: ``occluder_type, rows, occluders``
+        (``rows``: the rows in which at least one object of that type occludes the target, each row counted once
+        per type; ``occluders``: the occluding objects of that type summed over the rows, so a row hidden by two
+        cars counts 1 and 2), most rows first.
 
     Examples
     --------
@@ -69,7 +71,7 @@ def occlusion_statistics(
     >>> stats["by_band"].filter(pl.col("target_type") == "all").select("band", "rows", "visible", "hidden").rows()
     [('< 20 m', 1, 1.0, 0.0), ('>= 50 m', 1, 0.0, 1.0)]
     >>> stats["occluder_types"].rows()
-    [('vehicle', 1)]
+    [('vehicle', 1, 1)]
     """
     _checked(bands, partly, bins)
     rows = rows_with_distance(polars_table(visibility, "visibility"), polars_table(objects, "objects"), ego_idx)
@@ -107,18 +109,26 @@ def statistics_of_rows(
         .select("bin_start", "bin_end", "rows", "share")
     )
     occluder_types = (
-        rows.select(pl.col("occluder_types").alias("occluder_type"))
-        .explode("occluder_type")
-        .drop_nulls("occluder_type")
-        .group_by("occluder_type")
-        .agg(rows=pl.len())
-        .sort("rows", "occluder_type", descending=[True, False])
+        _counted(rows, pl.col("occluder_types").list.unique(), "rows")
+        .join(_counted(rows, pl.col("occluder_types"), "occluders"), on="occluder_type", how="left")
+        .sort("rows", "occluders", "occluder_type", descending=[True, True, False])
     )
     return {
         "by_band": by_band.collect(),
         "histogram": histogram.collect(),
         "occluder_types": occluder_types.collect(),
     }
+
+
+def _counted(rows: pl.LazyFrame, types: pl.Expr, name: str) -> pl.LazyFrame:
+    """How often each occluder type occurs in the lists ``types``, one count per element, as column ``name``."""
+    return (
+        rows.select(types.alias("occluder_type"))
+        .explode("occluder_type")
+        .drop_nulls("occluder_type")
+        .group_by("occluder_type")
+        .agg(pl.len().cast(pl.Int64).alias(name))
+    )
 
 
 def class_shares(names: list[str], partly: tuple[float, float] = EXACT) -> list[pl.Expr]:

@@ -52,7 +52,11 @@ def statistics(
             ("per recording", "by_recording"),
             ("by distance band and target type", "by_band"),
             ("visibility histogram", "histogram"),
-            ("who occludes (rows in which an object of that type hides the target)", "occluder_types"),
+            (
+                "who occludes (rows: in which an object of that type hides the target; occluders: such objects "
+                "summed over the rows)",
+                "occluder_types",
+            ),
         ):
             typer.echo(f"{title}:")
             typer.echo(stats[name])

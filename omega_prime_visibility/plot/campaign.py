@@ -132,7 +132,11 @@ def _occluders_chart(occluder_types: pl.DataFrame) -> dict:
         .encode(
             y=alt.Y("occluder_type:N", sort="-x", title="occluder type"),
             x=alt.X("rows:Q", title="rows in which an object of this type hides the target"),
-            tooltip=["occluder_type", "rows"],
+            tooltip=[
+                alt.Tooltip("occluder_type:N", title="occluder type"),
+                alt.Tooltip("rows:Q", title="rows hidden by this type"),
+                alt.Tooltip("occluders:Q", title="occluding objects of this type, summed over rows"),
+            ],
         )
         .properties(width=PAGE_WIDTH - 160, height=max(40, 30 * occluder_types.height))
     )
