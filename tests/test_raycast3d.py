@@ -374,3 +374,29 @@ def test_a_mesh_found_only_by_the_probes_is_listed(engine: str) -> None:
     assert exact["static_occluder_idxs"].to_list() == [[0]] and 0.9 < exact["visibility"][0] < 0.95
     assert sampled["static_occluder_idxs"].to_list() == [[0]]
     assert sampled["visibility"][0] == pytest.approx(exact["visibility"][0], abs=0.03)
+
+
+@pytest.mark.parametrize("engine", [FastRaycastEngine, RaycastEngine, HighRaycastEngine])
+def test_a_mesh_is_listed_wherever_it_is_hit_before_the_target_as_a_footprint_is(tmp_path, engine) -> None:
+    # a 3 m box wall at 10 m hides the target at 30 m wholly; behind it two buildings stand in front of the
+    # target: building A (a footprint with a height, or a mesh of the same block) and building B, behind A. Every
+    # one of them is hit before the target along some direction of it, so each is its occluder, whatever the kind:
+    # as footprints both are listed (the exact engine's rule); as meshes they must be too, though no ray meets them
+    # first (the wall is nearer) and B is behind A
+    wall = [10.0, 0, 1.5, 0.5, 8, 3, 0, 0, 0]
+    target = [30.0, 0, 0.75, 4.5, 1.8, 1.5, 0, 0, 0]
+    blocks = [[15.0, 0.0, 0.5, 1.0, 4.0, 1.0], [20.0, 0.0, 0.5, 1.0, 4.0, 1.0]]  # x, y, z, length, width, height
+    footprints = load_static_occluders([shapely.box(x - 0.5, y - 2, x + 0.5, y + 2) for x, y, *_ in blocks])
+    as_prisms = replace(footprints, solids=static_solids(footprints, heights=[1.0, 1.0]))
+    by_footprint = observe(engine, [EGO, wall, target], statics=as_prisms)
+    as_meshes = with_meshes(*(mesh_box(tmp_path, f"block{k}", b) for k, b in enumerate(blocks)))
+    by_mesh = observe(engine, [EGO, wall, target], statics=as_meshes)
+    assert share(by_footprint, 2) == share(by_mesh, 2) == 0.0
+    assert by_footprint.static_occluders.tolist() == [0, 1]
+    assert by_mesh.static_occluders.tolist() == [0, 1]
+    assert by_footprint.occluders.tolist() == by_mesh.occluders.tolist() == [1]
+    # a kerb instead of the wall: the target's top is seen over the 1 m blocks, both hide its lower part
+    kerb = [10.0, 0, 0.25, 0.5, 8, 0.5, 0, 0, 0]
+    for statics in (as_prisms, as_meshes):
+        obs = observe(engine, [EGO, kerb, target], statics=statics)
+        assert 0 < share(obs, 2) < 1 and obs.static_occluders.tolist() == [0, 1]

@@ -43,6 +43,7 @@ from ..threed.bodies import (
 )
 from ..threed.boxes import nearest_distance
 from ..threed.cube import MIN_SOLID_ANGLE, silhouettes, solid_angles, view_regions, within_range
+from ..geometry.occlusion import RELATIVE_TOLERANCE
 from ..threed.order import entered_before, nearest, nearest_bound
 from . import Observation, Viewpoint, group_pairs
 from .observe3d import eye_and_view, observation, own_body, static_heights, statics_around_eye
@@ -187,7 +188,7 @@ def _blockers(bodies, targets, shapes, sil, ti, bj, f, lower, farthest):
     meet = shapely.relate_pattern(shapes[ti], sil[bj], "T********")
     ti, bj = ti[meet], bj[meet]
     target = targets[ti]
-    ahead = farthest[bj] < lower[target]
+    ahead = farthest[bj] < lower[target] * (1.0 - RELATIVE_TOLERANCE)  # (nearer by the tie rule's margin)
     unsure = ~ahead & ~(farthest[target] < lower[bj])
     front = np.full(len(ti), None, dtype=object)
     front[ahead] = sil[bj[ahead]]

@@ -9,6 +9,13 @@ exactly when, for some plane ``a`` of ``A`` and every plane ``b`` of ``B``, ``of
 offset_a / (normal_a . d)``; both denominators being negative, that is the linear condition
 ``(offset_b normal_a - offset_a normal_b) . d < 0``: a half-plane on each cube face. The region where ``B`` is in
 front of ``A`` is therefore a union of convex polygons, exactly.
+
+Ties are visible, by the rule of the 2D engines (:mod:`..geometry.occlusion`): where two face planes are nearly
+parallel (the sine of the angle between their normals under ``TIE_PARALLEL``), ``B`` is in front only where it is
+entered nearer by more than ``RELATIVE_TOLERANCE`` of the distance, ``offset_b / (normal_b . d) < (1 -
+RELATIVE_TOLERANCE) offset_a / (normal_a . d)``; so the shared face plane of a double detection, or the roofs of two
+cars of equal height, hide nothing of each other, and each body is the first thing hit there. Planes at a wider
+angle (the faces meeting at an edge or corner two bodies share) are ordered exactly.
 """
 
 from __future__ import annotations
@@ -16,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
+from ..geometry.occlusion import RELATIVE_TOLERANCE, TIE_PARALLEL
 from .bodies import ConvexBodies
 from .cube import FACES, clip_plane
 
@@ -62,6 +70,20 @@ def facing_planes(bodies: ConvexBodies, body: int) -> tuple[np.ndarray, np.ndarr
     return normals[facing], offsets[facing]
 
 
+def tie_factors(normals_a: np.ndarray, normals_b: np.ndarray) -> np.ndarray:
+    """Per pair of face planes (rows of ``normals_a`` (k, 3) and ``normals_b`` (m, 3)), the factor of the target's
+    entry distance that the blocker's must be below to be in front: ``1 - RELATIVE_TOLERANCE`` for nearly parallel
+    planes (they tie where they nearly coincide), 1 for the others (ordered exactly).
+
+    >>> tie_factors(np.array([[-1.0, 0, 0]]), np.array([[-1.0, 0, 0], [0, -1.0, 0]])).tolist()
+    [[0.999999999, 1.0]]
+    """
+    cross = np.cross(normals_a[:, None, :], normals_b[None, :, :])
+    lengths = (normals_a * normals_a).sum(1)[:, None] * (normals_b * normals_b).sum(1)[None, :]
+    nearly_parallel = (cross * cross).sum(2) <= TIE_PARALLEL * TIE_PARALLEL * lengths
+    return np.where(nearly_parallel, 1.0 - RELATIVE_TOLERANCE, 1.0)
+
+
 def entered_before(bodies: ConvexBodies, blocker: int, target: int, face: int) -> shapely.Geometry:
     """The directions on cube face ``face`` (its ``(u, v)`` coordinates) along which ``blocker`` is entered before
     ``target``, wherever both are met (intersect it with both silhouettes); see the module docstring.
@@ -83,10 +105,12 @@ def entered_before(bodies: ConvexBodies, blocker: int, target: int, face: int) -
     # the square lifted to (1, u, v): its direction is FACES[face].T @ (1, u, v)
     square = np.array([[1.0, -SQUARE, -SQUARE], [1.0, SQUARE, -SQUARE], [1.0, SQUARE, SQUARE], [1.0, -SQUARE, SQUARE]])
     pieces = []
-    for normal_a, offset_a in zip(normals_a, offsets_a, strict=True):
+    keep = tie_factors(normals_a, normals_b)
+    for a, (normal_a, offset_a) in enumerate(zip(normals_a, offsets_a, strict=True)):
         polygon = square
-        for normal_b, offset_b in zip(normals_b, offsets_b, strict=True):
-            w = offset_a * normal_b - offset_b * normal_a  # w . d > 0: entered through b before through a
+        for b, (normal_b, offset_b) in enumerate(zip(normals_b, offsets_b, strict=True)):
+            # w . d > 0: entered through b before (keep times) the entry through a
+            w = keep[a, b] * offset_a * normal_b - offset_b * normal_a
             polygon = clip_plane(polygon, FACES[face] @ w)
             if len(polygon) < 3:
                 break

@@ -27,13 +27,13 @@ import numpy as np
 
 from ...inputs.objects import FrameObjects
 from ...inputs.statics import StaticOccluders
-from ...threed.boxes import _TRIANGLES, contains, corners, frames
+from ...threed.boxes import _TRIANGLES, contains, corners, frames, ray_entries
 from ...threed.statics import static_solids
 from .. import Observation, Viewpoint, group_pairs
 from ..observe3d import eye_and_view, observation, own_body, statics_around_eye
 from ..silhouette3d import SilhouetteEngine
 from . import sampling
-from .embree import FirstHit
+from .embree import FirstHit, hits_before
 from .meshes import mesh_spheres, with_exact_parts
 
 
@@ -141,17 +141,22 @@ class RaycastEngine:
             triangles = np.concatenate([box_triangles[keep].reshape(-1, 3, 3), self.static_triangles[keep_static]])
             owner = np.concatenate([np.repeat(keep, 12), n + self.static_source[keep_static]]).astype(np.int64)
             scene = FirstHit(triangles - origin)
+            is_mesh = keep_static & (self.static_source >= self.n_footprints)
+            meshes = (FirstHit(self.static_triangles[is_mesh] - origin), n + self.static_source[is_mesh])
             group_views = [viewpoints[k] for k in members]
             results = self._sample(
-                scene, owner, boxes, frame, box_corners, skip, origin, [eyes[k] for k in members],
+                scene, owner, meshes, boxes, frame, box_corners, skip, origin, [eyes[k] for k in members],
                 [limits[k] for k in members], group_views,
             )  # fmt: skip
             for k, obs in zip(members, results, strict=True):
                 out[k] = obs
         return out  # type: ignore[return-value]
 
-    def _sample(self, scene, owner, boxes, frame, box_corners, skip, origin, eyes, limits, views) -> list[Observation]:
-        """Sample every target of the viewpoints of one scene; one Embree call per refinement level."""
+    def _sample(self, scene, owner, meshes, boxes, frame, box_corners, skip, origin, eyes, limits, views):
+        """Sample every target of the viewpoints of one scene (one Embree call per refinement level); a list of
+        :class:`Observation`. ``meshes``: the scene of the meshes alone and their owners, where every mesh hit
+        before the target along an in-view ray that meets it is listed as its occluder (behind a box or another
+        mesh too, as footprints and boxes are listed)."""
         setting = SETTINGS[self.setting]
         n = len(boxes)
         centres, rots, halves = frame
@@ -199,10 +204,13 @@ class RaycastEngine:
         code = np.zeros(0, np.int64)
         in_fov = np.zeros(0, bool)
         in_range = np.zeros(0, bool)
+        all_dirs, all_slots = [], []
         for level in range(setting.depth + 1):
             if len(node_patch):
                 dirs = sampling.directions(axes, node_patch, node_uv)
                 node_slot = patch_slot[node_patch]
+                all_dirs.append(dirs)
+                all_slots.append(node_slot)
                 prim, tfar = scene.cast(eyes_local[slot_view[node_slot]], dirs)
                 c, f, r, ps, po = sampling.label(
                     dirs, node_slot, eyes_local, slot_view, slot_target, view_params, centres_local, rots,
@@ -217,6 +225,11 @@ class RaycastEngine:
                 cell_patch, cell_box, cell_nodes, code, in_fov, in_range, patch_slot, slot_target, sums,
                 len(code), level < setting.depth, hull_offsets, hull_uv,
             )  # fmt: skip
+        if all_dirs:
+            ps, po = _meshes_in_front(meshes, np.concatenate(all_dirs), np.concatenate(all_slots), code, in_fov,
+                                      in_range, eyes_local, slot_view, slot_target, frame, origin)  # fmt: skip
+            pair_slots.append(ps)
+            pair_occs.append(po)
         pair_slot = np.concatenate(pair_slots) if pair_slots else np.zeros(0, np.int64)
         pair_occ = np.concatenate(pair_occs) if pair_occs else np.zeros(0, np.int64)
         out = []
@@ -230,6 +243,26 @@ class RaycastEngine:
             st_off, st_occ = group_pairs(key[occ >= n], occ[occ >= n] - n, n)
             out.append(observation(view, visible, extent, box_off, box_occ, st_off, st_occ, skip, in_view, fov))
         return out
+
+
+def _meshes_in_front(meshes, dirs, slots, code, in_fov, in_range, eyes_local, slot_view, slot_target, frame, origin):
+    """Pairs (slot, mesh owner) of every mesh hit before the slot's target along a sampled ray that meets the
+    target in view and within range."""
+    scene, mesh_owner = meshes
+    rays = np.flatnonzero((code != sampling.MISS) & in_fov & in_range)
+    if not len(rays) or scene.size == 0:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    centres, rots, halves = frame
+    slot = slots[rays]
+    view, target = slot_view[slot], slot_target[slot]
+    eyes = eyes_local[view]
+    limit = np.empty(len(rays))
+    for vi in np.unique(view):
+        mine = np.flatnonzero(view == vi)
+        limit[mine] = ray_entries(eyes_local[vi], dirs[rays[mine]], centres - origin, rots, halves + PAD, target[mine])
+    ray, who = hits_before(scene, mesh_owner, eyes, dirs[rays], limit)
+    pairs = np.unique(np.column_stack([slot[ray], who]).astype(np.int64).reshape(-1, 2), axis=0)
+    return pairs[:, 0], pairs[:, 1]
 
 
 class HighRaycastEngine(RaycastEngine):

@@ -25,12 +25,12 @@ import numpy as np
 import shapely
 
 from ...inputs.objects import FrameObjects
-from ...threed.boxes import _TRIANGLES, corners
+from ...threed.boxes import frames, ray_entries
 from ...threed.cube import face_direction, solid_angles
 from .. import Observation, Viewpoint, group_pairs
 from ..observe3d import eye_and_view, observation, own_body, statics_around_eye
 from ..silhouette3d import boxes_among
-from .embree import FirstHit
+from .embree import FirstHit, hits_before
 
 
 def with_exact_parts(engine: Any, objects: FrameObjects, view: Viewpoint, sampled: Observation) -> Observation:
@@ -55,7 +55,7 @@ def with_exact_parts(engine: Any, objects: FrameObjects, view: Viewpoint, sample
     differ = np.flatnonzero((behind_mesh | (share_rays < share_exact * (1 - 1e-9))) & (visible_c > 0) & ~skip)
     probed_t, probed_mesh = np.zeros(0, np.int64), np.zeros(0, np.int64)
     if len(differ):
-        seen, (probed_t, probed_mesh) = _probe(engine, boxes, eye, skip, view, differ, parts)
+        seen, (probed_t, probed_mesh) = _probe(engine, boxes, eye, view, differ, parts)
         share[differ] = seen / extent[differ]
     offsets, occluders = group_pairs(bt, bb, n)
     st_offsets, st_occluders = group_pairs(
@@ -96,10 +96,11 @@ def _mesh_cones_overlap(engine, boxes: np.ndarray, eye: np.ndarray) -> np.ndarra
     return overlap.any(axis=1)
 
 
-def _probe(engine, boxes, eye, skip, view, targets, parts) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray]]:
+def _probe(engine, boxes, eye, view, targets, parts) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray]]:
     """Per target in ``targets``, the solid angle (steradians) of its exact visible pieces times the fraction of
-    each piece's probe rays that reach it first; and the pairs (target row, mesh number) of the meshes that probe
-    rays met first, which hide that target (its static occluders)."""
+    each piece's probe rays that no mesh meets before it (the pieces are where it is the first box or footprint
+    hit); and the pairs (target row, mesh number) of the meshes that probe rays meet before it, nearest or not
+    (its static occluders)."""
     wanted = {int(t): k for k, t in enumerate(targets)}
     mine = [(wanted[row], f, polygon) for row, f, polygon in parts if row in wanted]
     if not mine:
@@ -123,21 +124,21 @@ def _probe(engine, boxes, eye, skip, view, targets, parts) -> tuple[np.ndarray, 
         piece_of.append(np.full(len(uv), k))
     dirs, piece = np.concatenate(directions), np.concatenate(piece_of)
     owner = np.array([t for t, _, _ in mine])
-    keep = np.flatnonzero(~skip)
-    box_triangles = corners(boxes)[keep][:, _TRIANGLES].reshape(-1, 3, 3)
+    target_of_ray = np.asarray(targets)[owner[piece]]
+    # the pieces are where the target is the first box or footprint hit: only a mesh can hide more of them
     static_skip = np.zeros(engine.n_static, dtype=bool)
     static_skip[: len(view.static_transparent)] = statics_around_eye(view, eye, engine.exact.tops, engine.exact.bases)
-    keep_static = ~static_skip[engine.static_source] if len(engine.static_source) else np.zeros(0, bool)
-    triangles = np.concatenate([box_triangles, engine.static_triangles[keep_static]])
-    tri_owner = np.r_[np.repeat(keep, 12), -1 - engine.static_source[keep_static]].astype(np.int64)
-    prim, _ = FirstHit(triangles - eye).cast(np.zeros((len(dirs), 3)), dirs)
-    first = np.where(prim >= 0, tri_owner[np.maximum(prim, 0)], -(10**9))
-    target_of_ray = np.asarray(targets)[owner[piece]]
-    reached = first == target_of_ray
+    is_mesh = engine.static_source >= engine.n_footprints
+    if len(engine.static_source):
+        is_mesh &= ~static_skip[engine.static_source]
+    centre, rot, half = frames(boxes)
+    entry = ray_entries(np.zeros(3), dirs, centre - eye, rot, half, target_of_ray)
+    scene = FirstHit(engine.static_triangles[is_mesh] - eye)
+    ray, mesh = hits_before(scene, engine.static_source[is_mesh], np.zeros((len(dirs), 3)), dirs, entry)
+    reached = np.ones(len(dirs), dtype=bool)
+    reached[ray] = False
     uv = np.concatenate(points)
     weight = (1.0 + (uv * uv).sum(axis=1)) ** -1.5  # solid angle per unit area of the face at each point
     fraction = np.bincount(piece, weight * reached, len(mine)) / np.bincount(piece, weight, len(mine))
     seen = np.bincount(owner, solid_angles(np.array([p for _, _, p in mine], dtype=object)) * fraction, len(targets))
-    source = -1 - first  # the static source met first, where ``first`` is one
-    by_mesh = (first < 0) & (first > -(10**9)) & (source >= engine.n_footprints)
-    return seen, (target_of_ray[by_mesh].astype(np.int64), source[by_mesh].astype(np.int64))
+    return seen, (target_of_ray[ray].astype(np.int64), mesh.astype(np.int64))
