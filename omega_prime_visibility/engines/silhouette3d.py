@@ -32,6 +32,7 @@ from typing import ClassVar
 import numpy as np
 import shapely
 
+from ..geometry.occlusion import RELATIVE_TOLERANCE
 from ..inputs.objects import FrameObjects
 from ..inputs.statics import StaticOccluders
 from ..threed.bodies import (
@@ -43,7 +44,6 @@ from ..threed.bodies import (
 )
 from ..threed.boxes import nearest_distance
 from ..threed.cube import MIN_SOLID_ANGLE, silhouettes, solid_angles, view_regions, within_range
-from ..geometry.occlusion import RELATIVE_TOLERANCE
 from ..threed.order import entered_before, nearest, nearest_bound
 from . import Observation, Viewpoint, group_pairs
 from .observe3d import eye_and_view, observation, own_body, static_heights, statics_around_eye
