@@ -308,6 +308,45 @@ def test_targets_that_match_nothing_are_told(targets, said: str) -> None:
         assert "present: VEHICLE idx [0, 2]; PEDESTRIAN idx [1]" in str(caught[0].message)
 
 
+@pytest.mark.parametrize(
+    ("occluders", "said"),
+    [
+        ("cyclists", "occluders=['cyclists'] matches no object of the recording"),
+        ("animals", "occluders=['animals'] matches no object of the recording"),
+        ([0], "occluders=[0] matches only the observer 0"),
+        (pl.col("length") > 100, "occluders='expression: "),
+    ],
+)
+def test_occluders_that_match_nothing_are_told(occluders, said: str) -> None:
+    # as for targets: a choice that leaves no road user to block is never silent, and the table is still whole
+    with pytest.warns(VisibilityInputWarning, match=re.escape(said)) as caught:
+        table = get_visibility_df(street(), 0, occluders=occluders, progress=False)
+    assert table.height == 2 and (table["occluder_idxs"].list.len() == 0).all()
+    if "no object" in said:
+        assert "present: VEHICLE idx [0, 2]; PEDESTRIAN idx [1]" in str(caught[0].message)
+
+
+def test_occluders_that_match_nothing_are_told_on_the_shell(tmp_path) -> None:
+    import subprocess
+    import sys
+
+    from conftest import REPO
+
+    done = subprocess.run(
+        [sys.executable, "-m", "omega_prime_visibility", "run", str(REPO / "highway_merge.mcap"), "--ego", "0",
+         "--occluders", "cyclists", "--rows", "1"],
+        capture_output=True, text=True, check=False,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    assert "occluders=['cyclists'] matches no object of the recording" in done.stderr
+
+
+def test_occluders_that_match_some_object_say_nothing() -> None:
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert get_visibility_df(street(), 0, occluders="pedestrians", progress=False).height == 2
+
+
 def test_targets_that_match_some_object_say_nothing() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error")

@@ -149,6 +149,13 @@ def load_objects(
             VisibilityInputWarning,
             stacklevel=3,
         )
+    if blocks is not None and not blocks.any():
+        warnings.warn(
+            f"occluders={describe_choice(occluders)!r} matches no object of the recording, so no road user blocks "
+            f"the view (only static occluders do; present: {kinds_present(df)})",
+            VisibilityInputWarning,
+            stacklevel=3,
+        )
     floats = float_columns(df, ("x", "y", "yaw", *BOX_COLUMNS))
     x, y = floats["x"], floats["y"]
     yaw = floats.get("yaw", np.zeros(df.height))

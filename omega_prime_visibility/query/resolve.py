@@ -114,6 +114,14 @@ def resolve(query: Query, recording: Any) -> Resolved:
             VisibilityInputWarning,
             stacklevel=3,
         )
+    blockers = np.unique(objects.idx[objects.blocks]) if objects.blocks is not None else None
+    if blockers is not None and len(blockers) == 1 and np.isin(blockers, egos).all() and len(egos) == 1:
+        warnings.warn(
+            f"occluders={describe_choice(q.occluders)!r} matches only the observer {egos.tolist()[0]}, which never "
+            "blocks its own view, so no road user blocks it (only static occluders do)",
+            VisibilityInputWarning,
+            stacklevel=3,
+        )
     sensors: Any = q.sensors
     if sensors is not None:  # sensors turn with their observer
         objects = observers_with_heading(objects, egos, q.on_invalid)
