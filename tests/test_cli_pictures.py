@@ -33,7 +33,27 @@ def test_report_writes_one_html_file(tmp_path) -> None:
     out = cli("report", MCAP, "--frames", "0:10", "--no-progress", "-o", tmp_path / "r.html")  # host vehicle
     assert out.returncode == 0, out.stderr
     page = (tmp_path / "r.html").read_text()
-    assert "Visibility report: highway_merge.mcap" in page and "seen from idx 0; 10 frames" in page
+    assert "Visibility report: highway_merge.mcap" in page and "seen from host vehicle idx 0; 10 frames" in page
+    assert out.stdout.splitlines()[0] == "observer: host vehicle idx 0 (the recording's; --ego IDX for another)"
+
+
+def test_the_default_observer_is_named_by_every_command(tmp_path) -> None:
+    # run, animate and report without --ego say whom they look from; with --ego they say nothing of it
+    said = "observer: host vehicle idx 0 (the recording's; --ego IDX for another)"
+    for args in (("run", MCAP, "--rows", "1"), ("animate", MCAP, "--frames", "0:2", "-o", tmp_path / "a.gif")):
+        out = cli(*args, "--no-progress")
+        assert out.returncode == 0, out.stderr
+        assert said in out.stdout.splitlines()
+        out = cli(*args, "--no-progress", "--ego", "0")
+        assert out.returncode == 0 and "observer:" not in out.stdout + out.stderr
+
+
+def test_a_report_of_a_read_recording_is_titled_by_its_file(tmp_path) -> None:
+    from omega_prime_visibility import read_recording, write_report
+
+    write_report(read_recording(MCAP), 3, tmp_path / "r.html", frames=range(0, 3), progress=False)
+    page = (tmp_path / "r.html").read_text()
+    assert "Visibility report: highway_merge.mcap" in page and "seen from idx 3; 3 frames" in page
 
 
 @pytest.mark.parametrize(
@@ -44,9 +64,9 @@ def test_report_writes_one_html_file(tmp_path) -> None:
         (("animate", MCAP, "--frames", "30-40", "-o", "x.gif"), ("--frames", "'30-40'")),
         (("animate", MCAP, "--ego", "0,1", "-o", "x.gif"), ("one idx",)),
         (("animate", MCAP, "--engine", "nope", "-o", "x.gif"), ("unknown engine 'nope'",)),
-        (("report", MCAP, "--view-range", "-1", "-o", "x.html"), ("view_range must be a positive number", "-1.0")),
-        (("report", MCAP, "--view-range", "nan", "-o", "x.html"), ("view_range must be a positive number", "nan")),
-        (("animate", MCAP, "--view-range", "-1", "-o", "x.gif"), ("view_range must be a positive number",)),
+        (("report", MCAP, "--view-range", "-1", "-o", "x.html"), ("--view-range must be a positive number", "-1.0")),
+        (("report", MCAP, "--view-range", "nan", "-o", "x.html"), ("--view-range must be a positive number", "nan")),
+        (("animate", MCAP, "--view-range", "-1", "-o", "x.gif"), ("--view-range must be a positive number",)),
     ],
 )
 def test_bad_arguments_fail_before_computing(tmp_path, args, fragments) -> None:

@@ -156,6 +156,20 @@ def resolve_map(path: Path, map_path: Path | None) -> Path | None:
     return Path(table[path.name])
 
 
+def default_observer(recording, path: Path) -> tuple[int, str]:
+    """The host vehicle of ``recording`` (read from ``path``), the observer when ``--ego`` is not given, and the
+    line that says so (``observer: host vehicle idx 87 ...``, printed once the command has its answer); a
+    recording that names none exits with one line."""
+    from ..inputs.roles import kinds_present
+    from ..inputs.scene import as_polars
+
+    if recording.host_vehicle_idx is None:
+        present = kinds_present(as_polars(recording))
+        raise fail(f"{path} names no host vehicle: pass --ego IDX (present: {present})")
+    host = int(recording.host_vehicle_idx)
+    return host, f"observer: host vehicle idx {host} (the recording's; --ego IDX for another)"
+
+
 def load_recording(path: Path, map_path: Path | None = None):
     """``io.read_recording`` (the map through :func:`resolve_map`), turning a read error into a one-line message
     and exit status 2."""

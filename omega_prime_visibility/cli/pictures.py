@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Annotated
 
@@ -20,6 +21,7 @@ from .common import (
     Recording,
     Static,
     Targets,
+    default_observer,
     fail,
     load_recording,
     parse_ego,
@@ -56,13 +58,18 @@ def single_ego(ego: str) -> int | None:
     return value
 
 
+def check_view_range(view_range: float | None) -> None:
+    """``--view-range``: a positive, finite number of metres (or not given); else one line, before any reading."""
+    if view_range is not None and not 0 < view_range < math.inf:
+        raise fail(f"--view-range must be a positive number of metres, not {view_range}")
+
+
 def picture_inputs(recording: Path, output: Path, suffixes: tuple[str, ...], frames: str, ego: str,
                    map_path: Path | None, **table_options):  # fmt: skip
     """A picture command's checks that need no computing (the question of ``table_options``, as ``run`` takes
     them; the output path, frames, ego), then the recording and its observer (``--ego``, else the host vehicle):
-    ``(recording, question, frames)``."""
-    from ..inputs.roles import kinds_present
-    from ..inputs.scene import as_polars
+    ``(recording, question, frames, note)``, the note saying which observer was chosen when ``--ego`` was not
+    given (else None)."""
     from ..table.output import check_output_path
 
     span, ego_idx = parse_frames(frames), single_ego(ego)
@@ -74,11 +81,11 @@ def picture_inputs(recording: Path, output: Path, suffixes: tuple[str, ...], fra
     except ValueError as e:
         raise fail(e) from None
     r = load_recording(recording, map_path)
+    note = None
     if question.observers is None:
-        if r.host_vehicle_idx is None:
-            raise fail(f"the recording names no host vehicle: pass --ego IDX (present: {kinds_present(as_polars(r))})")
-        question = question.replace(observers=int(r.host_vehicle_idx))
-    return r, question, span
+        host, note = default_observer(r, recording)
+        question = question.replace(observers=host)
+    return r, question, span, note
 
 
 FramesOption = Annotated[
@@ -139,7 +146,9 @@ def animate(
 
     table_options = {"engine": engine, "static": static, "sensors": sensors, "mode": mode, "occluders": occluders,
                      "targets": targets, "measure": measure, "map_occluders": map_occluders}  # fmt: skip
-    r, question, span = picture_inputs(recording, output, (".gif", ".mp4"), frames, ego, map_path, **table_options)
+    check_view_range(view_range)
+    r, question, span, note = picture_inputs(recording, output, (".gif", ".mp4"), frames, ego, map_path,
+                                             **table_options)  # fmt: skip
     if target is not None:
         from ..inputs.observers import describe_idx
         from ..inputs.scene import as_polars
@@ -152,7 +161,7 @@ def animate(
                progress=progress, query=question)  # fmt: skip
     except (ValueError, ImportError) as e:
         raise fail(e) from None
-    typer.echo(f"wrote {output}")
+    _done(output, note)
 
 
 @app.command(short_help="an interactive HTML report of one recording, or of a batch output folder")
@@ -199,12 +208,20 @@ def report(
 
     table_options = {"engine": engine, "static": static, "sensors": sensors, "mode": mode, "occluders": occluders,
                      "targets": targets, "measure": measure, "map_occluders": map_occluders}  # fmt: skip
-    r, question, span = picture_inputs(recording, output, (".html",), frames, ego, map_path, **table_options)
+    check_view_range(view_range)
+    r, question, span, note = picture_inputs(recording, output, (".html",), frames, ego, map_path, **table_options)
     try:
         write_report(r, None, output, frames=span, view_range=view_range or AUTO, progress=progress,
                      title=recording.name, query=question)  # fmt: skip
     except (ValueError, ImportError) as e:
         raise fail(e) from None
+    _done(output, note)
+
+
+def _done(output: Path, note: str | None) -> None:
+    """A picture command's closing lines: which observer, when chosen by default, and what was written."""
+    if note is not None:
+        typer.echo(note)
     typer.echo(f"wrote {output}")
 
 

@@ -23,6 +23,7 @@ from .common import (
     Sensors,
     Static,
     Targets,
+    default_observer,
     fail,
     load_recording,
     resolve_map,
@@ -53,8 +54,6 @@ def run(
     """Compute the visibility table of one recording; print it with a per-target summary, or write it."""
     from ..analysis.summary import DEFINITION, target_summary
     from ..api import get_visibility_df
-    from ..inputs.roles import kinds_present
-    from ..inputs.scene import as_polars
     from ..table.output import check_dataset_path, check_output_path, write_csv
 
     # every check that needs no computing comes first, so a typo never costs a long run
@@ -74,8 +73,10 @@ def run(
                            map_path=map_path, map_occluders=map_occluders, occluders=occluders, targets=targets,
                            measure=measure)  # fmt: skip
     r = load_recording(recording, map_path)
-    if question.observers is None and r.host_vehicle_idx is None:
-        raise fail(f"{recording} names no host vehicle: pass --ego IDX (present: {kinds_present(as_polars(r))})")
+    note = None
+    if question.observers is None:
+        host, note = default_observer(r, recording)
+        question = question.replace(observers=host)
     stream = output if output is not None and output.suffix == ".parquet" else None
     try:
         table = get_visibility_df(r, query=question, progress=progress, workers=workers, output=stream)
@@ -85,6 +86,8 @@ def run(
         raise fail(e) from None
     except OSError as e:  # the disk filled up or the folder vanished while computing
         raise fail(f"cannot write {output}: {e}") from None
+    if note is not None:
+        typer.echo(note)
     if stream is not None:
         typer.echo(f"wrote {table.select(pl.len()).collect().item()} rows to {output}")
     elif output is not None:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import os
 import warnings
 from collections.abc import Sequence
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 
@@ -61,3 +61,20 @@ def observers_with_heading(objects: ObjectTable, egos: np.ndarray, on_invalid: O
         raise ValueError(problem)
     warnings.warn(f"skipping {problem}", VisibilityInputWarning, stacklevel=4)
     return objects.take_rows(np.flatnonzero(~unknown))
+
+
+def observer_words(observers: Any, recording: Any) -> str:
+    """The observer(s) in a reader's words: ``host vehicle idx 87`` where it is the recording's host vehicle
+    (omega-prime's ``host_vehicle_idx``), else ``idx 3``, ``idx [0, 2]`` or ``every road user``.
+
+    >>> class Recording:
+    ...     host_vehicle_idx = 87
+    >>> observer_words(87, Recording()), observer_words(3, Recording()), observer_words("all", None)
+    ('host vehicle idx 87', 'idx 3', 'every road user')
+    """
+    if isinstance(observers, str):
+        return "every road user"
+    if isinstance(observers, tuple | list):
+        return f"idx {list(observers)}" if len(observers) != 1 else observer_words(observers[0], recording)
+    host = getattr(recording, "host_vehicle_idx", None)
+    return f"host vehicle idx {observers}" if host is not None and int(host) == int(observers) else f"idx {observers}"

@@ -21,6 +21,7 @@ import polars as pl
 import shapely
 from tqdm.auto import tqdm
 
+from ..inputs.observers import observer_words
 from ..query import Query
 from ..table.output import atomic_write, check_output_path
 from ._optional import require
@@ -92,7 +93,8 @@ def write_report(
         :mod:`omega_prime_visibility.plot.window`, the same rule as :func:`~.frame.plot_frame`'s; "auto", the
         default: 50 m, or through sensors the reach of those that look around).
     title : str, optional
-        Heading of the page; by default the recording's file name where known.
+        Heading of the page; by default the recording's file name where known (a path, or a recording read by
+        this package).
     engine, mode : str, optional
         As for ``get_visibility_df``; ``mode="3d"`` shows 3D visibility (the scene stays a bird's-eye view).
     occluders : str, sequence or polars expression, optional
@@ -115,7 +117,9 @@ def write_report(
 
         title = Path(df).name if title is None else title
         df = read_recording(df)
-    title = "recording" if title is None else title
+    if title is None:  # the file's name where the recording knows it (read by this package)
+        path = getattr(df, "path", None)
+        title = Path(path).name if isinstance(path, str | os.PathLike) else "recording"
     source = load_source(df, asked, lanes)
     positions = source.positions(frames)
     if asked.sensors is not None or (table is None and needs_table(asked)):  # the table every part shows
@@ -135,7 +139,7 @@ def write_report(
     page = PAGE.format(
         title=html.escape(f"Visibility report: {title}"),
         subtitle=html.escape(
-            f"seen from idx {ego_idx}; {len(views)} frames ({views[0].frame} to {views[-1].frame}), "
+            f"seen from {observer_words(ego_idx, df)}; {len(views)} frames ({views[0].frame} to {views[-1].frame}), "
             f"{len(np.unique(np.concatenate([v.idx for v in views]))) - 1} other objects; {describe_question(asked)}"
         ),
         style=_asset("report.css"),
