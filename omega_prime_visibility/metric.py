@@ -52,7 +52,10 @@ def visibility(
     object table passes through unchanged. The perspective parameter is named ``ego_id`` as in omega-prime's
     own metrics, so one ``MetricManager.compute(r, ego_id=...)`` call serves them all.
 
-    For 0.1.0 callers, ``ego_idx`` is accepted instead of ``ego_id`` (give exactly one of them), and ``epsilon``
+    Without ``ego_id``, the recording's host vehicle is the observer, as for ``get_visibility_df`` and the shell
+    (``MetricManager.compute(r)``: the host vehicle of ``r``).
+
+    For 0.1.0 callers, ``ego_idx`` is accepted instead of ``ego_id`` (give at most one of them), and ``epsilon``
     (metres) is accepted for compatibility with 0.1.0, where it was VisiLibity's snapping distance; the result here
     is exact and does not depend on it. ``sensors`` (a layout name, a JSON file or Sensor objects) looks through
     sensors, as in :func:`~omega_prime_visibility.get_visibility_df`.
@@ -66,12 +69,12 @@ def visibility(
     # ValueError, not TypeError: omega-prime relabels a metric's TypeError as "Missing parameter"
     if query is not None and ego_id is None and ego_idx is None:
         ego_id = query.observers
-    if (ego_id is None) == (ego_idx is None):
-        given = "both" if ego_id is not None else "neither"
+    if ego_id is not None and ego_idx is not None:
         raise ValueError(
-            f"the visibility Metric needs exactly one of ego_id (omega-prime's name) and ego_idx (0.1.0's name); "
-            f"{given} given"
+            "the visibility Metric takes one of ego_id (omega-prime's name) and ego_idx (0.1.0's name), not both"
         )
+    if ego_id is None and ego_idx is None:  # the host vehicle, as get_visibility_df and the shell take it
+        ego_id = _host_vehicle_of_the_pipeline()
     table = get_visibility_df(
         df,
         ego_idx if ego_id is None else ego_id,
@@ -91,6 +94,25 @@ def visibility(
         query=query,
     )
     return df, {"visibility": table.lazy()}
+
+
+def _host_vehicle_of_the_pipeline() -> int:
+    """The host vehicle of the recording that omega-prime's ``MetricManager.compute`` is computing, the observer
+    when no ``ego_id`` is given (the manager hands a metric the object table only: it is read from the manager's
+    call, found on the stack); ``ValueError`` where there is none."""
+    import sys
+
+    from omega_prime.metrics.metric_manager import MetricManager
+
+    frame = sys._getframe(1)
+    while frame is not None and frame.f_code is not MetricManager.compute.__code__:
+        frame = frame.f_back
+    recording = frame.f_locals.get("r") if frame is not None else None
+    host = getattr(recording, "host_vehicle_idx", None)
+    if host is None:
+        where = "the recording names no host vehicle" if recording is not None else "no recording names its host"
+        raise ValueError(f"the visibility Metric needs an observer: give ego_id=IDX ({where})")
+    return int(host)
 
 
 @metric(requires_properties=["timegaps", "visibility"], computes_properties=["occluded_conflicts"])

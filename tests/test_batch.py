@@ -244,11 +244,46 @@ def test_per_file_failures_for_ego(tmp_path) -> None:
 def test_osi_trace_without_host_vehicle_asks_for_ego(tmp_path, shared_data) -> None:
     summary = run_batch(shared_data / "pedestrian.osi", tmp_path, map=shared_data / "fabriksgatan.xodr", progress=False)
     assert summary["status"][0] == "failed"
-    assert (
-        summary["error"][0]
-        == "pedestrian.osi names no host vehicle: give an ego (--ego IDX or --ego all; present: VEHICLE idx [0]; "
-        "PEDESTRIAN idx [1])"
+    assert summary["error"][0] == (
+        "pedestrian.osi names no host vehicle: give an observer for such recordings (--fallback-ego IDX keeps each "
+        "recording's host vehicle where it names one), or one for all (--ego IDX, --ego all); present: VEHICLE idx "
+        "[0]; PEDESTRIAN idx [1]"
     )
+
+
+def test_a_mixed_folder_takes_each_host_vehicle_and_the_fallback_elsewhere(tmp_path, shared_data) -> None:
+    # an MCAP file naming its host vehicle (idx 0; a copy whose host is idx 3) and an OSI trace naming none
+    from omega_prime_visibility import campaign_statistics, get_visibility_df, read_recording
+
+    folder = tmp_path / "in"
+    folder.mkdir()
+    shutil.copyfile(MCAP, folder / "merge.mcap")
+    shutil.copyfile(shared_data / "acc-test.osi", folder / "acc.osi")
+    host_3 = read_recording(MCAP).to_omega_prime()
+    host_3.host_vehicle_idx = 3
+    host_3.to_mcap(folder / "merge_host3.mcap")
+    kwargs = {"map": shared_data / "straight_500m.xodr", "progress": False, "engine": "sweep"}
+    summary = run_batch(folder, tmp_path / "out", fallback_ego=1, **kwargs)
+    assert summary.select("result", "status", "observer").rows() == [
+        ("acc.osi.parquet", "done", "idx 1 (fallback: names no host vehicle)"),
+        ("merge.mcap.parquet", "done", "host vehicle idx 0"),
+        ("merge_host3.mcap.parquet", "done", "host vehicle idx 3"),
+    ]
+    for name, ego in (("acc.osi", 1), ("merge.mcap", 0), ("merge_host3.mcap", 3)):
+        r = read_recording(folder / name, kwargs["map"] if name.endswith(".osi") else None)
+        expected = get_visibility_df(r, ego, engine="sweep", progress=False)
+        assert pl.read_parquet(tmp_path / "out" / f"{name}.parquet").equals(expected), name
+    # a rerun skips them all and still says whom each is seen from; the campaign measures from the same observers
+    again = run_batch(folder, tmp_path / "out", fallback_ego=1, **kwargs)
+    assert again["status"].to_list() == ["skipped"] * 3 and again["observer"].equals(summary["observer"])
+    assert campaign_statistics(tmp_path / "out")["by_recording"]["rows"].to_list() == summary["rows"].to_list()
+    # a fallback is a new option: those results are recomputed; --ego beside it would never use it
+    assert run_batch(folder, tmp_path / "out", **kwargs)["status"].to_list() == ["failed", "done", "done"]
+    with pytest.raises(ValueError, match="fallback_ego applies where the observer is each recording's host"):
+        run_batch(folder, tmp_path / "out", ego=0, fallback_ego=1, **kwargs)
+    for bad in (1.5, "0", True):
+        with pytest.raises(ValueError, match="fallback_ego takes one idx"):
+            run_batch(folder, tmp_path / "out", fallback_ego=bad, **kwargs)
 
 
 def test_map_list_for_traces(tmp_path) -> None:

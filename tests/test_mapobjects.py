@@ -134,28 +134,3 @@ def test_a_map_that_adds_no_occluder_is_told(xodr, tmp_path) -> None:
         warnings.simplefilter("error", VisibilityInputWarning)
         get_visibility_df(df, 0, map_occluders=low, mode="3d")  # in 3D the railing blocks: nothing to tell
         get_visibility_df(df, 0, map_occluders=xodr)  # the barrier and the house block in 2D
-
-
-class _Map:
-    def __init__(self, xml: str) -> None:
-        self.odr_xml = xml
-
-
-class _Recording:
-    def __init__(self, xml: str, xy: list[tuple[float, float]]) -> None:
-        self.map = _Map(xml)
-        self._df = pl.DataFrame({"idx": list(range(len(xy))), "x": [p[0] for p in xy], "y": [p[1] for p in xy]})
-
-
-def test_a_map_far_from_the_objects_is_told() -> None:
-    # the road runs along y = 0 from x = 0 to 100, then bends left (arc): objects 60 m off it are far, 40 m are near
-    from pathlib import Path
-
-    from omega_prime_visibility.inputs.io import MapNotice, _check_map_covers
-
-    far = _Recording(XODR, [(50.0, 70.0), (5000.0, -3000.0), (20.0, 2.0)])
-    with pytest.warns(MapNotice, match=r"2 of the 3 moving objects .* more than 50 m from every road .* \(e.g. idx 0"):
-        _check_map_covers(far, Path("x.xodr"))
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", MapNotice)
-        _check_map_covers(_Recording(XODR, [(50.0, 40.0), (5000.0, 0.0), (150.0, 20.0)]), Path("x.xodr"))

@@ -206,11 +206,31 @@ def test_metric_accepts_published_ego_idx(bundled: omega_prime.Recording) -> Non
     assert properties["visibility"].equals(get_visibility_df(bundled, 0))
 
 
-@pytest.mark.parametrize("kwargs", [{"ego_id": 0, "ego_idx": 0}, {"ego_id": 0, "ego_idx": 1}, {}])
-def test_metric_needs_exactly_one_ego_name(bundled: omega_prime.Recording, kwargs: dict) -> None:
+@pytest.mark.parametrize("kwargs", [{"ego_id": 0, "ego_idx": 0}, {"ego_id": 0, "ego_idx": 1}])
+def test_metric_takes_one_ego_name(bundled: omega_prime.Recording, kwargs: dict) -> None:
     manager = omega_prime.metrics.MetricManager(metrics=[visibility])
-    with pytest.raises(ValueError, match=r"exactly one of ego_id .* and ego_idx"):
+    with pytest.raises(ValueError, match=r"one of ego_id .* and ego_idx .*, not both"):
         manager.compute(bundled, **kwargs)
+
+
+def test_metric_without_an_ego_takes_the_host_vehicle_as_everything_else_does(bundled, tmp_path) -> None:
+    # one default everywhere: get_visibility_df(r), the shell and the Metric all look from the host vehicle
+    manager = omega_prime.metrics.MetricManager(metrics=[visibility])
+    _, properties = manager.compute(bundled)
+    assert bundled.host_vehicle_idx == 0
+    assert properties["visibility"].equals(get_visibility_df(bundled)) and properties["visibility"].height == 1206
+    # a recording whose host vehicle is another: that one, not idx 0
+    other = omega_prime.Recording(bundled._df.drop("polygon", "geometry"), host_vehicle_idx=3, validate=False)
+    _, properties = manager.compute(other)
+    assert properties["visibility"].equals(get_visibility_df(other, 3))
+    assert 3 not in properties["visibility"]["idx"].to_list()
+    # a recording naming no host vehicle: one clear line asking for ego_id
+    nameless = omega_prime.Recording(bundled._df.drop("polygon", "geometry"), validate=False)
+    with pytest.raises(ValueError, match=r"needs an observer: give ego_id=IDX \(the recording names no host vehicle"):
+        manager.compute(nameless)
+    # called outside a manager with no recording to ask: the same kind of line
+    with pytest.raises(ValueError, match=r"needs an observer: give ego_id=IDX"):
+        visibility.compute_lazy(df=bundled._df.lazy())
 
 
 def test_metric_rejects_bad_epsilon(bundled: omega_prime.Recording) -> None:

@@ -19,7 +19,7 @@ from ..analysis.classes import EXACT
 from ..analysis.combine import every_listed
 from ..analysis.statistics import class_shares, rows_with_distance, statistics_of_rows
 from ..inputs.objects import VisibilityInputWarning
-from .files import OPTIONS_KEY, RECORDING_KEY
+from .files import OPTIONS_KEY, RECORDING_KEY, stored_observer
 from .options import FileOptions
 from .run import SUMMARY_NAME
 from .task import conflicts_path, objects_path
@@ -48,12 +48,15 @@ def campaign_statistics(
         if conflicts_path(result).is_file():
             conflicts.append(pl.read_parquet(conflicts_path(result)).with_columns(recording=pl.lit(recording)))
         ego, table, stored = options.get("ego"), _table(result), objects_path(result)
+        seen_from = stored_observer(result)  # (batch stores whom each result is seen from)
+        if ego is None and seen_from is not None and isinstance(seen_from[0], int):
+            ego = seen_from[0]  # the host vehicle, or the fallback where the recording names none
         knows_ego = isinstance(ego, int) or "idx_ego" in table.collect_schema().names()
         if knows_ego and stored.is_file():  # written by batch beside the result: no need to read the MCAP
             objects = pl.scan_parquet(stored)
         else:  # an older result, or the host vehicle as ego: the recording says
             objects, host = _objects(recording)
-            ego = ego if isinstance(ego, int) else host
+            ego = ego if isinstance(ego, int) else host if host is not None else options.get("fallback_ego")
         rows = rows_with_distance(table, objects, ego if isinstance(ego, int) else None)
         frames.append(rows.with_columns(recording=pl.lit(recording)))
     rows = pl.concat(frames, how="vertical_relaxed")

@@ -17,6 +17,8 @@ from ..table.output import is_dataset
 RECORDING_SUFFIXES = (".mcap", ".osi")  # what a folder or a glob contributes; files named directly may be anything
 OPTIONS_KEY = b"omega_prime_visibility.options"
 RECORDING_KEY = b"omega_prime_visibility.recording"
+OBSERVER_KEY = b"omega_prime_visibility.observer"
+"""Parquet metadata of a result: JSON ``{"observers": 87, "words": "host vehicle idx 87"}``, whom it is seen from."""
 
 
 def find_recordings(inputs: list[str | os.PathLike], output_dir: Path) -> list[tuple[Path, Path]]:
@@ -177,3 +179,19 @@ def is_current(result: Path, recording: Path, fingerprint: str) -> int | None:
         return None
     stored = (meta.metadata or {}).get(OPTIONS_KEY)
     return meta.num_rows if stored is not None and stored.decode() == fingerprint else None
+
+
+def stored_observer(result: Path) -> tuple[object, str] | None:
+    """Whom a result is seen from (``observers`` as the question takes them, and in a reader's words), as batch
+    stored it; None for a result written before it stored them, or not readable."""
+    import json
+
+    try:
+        stored = (pq.read_metadata(result).metadata or {}).get(OBSERVER_KEY)
+        values = json.loads(stored) if stored is not None else None
+    except (OSError, ValueError, pa.ArrowException):
+        return None
+    if not isinstance(values, dict) or "observers" not in values:
+        return None
+    observers = values["observers"]
+    return (tuple(observers) if isinstance(observers, list) else observers), str(values.get("words", ""))

@@ -45,6 +45,9 @@ class FileOptions:
     conflicts : bool
         Also write each recording's occluded conflicts (``occluded_conflicts`` with its defaults: a PET of 3 s, a
         5 s look-back, the notice model ``(1.0, 1.5)``) beside its result, as ``<result>.conflicts.parquet``.
+    fallback_ego : int, optional
+        With the observers None: the observer of a recording that names no host vehicle (esmini's OSI traces name
+        none; its first entity, idx 0, is usually the ego); without it such a recording fails, saying so.
 
     Examples
     --------
@@ -57,10 +60,22 @@ class FileOptions:
     query: Query = field(default_factory=Query)
     map: str | None = None
     conflicts: bool = False
+    fallback_ego: int | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.query, Query):
             raise TypeError(f"query must be an omega_prime_visibility.Query, not {type(self.query).__name__}")
+        fallback = self.fallback_ego
+        if fallback is not None:
+            if isinstance(fallback, bool) or not isinstance(fallback, numbers.Integral):
+                raise OptionError.plain("fallback_ego", f"fallback_ego takes one idx, not {fallback!r}")
+            if self.query.observers is not None:
+                raise OptionError.plain(
+                    "fallback_ego",
+                    f"fallback_ego applies where the observer is each recording's host vehicle; the observers are "
+                    f"given ({self.query.observers!r}), so it would never be used",
+                )
+            object.__setattr__(self, "fallback_ego", int(fallback))
         if self.map is not None:
             path = Path(self.map)
             if not path.is_file():
@@ -69,7 +84,13 @@ class FileOptions:
 
     @classmethod
     def of(
-        cls, query: Query | None = None, *, map: Any = None, conflicts: bool = False, **keywords: Any
+        cls,
+        query: Query | None = None,
+        *,
+        map: Any = None,
+        conflicts: bool = False,
+        fallback_ego: int | None = None,
+        **keywords: Any,
     ) -> FileOptions:
         """The options of ``run_batch(query, ..., **keywords)``: the keywords of :data:`BATCH_KEYWORDS` folded into
         ``query`` (a keyword that contradicts it is an error naming both), the static file read once."""
@@ -77,7 +98,7 @@ class FileOptions:
 
         unknown = sorted(set(keywords) - set(BATCH_KEYWORDS))
         if unknown:
-            known = ["query", "map", "conflicts", *BATCH_KEYWORDS]
+            known = ["query", "map", "conflicts", "fallback_ego", *BATCH_KEYWORDS]
             raise ValueError(f"unknown option(s) {unknown}; options are {known}")
         table = {BATCH_KEYWORDS[k]: v for k, v in keywords.items()}
         if table.get("map_occluders") is False:
@@ -88,30 +109,55 @@ class FileOptions:
                 table["static_occluder_polys"] = read_static_occluders(static)
             except RecordingReadError as e:
                 raise OptionError.plain("static", str(e)) from None
-        return cls(fold_keywords(query, **table), map, conflicts)
+        return cls(fold_keywords(query, **table), map, conflicts, fallback_ego)
 
     def question(self, recording: Any, name: str, map_path: str | None) -> Query:
         """The question of one recording (read from the file ``name`` with ``map_path``): the observers settled
-        (the host vehicle when none is given) and ``map_occluders=True`` made the map it was read with."""
+        (:meth:`observer`) and ``map_occluders=True`` made the map it was read with."""
         query = self.query
         if query.observers is None:
-            if recording.host_vehicle_idx is None:
-                from ..inputs.roles import kinds_present
-                from ..inputs.scene import as_polars
-
-                raise ValueError(
-                    f"{name} names no host vehicle: give an ego (--ego IDX or --ego all; "
-                    f"present: {kinds_present(as_polars(recording))})"
-                )
-            query = query.replace(observers=int(recording.host_vehicle_idx))
+            query = query.replace(observers=self.observer(recording, name)[0])
         if query.map_occluders is True and map_path is not None:
             query = query.replace(map_occluders=map_path)
         return query
+
+    def observer(self, recording: Any, name: str) -> tuple[Any, str]:
+        """Whom the recording read from the file ``name`` is seen from, and how that was chosen, in a reader's
+        words: the observers given, else its host vehicle, else :attr:`fallback_ego`; ``ValueError`` for a
+        recording that names no host vehicle when there is no fallback.
+
+        >>> class Trace:
+        ...     host_vehicle_idx = None
+        >>> FileOptions.of(fallback_ego=0).observer(Trace(), "cut-in.osi")
+        (0, 'idx 0 (fallback: names no host vehicle)')
+        >>> FileOptions.of(ego="all").observer(Trace(), "cut-in.osi")
+        ('all', 'every road user')
+        """
+        from ..inputs.observers import observer_words
+
+        given = self.query.observers
+        if given is not None:
+            return given, observer_words(given, recording)
+        host = recording.host_vehicle_idx
+        if host is not None:
+            return int(host), f"host vehicle idx {int(host)}"
+        if self.fallback_ego is not None:
+            return self.fallback_ego, f"idx {self.fallback_ego} (fallback: names no host vehicle)"
+        from ..inputs.roles import kinds_present
+        from ..inputs.scene import as_polars
+
+        raise ValueError(
+            f"{name} names no host vehicle: give an observer for such recordings (--fallback-ego IDX keeps each "
+            f"recording's host vehicle where it names one), or one for all (--ego IDX, --ego all); "
+            f"present: {kinds_present(as_polars(recording))}"
+        )
 
     def fingerprint(self) -> str:
         """JSON of the options: the question's text (files and geometries by their content, see
         :meth:`Query.text`) and the map with the SHA-256 of its content (an edited file recomputes)."""
         values = {"query": json.loads(self.query.text()), "conflicts": self.conflicts, "map": self.map}
+        if self.fallback_ego is not None:  # (only when given: results made before it stay current)
+            values["fallback_ego"] = self.fallback_ego
         if self.map is not None:
             values["map"] = {"path": self.map, "sha256": _sha256(self.map)}
         return json.dumps(values, sort_keys=True)

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 import polars as pl
 
 from . import execute
-from .files import find_recordings, is_current, prepare_output_dir, remove_leftovers
+from .files import find_recordings, is_current, prepare_output_dir, remove_leftovers, stored_observer
 from .options import FileOptions, is_int
 from .task import FileResult, FileTask
 
@@ -31,6 +31,7 @@ SUMMARY_SCHEMA = {
     "seconds": pl.Float64,
     "error": pl.String,
     "warnings": pl.String,
+    "observer": pl.String,  # whom the result is seen from: host vehicle idx 87, idx 0 (fallback: ...), ...
 }
 
 
@@ -85,7 +86,8 @@ def run_batch(
         Show a progress bar over files.
     **options
         ``map`` (an OpenDRIVE map for OSI traces, or a JSON list of ``[trace, map]`` pairs), ``conflicts`` (also
-        write each recording's occluded conflicts), and the question's options as keywords (see
+        write each recording's occluded conflicts), ``fallback_ego`` (the observer of recordings that name no host
+        vehicle, where the observers are each recording's host vehicle), and the question's options as keywords (see
         :data:`~.options.BATCH_KEYWORDS`): ``ego`` (default: each recording's host vehicle), ``engine``, ``mode``,
         ``measure``, ``sensors``, ``occluders``, ``targets``, ``static`` (a GeoJSON or WKT file),
         ``map_occluders`` (True: the map each recording is read with).
@@ -95,7 +97,8 @@ def run_batch(
     polars.DataFrame
         One row per recording, in input order: ``recording`` (absolute path), ``result`` (relative to
         ``output_dir``), ``status`` (done, skipped or failed), ``rows``, ``seconds``, ``error`` (one line, for
-        failures), ``warnings``.
+        failures), ``warnings``, ``observer`` (whom it is seen from: ``host vehicle idx 87``, ``idx 0 (fallback:
+        names no host vehicle)``, ``idx 3``, ``every road user``).
 
     Raises
     ------
@@ -178,7 +181,9 @@ def _plan(
         remove_leftovers(result)
         rows = None if overwrite else is_current(result, recording, fingerprint)
         if rows is not None:
-            results[str(result)] = FileResult(str(recording), str(result), "skipped", rows)
+            stored = stored_observer(result)
+            observer = stored[1] if stored is not None else None
+            results[str(result)] = FileResult(str(recording), str(result), "skipped", rows, observer=observer)
         else:
             tasks.append(FileTask(str(recording), str(result), options, fingerprint))
     return results, tasks

@@ -8,7 +8,7 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
-from .files import OPTIONS_KEY, RECORDING_KEY
+from .files import OBSERVER_KEY, OPTIONS_KEY, RECORDING_KEY
 from .options import FileOptions
 
 
@@ -34,6 +34,7 @@ class FileResult:
     seconds: float = 0.0
     error: str | None = None
     warnings: str | None = None
+    observer: str | None = None  # whom it is seen from, in a reader's words (host vehicle idx 87, a fallback, ...)
 
 
 WARNING_SEPARATOR = " | "
@@ -53,7 +54,7 @@ def process_file(task: FileTask) -> FileResult:
         CURRENT = task.result
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            rows = _compute_and_write(task)
+            rows, observer = _compute_and_write(task)
     except Exception as e:
         message = str(e) if isinstance(e, ValueError) else f"{type(e).__name__}: {e}"
         return FileResult(task.recording, task.result, "failed", None, time.perf_counter() - start, _one_line(message))
@@ -68,6 +69,7 @@ def process_file(task: FileTask) -> FileResult:
         time.perf_counter() - start,
         None,
         WARNING_SEPARATOR.join(notes) or None,
+        observer,
     )
 
 
@@ -76,7 +78,9 @@ def _one_line(message: str, limit: int = 500) -> str:
     return message if len(message) <= limit else message[: limit - 3] + "..."
 
 
-def _compute_and_write(task: FileTask) -> int:
+def _compute_and_write(task: FileTask) -> tuple[int, str]:
+    """Compute and write one result; its row count and whom it is seen from, in a reader's words."""
+    import json
     from importlib.metadata import version
 
     import pyarrow.parquet as pq
@@ -90,12 +94,14 @@ def _compute_and_write(task: FileTask) -> int:
     map_path = options.map_for(Path(task.recording))
     recording = read_recording(task.recording, map_path)
     question = options.question(recording, Path(task.recording).name, map_path)
+    observers, words = options.observer(recording, Path(task.recording).name)
     table = get_visibility_df(recording, query=question, workers=task.workers, progress=False)
     arrow = table.to_arrow()
     metadata = {
         **(arrow.schema.metadata or {}),
         OPTIONS_KEY: task.fingerprint.encode(),
         RECORDING_KEY: task.recording.encode(),
+        OBSERVER_KEY: json.dumps({"observers": observers, "words": words}).encode(),
         b"omega_prime_visibility.version": version("omega-prime-visibility").encode(),
     }
     Path(task.result).parent.mkdir(parents=True, exist_ok=True)
@@ -109,7 +115,7 @@ def _compute_and_write(task: FileTask) -> int:
             conflicts.write_parquet(temp)
     with atomic_write(task.result) as temp:
         pq.write_table(arrow.replace_schema_metadata(metadata), temp)
-    return table.height
+    return table.height, words
 
 
 def objects_path(result: str | Path) -> Path:

@@ -67,6 +67,14 @@ def batch(
             " RESULT.conflicts.parquet",
         ),
     ] = False,
+    fallback_ego: Annotated[
+        int | None,
+        typer.Option(
+            metavar="IDX",
+            help="without --ego: the observer of recordings that name no host vehicle (esmini's OSI traces; their"
+            " first entity, idx 0, is usually the ego); each other recording is seen from its host vehicle",
+        ),
+    ] = None,
     overwrite: Annotated[bool, typer.Option(help="recompute results that are current")] = False,
     progress: Annotated[bool, typer.Option(help="show a progress bar over files")] = True,
 ) -> None:
@@ -99,6 +107,7 @@ def batch(
             question,
             map=map_path,
             conflicts=conflicts,
+            fallback_ego=fallback_ego,
             workers=workers,
             scheduler=scheduler,
             scheduler_file=scheduler_file,
@@ -120,7 +129,7 @@ def print_summary(summary: pl.DataFrame, path: Path) -> None:
     """The summary table (failures first), one line per failure with its message, one per warning a recording
     gave (as ``run`` prints them), and one line of counts."""
     order = pl.col("status").replace_strict({"failed": 0, "interrupted": 1}, default=2, return_dtype=pl.Int8)
-    shown = summary.sort(order, maintain_order=True).select("result", "status", "rows", "seconds")
+    shown = summary.sort(order, maintain_order=True).select("result", "status", "observer", "rows", "seconds")
     with pl.Config(tbl_rows=30, tbl_cols=-1, tbl_hide_dataframe_shape=True, fmt_str_lengths=120):
         typer.echo(shown)
     for recording, error in summary.filter(pl.col("status") == "failed").select("recording", "error").iter_rows():

@@ -8,6 +8,8 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import Any
 
+from .roads import MapNotice, check_map_fits
+
 NO_MAP = "No map could be found"  # start of omega-prime's warning when no reader could parse the map
 
 
@@ -53,6 +55,10 @@ def read_recording(path: str | os.PathLike, map_path: str | os.PathLike | None =
         map_path = Path(map_path)
         if not map_path.is_file():
             raise RecordingReadError(f"map {map_path} {'is not a file' if map_path.exists() else 'does not exist'}")
+        if map_path.suffix.lower() in RECORDING_SUFFIXES:
+            raise RecordingReadError(
+                f"map {map_path} is a recording, not a map: give the OpenDRIVE file (.xodr) the recording was made on"
+            )
         kwargs["map_path"] = str(map_path)
     elif path.suffix in (".mcap", ".osi"):  # read straight into columns where omega-prime gives the same table
         if path.suffix == ".mcap":
@@ -90,103 +96,8 @@ def read_recording(path: str | os.PathLike, map_path: str | os.PathLike | None =
                 MapNotice,
                 stacklevel=2,
             )
-        _check_map_covers(recording, map_path, root)
+        check_map_fits(recording, map_path, root)
     return recording
-
-
-class MapNotice(UserWarning):
-    """What map a recording was read with, or that the map given does not fit its objects."""
-
-
-FAR_FROM_ROADS = 50.0
-"""Metres beyond every road of a map at which an object is *far from the map* (:func:`_check_map_covers`)."""
-
-
-def _check_map_covers(recording: Any, map_path: Path, root: ET.Element | None = None) -> None:
-    """Warn when most moving objects lie far from every road of the OpenDRIVE map given: a map that is not the
-    trace's own (or in another frame) would draw its lanes elsewhere and put its road objects in the wrong place.
-
-    The roads' reference lines are sampled (:func:`_reference_points`); an object (its first, middle and last
-    position) is *far* when every sample lies more than ``FAR_FROM_ROADS`` metres plus the sample's own reach
-    away, so a near object is never called far. ``root``: the map's XML, parsed already (else parsed here).
-    """
-    import numpy as np
-    import polars as pl
-
-    if root is None:
-        odr_xml = getattr(recording.map, "odr_xml", None)
-        if not isinstance(odr_xml, str):
-            return
-        root = ET.fromstring(odr_xml)
-    samples, reach = _reference_points(root)
-    df = recording._df.select("idx", "x", "y")
-    if not len(samples) or df.height == 0:
-        return
-    middle = pl.len() // 2
-    picks = df.group_by("idx").agg(
-        pl.concat_list(c.first(), c.get(middle), c.last()) for c in (pl.col("x"), pl.col("y"))
-    )
-    far_objects = []
-    for idx, xs, ys in picks.sort("idx").iter_rows():
-        points = np.column_stack([xs, ys])
-        gap = np.hypot(points[:, None, 0] - samples[None, :, 0], points[:, None, 1] - samples[None, :, 1])
-        if (gap > reach[None, :] + FAR_FROM_ROADS).all():
-            far_objects.append((idx, points[0]))
-    if 2 * len(far_objects) > picks.height:
-        idx, (x, y) = far_objects[0]
-        warnings.warn(
-            f"{len(far_objects)} of the {picks.height} moving objects of the recording lie more than "
-            f"{FAR_FROM_ROADS:g} m from every road of the map {map_path.name} (e.g. idx {idx} at ({x:.0f}, "
-            f"{y:.0f}) m): is it this trace's map?",
-            MapNotice,
-            stacklevel=3,
-        )
-
-
-SAMPLE_SPACING = 10.0
-"""Metres between the samples of a straight or circular piece of a road's reference line."""
-
-
-def _reference_points(root: ET.Element) -> tuple[Any, Any]:
-    """Points on the roads' reference lines of an OpenDRIVE map and how far the line may stray from each (metres):
-    lines and arcs are sampled every :data:`SAMPLE_SPACING` (reach: half of it); a spiral or polynomial piece is
-    bounded by its start and length (reach: its length), never computed.
-
-    >>> xml = '<OpenDRIVE><road><planView><geometry s="0" x="10" y="0" hdg="0" length="100"><line/></geometry>'
-    >>> xml += '</planView></road></OpenDRIVE>'
-    >>> points, reach = _reference_points(ET.fromstring(xml))
-    >>> points[[0, -1]].tolist(), float(reach[0])
-    ([[10.0, 0.0], [110.0, 0.0]], 5.0)
-    """
-    import numpy as np
-
-    points, reach = [], []
-    for g in root.iter("geometry"):
-        try:
-            x0, y0, hdg, length = (float(g.get(k)) for k in ("x", "y", "hdg", "length"))
-        except (TypeError, ValueError):
-            continue
-        if not all(map(np.isfinite, (x0, y0, hdg, length))) or length < 0:
-            continue
-        line, arc = g.find("line"), g.find("arc")
-        if line is None and arc is None:
-            points.append([[x0, y0]])
-            reach.append([length])
-            continue
-        s = np.linspace(0.0, length, int(np.ceil(length / SAMPLE_SPACING)) + 1)
-        curvature = 0.0 if arc is None else float(arc.get("curvature", 0.0))
-        if abs(curvature) < 1e-12:
-            xy = np.column_stack([x0 + s * np.cos(hdg), y0 + s * np.sin(hdg)])
-        else:
-            turn = hdg + curvature * s
-            xy = np.column_stack(
-                [x0 + (np.sin(turn) - np.sin(hdg)) / curvature, y0 - (np.cos(turn) - np.cos(hdg)) / curvature]
-            )
-        points.append(xy)
-        reach.append(np.full(len(xy), SAMPLE_SPACING / 2))
-    if not points:
-        return np.zeros((0, 2)), np.zeros(0)
-    return np.concatenate([np.asarray(p, dtype=float) for p in points]), np.concatenate(reach).astype(float)
 
 
 MCAP_MAGIC = b"\x89MCAP0\r\n"

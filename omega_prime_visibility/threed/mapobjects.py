@@ -30,6 +30,8 @@ from pathlib import Path
 import numpy as np
 import shapely
 
+from ..inputs.roads import ReferenceLine, _f
+
 STEP = 1.0
 """Metres between the points of continuous objects along the road."""
 
@@ -48,91 +50,6 @@ class MapObject:
     base: float
     top: float
     height_above_road: float
-
-
-def _f(elem: ET.Element, name: str, default: float = 0.0) -> float:
-    value = elem.get(name)
-    return default if value is None or value == "" else float(value)
-
-
-class ReferenceLine:
-    """A road's reference line and elevation: ``pose(s)`` -> ``(x, y, heading, z)`` arrays."""
-
-    def __init__(self, road: ET.Element) -> None:
-        self.geometries = sorted(road.findall("planView/geometry"), key=lambda g: _f(g, "s"))
-        if not self.geometries:
-            raise ValueError(f"road {road.get('id')} has no planView geometry")
-        self.starts = np.array([_f(g, "s") for g in self.geometries])
-        self.elevation = sorted(road.findall("elevationProfile/elevation"), key=lambda e: _f(e, "s"))
-
-    def pose(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        s = np.atleast_1d(np.asarray(s, dtype=np.float64))
-        which = np.clip(np.searchsorted(self.starts, s, side="right") - 1, 0, len(self.geometries) - 1)
-        x, y, hdg = np.empty_like(s), np.empty_like(s), np.empty_like(s)
-        for k in np.unique(which):
-            sel = which == k
-            x[sel], y[sel], hdg[sel] = _geometry_pose(self.geometries[k], s[sel] - self.starts[k])
-        z = np.zeros_like(s)
-        if self.elevation:
-            e_starts = np.array([_f(e, "s") for e in self.elevation])
-            idx = np.clip(np.searchsorted(e_starts, s, side="right") - 1, 0, len(self.elevation) - 1)
-            for k in np.unique(idx):
-                e, sel = self.elevation[k], idx == k
-                ds = s[sel] - e_starts[k]
-                z[sel] = _f(e, "a") + _f(e, "b") * ds + _f(e, "c") * ds**2 + _f(e, "d") * ds**3
-        return x, y, hdg, z
-
-
-def _geometry_pose(g: ET.Element, ds: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Position and heading at ``ds`` metres along one planView geometry."""
-    x0, y0, h, length = _f(g, "x"), _f(g, "y"), _f(g, "hdg"), _f(g, "length")
-    kind = next(iter(g), None)
-    tag = kind.tag if kind is not None else "line"
-    if tag == "arc" and _f(kind, "curvature") != 0.0:
-        k = _f(kind, "curvature")
-        return x0 + (np.sin(h + k * ds) - math.sin(h)) / k, y0 - (np.cos(h + k * ds) - math.cos(h)) / k, h + k * ds
-    if tag in ("spiral", "poly3", "paramPoly3"):
-        if tag == "spiral":  # integrate the heading along the arc length
-            k0, k1 = _f(kind, "curvStart"), _f(kind, "curvEnd")
-            p = np.linspace(0.0, 1.0, 65)[None, :] * ds[:, None]
-            heading = k0 * p + (k1 - k0) * p**2 / (2 * max(length, 1e-12))
-            u = np.trapezoid(np.cos(heading), p, axis=1)
-            v = np.trapezoid(np.sin(heading), p, axis=1)
-            local_h = heading[:, -1]
-        else:
-            if tag == "poly3":
-                cu, cv = (0.0, 1.0, 0.0, 0.0), tuple(_f(kind, c) for c in "abcd")
-                normalized = False
-            else:
-                cu = tuple(_f(kind, f"{c}U") for c in "abcd")
-                cv = tuple(_f(kind, f"{c}V") for c in "abcd")
-                normalized = kind.get("pRange", "normalized") == "normalized"
-            u, v, local_h = _cubic_pose(cu, cv, ds, length, normalized, tag == "poly3")
-        c, s = math.cos(h), math.sin(h)
-        return x0 + u * c - v * s, y0 + u * s + v * c, h + local_h
-    return x0 + ds * math.cos(h), y0 + ds * math.sin(h), np.full_like(ds, h)
-
-
-def _cubic_pose(cu, cv, ds, length, normalized, by_arc_length):
-    """Local position and heading of a cubic curve at arc length ``ds``; poly3 is inverted numerically."""
-
-    def at(p):
-        return (
-            cu[0] + cu[1] * p + cu[2] * p**2 + cu[3] * p**3,
-            cv[0] + cv[1] * p + cv[2] * p**2 + cv[3] * p**3,
-            math.nan,
-        )
-
-    if by_arc_length:  # poly3: parameter u along the local x axis; find u with the arc length ds
-        u = np.linspace(0.0, max(length, 1e-9) * 1.5, 2001)
-        arc = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(u), np.diff(at(u)[1])))])
-        p = np.interp(ds, arc, u)
-    else:
-        p = ds / max(length, 1e-12) if normalized else ds
-    x, y, _ = at(p)
-    du = cu[1] + 2 * cu[2] * p + 3 * cu[3] * p**2
-    dv = cv[1] + 2 * cv[2] * p + 3 * cv[3] * p**2
-    return x, y, np.arctan2(dv, du)
 
 
 def _footprint(obj: ET.Element, ref: ReferenceLine, s: float, t: float, length: float, width: float, radius: float):
