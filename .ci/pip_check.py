@@ -20,6 +20,9 @@ area = 0.5 * abs(np.dot(xy[:, 0], np.roll(xy[:, 1], -1)) - np.dot(xy[:, 1], np.r
 assert abs(area - 70.0) < 1e-9, area
 cli = Path(sys.executable).parent / "omega-prime-visibility"
 version = subprocess.run([cli, "--version"], capture_output=True, text=True, check=True).stdout.strip()
+# omega-prime's own command line works beside ours in the environment we install (typer pinned below 0.29)
+help_text = subprocess.run([Path(sys.executable).parent / "omega-prime", "--help"], capture_output=True, text=True)
+assert help_text.returncode == 0 and "to-parquet" in help_text.stdout, help_text.stderr[-500:]
 import matplotlib  # noqa: E402, F401  (the plot extra)
 
-print(f"ok: {version}, VisiLibity1 built, the plot extra installed")
+print(f"ok: {version}, VisiLibity1 built, the plot extra installed, omega-prime --help runs")

@@ -438,3 +438,14 @@ def test_a_run_imports_nothing_it_does_not_need(output: str, tmp_path) -> None:
     assert done.stdout.strip().splitlines()[-1] == "exit 0 imported: []", done.stderr
     if output == "parquet":  # the run did its work
         assert pl.read_parquet(tmp_path / "out.parquet").height == 1206  # every row of the printed table
+
+
+@pytest.mark.parametrize(
+    "command", [["--help"], ["to-parquet", "--help"], ["from-osi", "--help"], ["visualize", "--help"]]
+)
+def test_omega_primes_own_command_line_runs_in_our_environment(command) -> None:
+    # omega-prime 0.3.7's CLI passes Option(click_type=...), which typer 0.29 refused at import: we pin typer below it
+    script = Path(sys.executable).parent / "omega-prime"
+    run = subprocess.run([str(script), *command], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr[-1000:]
+    assert "Usage" in run.stdout

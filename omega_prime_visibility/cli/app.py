@@ -42,6 +42,17 @@ def _usage_name(self) -> str:
 
 if hasattr(typer.core.TyperArgument, "_usage_display_name"):
     typer.core.TyperArgument._usage_display_name = _usage_name
+else:  # typer before 0.29 (pinned below it for omega-prime's own command line) writes the usage in make_metavar
+    _typer_metavar = typer.core.TyperArgument.make_metavar
+
+    def _make_metavar(self, ctx, *, usage: bool = False) -> str:
+        if not usage:
+            return _typer_metavar(self, ctx, usage=usage)
+        var = self.metavar or (self.name or "").upper()
+        name = var if self.required else f"[{var}]"
+        return name + ("..." if self.nargs != 1 and not var.endswith("...") else "")
+
+    typer.core.TyperArgument.make_metavar = _make_metavar
 
 
 def _print_version(asked: bool) -> None:

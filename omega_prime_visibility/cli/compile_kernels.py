@@ -80,6 +80,7 @@ def compile_engine(name: str) -> float:
         from ..inputs.reader import warm_up
 
         warm_up()
+        _compiled.mark_compiled(f"compile-{name}")
         return time.perf_counter() - started
     table = warm_up_table()
     wall = shapely.LineString([(-40.0, -3.0), (80.0, -3.0)])
@@ -98,6 +99,7 @@ def compile_engine(name: str) -> float:
             )
         if mode == "2d":
             visible_area_over_time(table, 0, "typical", [wall])
+    _compiled.mark_compiled(f"compile-{name}")  # every path of it ran: compile says so next time
     return time.perf_counter() - started
 
 
@@ -135,10 +137,16 @@ def compile_kernels(
     if jobs is not None and jobs < 1:
         raise fail(f"--jobs takes a number of processes, at least 1, not {jobs}")
     jobs = jobs or min(2, len(os.sched_getaffinity(0)))
-    typer.echo(
-        f"compiling the kernels of {', '.join(names)}, {jobs} at a time (once per version of the package;"
-        " a minute or two each on a busy 2-core machine)"
-    )
+    ready = [n for n in names if (m := _compiled.marker(f"compile-{n}")) is not None and m.exists()]
+    todo = [n for n in names if n not in ready]
+    if not todo:
+        typer.echo(f"the kernels of {', '.join(names)} are compiled already for this version; checking them")
+    else:
+        already = f"; {', '.join(ready)} compiled already" if ready else ""
+        typer.echo(
+            f"compiling the kernels of {', '.join(todo)}, {jobs} at a time (once per version of the package;"
+            f" a minute or two each on a busy 2-core machine){already}"
+        )
     started = time.perf_counter()
     # each engine in a fresh process, as on a new installation; this one reports
     with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
@@ -155,7 +163,9 @@ def compile_kernels(
             if pending and not done:
                 busy = ", ".join(sorted(futures[f] for f in pending if f.running()))
                 typer.echo(f"  ... {time.perf_counter() - started:.0f} s, still compiling {busy}")
-    typer.echo(f"compiled in {time.perf_counter() - started:.0f} s; later calls start at once")
+    typer.echo(
+        f"{'compiled' if todo else 'checked'} in {time.perf_counter() - started:.0f} s; later calls start at once"
+    )
     compile_bytecode()
 
 
