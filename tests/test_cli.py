@@ -449,3 +449,33 @@ def test_omega_primes_own_command_line_runs_in_our_environment(command) -> None:
     run = subprocess.run([str(script), *command], capture_output=True, text=True)
     assert run.returncode == 0, run.stderr[-1000:]
     assert "Usage" in run.stdout
+
+
+def test_rows_bounds_the_per_target_summary_too() -> None:
+    out = subprocess.run([sys.executable, "-m", "omega_prime_visibility", "run", str(REPO / "highway_merge.mcap"),
+                          "--ego", "0", "--rows", "2", "--no-progress"], capture_output=True, text=True)  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    summary = out.stdout.split("per target")[1]
+    assert "and 4 more targets (--rows N shows N of them)" in summary
+    shown = [line.split("┆")[0].strip("│ ") for line in summary.splitlines() if line.startswith("│ ") and "┆" in line]
+    assert shown[-2:] == ["1", "2"]  # idx 1 and 2 of the six targets (after the header lines)
+    everything = subprocess.run([sys.executable, "-m", "omega_prime_visibility", "run", str(REPO / "highway_merge.mcap"),
+                                 "--ego", "0", "--no-progress"], capture_output=True, text=True)  # fmt: skip
+    assert "more targets" not in everything.stdout
+
+
+def test_ctrl_c_in_run_says_so_and_exits_130(monkeypatch, tmp_path) -> None:
+    from typer.testing import CliRunner
+
+    import omega_prime_visibility.api as api
+    from omega_prime_visibility.cli import app
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(api, "get_visibility_df", interrupted)
+    out = tmp_path / "vis.parquet"
+    result = CliRunner().invoke(app, ["run", str(REPO / "highway_merge.mcap"), "--ego", "0", "-o", str(out)])
+    assert result.exit_code == 130
+    assert f"interrupted; nothing was written to {out}" in result.output
+    assert not out.exists()

@@ -43,7 +43,9 @@ def run(
         int | None, typer.Option(metavar="N", help="processes (default: all cores for long jobs)")
     ] = None,
     progress: Progress = True,
-    rows: Annotated[int, typer.Option(metavar="N", help="rows to print when no output is given")] = 20,
+    rows: Annotated[
+        int, typer.Option(metavar="N", help="rows of the table and of the per-target summary to print (no output)")
+    ] = 20,
     sensors: Sensors = None,
     mode: Mode = "2d",
     map_occluders: MapOccluders = False,
@@ -86,6 +88,10 @@ def run(
         raise fail(e) from None
     except OSError as e:  # the disk filled up or the folder vanished while computing
         raise fail(f"cannot write {output}: {e}") from None
+    except KeyboardInterrupt:  # (results are written whole or not at all)
+        written = f"; nothing was written to {output}" if output is not None else ""
+        typer.echo(f"interrupted{written}", err=True)
+        raise typer.Exit(130) from None
     if note is not None:
         typer.echo(note)
     if stream is not None:
@@ -96,8 +102,11 @@ def run(
         with pl.Config(tbl_rows=rows, tbl_cols=-1, fmt_table_cell_list_len=8):
             typer.echo(table)
         typer.echo("per target (columns explained in the docs: Definitions):")
+        summary = target_summary(table)
         with pl.Config(
             tbl_rows=-1, tbl_cols=-1, fmt_table_cell_list_len=8, tbl_width_chars=200, tbl_hide_dataframe_shape=True
         ):
-            typer.echo(target_summary(table))
+            typer.echo(summary.head(rows))
+        if summary.height > rows:
+            typer.echo(f"and {summary.height - rows} more targets (--rows N shows N of them)")
         typer.echo(f"shares of each target's frames; {DEFINITION}")
