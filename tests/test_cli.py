@@ -459,8 +459,9 @@ def test_rows_bounds_the_per_target_summary_too() -> None:
     assert "and 4 more targets (--rows N shows N of them)" in summary
     shown = [line.split("┆")[0].strip("│ ") for line in summary.splitlines() if line.startswith("│ ") and "┆" in line]
     assert shown[-2:] == ["1", "2"]  # idx 1 and 2 of the six targets (after the header lines)
-    everything = subprocess.run([sys.executable, "-m", "omega_prime_visibility", "run", str(REPO / "highway_merge.mcap"),
-                                 "--ego", "0", "--no-progress"], capture_output=True, text=True)  # fmt: skip
+    mcap = str(REPO / "highway_merge.mcap")
+    everything = subprocess.run([sys.executable, "-m", "omega_prime_visibility", "run", mcap, "--ego", "0",
+                                 "--no-progress"], capture_output=True, text=True)  # fmt: skip
     assert "more targets" not in everything.stdout
 
 

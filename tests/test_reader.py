@@ -238,9 +238,36 @@ def test_a_double_with_the_wrong_wire_type_is_refused() -> None:
     vector = bytes([position_x << 3 | osi_wire.VARINT, 5])  # x as a varint
     base = bytes([numbers[osi_wire.BM_POSITION] << 3 | 2, len(vector)]) + vector
     moving = bytes([numbers[osi_wire.MO_BASE] << 3 | 2, len(base)]) + base
-    truth = bytes([numbers[osi_wire.GT_MOVING_OBJECT] << 3 | 2, len(moving)]) + moving
+    timestamp = bytes([numbers[osi_wire.GT_TIMESTAMP] << 3 | 2, 0])  # (a message without one is refused too)
+    truth = timestamp + bytes([numbers[osi_wire.GT_MOVING_OBJECT] << 3 | 2, len(moving)]) + moving
     with pytest.raises(NotOurs, match="no valid"):
         decode_table([truth])
+
+
+def test_bytes_protobuf_refuses_anywhere_in_a_message_are_refused() -> None:
+    # field number 0 at the top and inside a nested message the reader never reads (a lane), a field number past
+    # protobuf's largest, and a message without its timestamp: each refused, as protobuf refuses the first three
+    from google.protobuf.message import DecodeError
+
+    good = ground_truth(5, [], 2)
+    good.lane.add().id.value = 4
+    data = good.SerializeToString()
+    lane_field = GroundTruth.DESCRIPTOR.fields_by_name["lane"].number
+    lane_at = data.index(bytes([lane_field << 3 | 2]))
+    inner = data[: lane_at + 2] + bytes([0x00, 0x00]) + data[lane_at + 2 :]  # a field 0 varint inside the lane
+    inner = inner[: lane_at + 1] + bytes([inner[lane_at + 1] + 2]) + inner[lane_at + 2 :]  # the lane's length + 2
+    top = bytes([0x02, 0x00]) + data  # field 0, an empty length-delimited value
+    huge = bytes([0xF8, 0xFF, 0xFF, 0xFF, 0x1F, 0x00]) + data  # field number 2^34 - 1, beyond 2^29 - 1
+    for bad in (inner, top, huge):
+        with pytest.raises(DecodeError):
+            GroundTruth().ParseFromString(bad)
+        with pytest.raises(NotOurs, match="no valid protobuf message"):
+            decode_table([data, bad])
+    untimed = GroundTruth()
+    untimed.moving_object.add().id.value = 1
+    with pytest.raises(NotOurs, match="message 1 has no timestamp"):
+        decode_table([data, untimed.SerializeToString()])
+    assert decode_table([data])[1] == 2
 
 
 def test_files_it_cannot_read_go_to_omega_prime(tmp_path) -> None:

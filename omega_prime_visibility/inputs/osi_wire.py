@@ -6,8 +6,12 @@ most of it in making Python objects; these kernels read the fields the object ta
 numbers are not written here: they come from ASAM's own message descriptors (``osi-python``), see
 :func:`field_numbers`. Unset fields read as protobuf's defaults (0), as the generated classes read them.
 
+Bytes that protobuf would refuse (:func:`valid_messages`: a field number 0, a length past the end, anywhere in the
+message, nested messages included) are told, never skipped as unknown fields; so is a message without its
+timestamp (:func:`lacking`).
+
 Building blocks: :func:`read_varint`, :func:`skip_field`, :func:`next_field`, :func:`read_double`,
-:func:`object_counts`, :func:`decode_objects`.
+:func:`valid_messages`, :func:`lacking`, :func:`object_counts`, :func:`decode_objects`.
 """
 
 from __future__ import annotations
@@ -116,6 +120,83 @@ def next_field(buf: np.ndarray, pos: int, end: int) -> tuple[int, int, int, int]
     if wire == LENGTH and after != BAD:
         pos = read_varint(buf, pos, end)[1]
     return key >> 3, wire, pos, after
+
+
+def message_schema(descriptor=None) -> np.ndarray:
+    """Which fields of each message type below ``osi3.GroundTruth`` (ASAM's descriptors) are messages themselves:
+    ``schema[t, n]`` is the type number of field ``n`` of type ``t`` (type 0: ``GroundTruth``), -1 for a field that
+    is no message or not declared; what :func:`valid_messages` walks.
+
+    >>> schema = message_schema()
+    >>> int(schema[0, field_numbers()[GT_MOVING_OBJECT]]) > 0, int(schema[0, field_numbers()[GT_PROJ_STRING]])
+    (True, -1)
+    """
+    if descriptor is None:
+        from osi3.osi_groundtruth_pb2 import GroundTruth  # type: ignore[import-not-found]
+
+        descriptor = GroundTruth.DESCRIPTOR
+    types = {descriptor.full_name: 0}
+    order = [descriptor]
+    for d in order:  # (breadth first: every message type reachable once)
+        for f in d.fields:
+            if f.message_type is not None and f.message_type.full_name not in types:
+                types[f.message_type.full_name] = len(order)
+                order.append(f.message_type)
+    width = 1 + max((f.number for d in order for f in d.fields), default=0)
+    schema = np.full((len(order), width), -1, dtype=np.int64)
+    for t, d in enumerate(order):
+        for f in d.fields:
+            if f.message_type is not None:
+                schema[t, f.number] = types[f.message_type.full_name]
+    return schema
+
+
+MAX_FIELD_NUMBER = 2**29 - 1
+"""Protobuf's largest field number; 0 is no field number either."""
+
+
+@numba.njit(cache=True)
+def valid_messages(buf: np.ndarray, starts: np.ndarray, ends: np.ndarray, schema: np.ndarray) -> int:
+    """The first message (``buf[starts[k]:ends[k]]``) that protobuf would refuse to parse as the schema's root type
+    (:func:`message_schema`), nested messages included, or -1 when all parse: a field number 0 or beyond
+    :data:`MAX_FIELD_NUMBER`, a wire type that does not exist (6, 7) or a group (3, 4: OSI declares none; such bytes
+    go to omega-prime's reader, which decides), a length or a varint past the end of its message."""
+    stack_pos = np.empty(64, np.int64)
+    stack_end = np.empty(64, np.int64)
+    stack_type = np.empty(64, np.int64)
+    for k in range(len(starts)):
+        depth = 0
+        stack_pos[0], stack_end[0], stack_type[0] = starts[k], ends[k], 0
+        while depth >= 0:
+            pos, end, kind = stack_pos[depth], stack_end[depth], stack_type[depth]
+            if pos >= end:
+                depth -= 1
+                continue
+            number, wire, start, after = next_field(buf, pos, end)
+            if after == BAD or number == 0 or number > MAX_FIELD_NUMBER:
+                return k
+            stack_pos[depth] = after
+            if wire == LENGTH and number < schema.shape[1] and schema[kind, number] >= 0:
+                if depth + 1 >= 64:  # deeper than any OSI message nests: no ground truth
+                    return k
+                depth += 1
+                stack_pos[depth], stack_end[depth], stack_type[depth] = start, after, schema[kind, number]
+    return -1
+
+
+@numba.njit(cache=True)
+def lacking(buf: np.ndarray, starts: np.ndarray, ends: np.ndarray, number: int) -> int:
+    """The first message (``buf[starts[k]:ends[k]]``, valid ones) without a top-level field ``number``, or -1."""
+    for k in range(len(starts)):
+        pos, found = starts[k], False
+        while pos < ends[k] and not found:
+            field, _wire, _start, pos = next_field(buf, pos, ends[k])
+            if pos == BAD:
+                return k
+            found = field == number
+        if not found:
+            return k
+    return -1
 
 
 @numba.njit(cache=True)

@@ -15,6 +15,7 @@ frame; files without OSI ground truth; anything it cannot decode. OSI traces (``
 
 from __future__ import annotations
 
+import functools
 import os
 import re
 import sys
@@ -248,6 +249,13 @@ def _geo_reference(odr_xml: str) -> bool:
     return found is not None and bool(re.sub(r"<!\[CDATA\[|\]\]>", "", found.group(1)).strip())
 
 
+@functools.cache
+def _schema() -> np.ndarray:
+    from . import osi_wire
+
+    return osi_wire.message_schema()
+
+
 def decode_table(messages: list[bytes], projected: bool = True) -> tuple[pl.DataFrame, int | None]:
     """omega-prime's moving-object table of serialised ``osi3.GroundTruth`` messages, and the host vehicle the
     first one names (None if none), decoded by :mod:`.osi_wire`.
@@ -273,6 +281,8 @@ def decode_table(messages: list[bytes], projected: bool = True) -> tuple[pl.Data
         print(f"omega-prime-visibility: compiling {WHAT}, once per version of the package", file=sys.stderr)
         beat = _compiled.Heartbeat(WHAT).start()
     try:
+        invalid = osi_wire.valid_messages(buf, starts, ends, _schema())
+        untimed = osi_wire.lacking(buf, starts, ends, numbers[osi_wire.GT_TIMESTAMP]) if invalid < 0 else -1
         counts = osi_wire.object_counts(buf, starts, ends, numbers)
         offsets = np.concatenate([[0], np.cumsum(np.maximum(counts, 0))]).astype(np.int64)
         ints, floats, flags, bad = osi_wire.decode_objects(buf, starts, ends, numbers, offsets)
@@ -280,6 +290,10 @@ def decode_table(messages: list[bytes], projected: bool = True) -> tuple[pl.Data
         if beat is not None:
             beat.stop()
     _compiled.mark_compiled(READER)
+    if invalid >= 0:  # protobuf refuses it: omega-prime's reader says so in its words
+        raise NotOurs(f"message {invalid} is no valid protobuf message (as osi3.GroundTruth)")
+    if untimed >= 0:  # a ground truth without its time (cut short?): omega-prime's reader decides
+        raise NotOurs(f"message {untimed} has no timestamp")
     if (counts < 0).any():
         raise NotOurs(f"message {int(np.argmax(counts < 0))} is no valid osi3.GroundTruth")
     if bad >= 0:
