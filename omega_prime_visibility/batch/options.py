@@ -94,7 +94,7 @@ class FileOptions:
     ) -> FileOptions:
         """The options of ``run_batch(query, ..., **keywords)``: the keywords of :data:`BATCH_KEYWORDS` folded into
         ``query`` (a keyword that contradicts it is an error naming both), the static file read once."""
-        from ..inputs.io import RecordingReadError, read_static_occluders
+        from ..inputs.io import RecordingReadError, read_static_file
 
         unknown = sorted(set(keywords) - set(BATCH_KEYWORDS))
         if unknown:
@@ -106,9 +106,12 @@ class FileOptions:
         static = table.get("static_occluder_polys")
         if isinstance(static, str | os.PathLike):
             try:
-                table["static_occluder_polys"] = read_static_occluders(static)
+                found = read_static_file(static)
             except RecordingReadError as e:
                 raise OptionError.plain("static", str(e)) from None
+            table["static_occluder_polys"] = found.geometries
+            if found.heights is not None and table.get("static_occluder_heights") is None:
+                table["static_occluder_heights"] = found.heights  # (the file's own heights)
         return cls(fold_keywords(query, **table), map, conflicts, fallback_ego)
 
     def question(self, recording: Any, name: str, map_path: str | None) -> Query:

@@ -83,7 +83,9 @@ def shell_query(
 
     observers = parse_ego(ego) if ego else None
     choices = {"occluders": parse_choice(occluders, "occluders"), "targets": parse_choice(targets, "targets")}
-    statics = load_static(static) or ()
+    found = load_static(static)
+    statics = found.geometries if found is not None else ()
+    heights = {"static_heights": found.heights} if found is not None and found.heights is not None else {}
     if map_occluders:
         map_occluders = (resolve_map(recording, map_path) if recording is not None else map_path) or True
     try:
@@ -95,6 +97,7 @@ def shell_query(
             sensors=sensors,
             static_occluders=statics,
             map_occluders=map_occluders or None,
+            **heights,
             **choices,
         )
     except OptionError as e:
@@ -216,7 +219,13 @@ MapOccluders = Annotated[
     bool, typer.Option("--map-occluders", help="road objects of the map (--map, or the recording's) as occluders")
 ]
 Static = Annotated[
-    Path | None, typer.Option("--static", metavar="FILE", help="static occluders: GeoJSON or WKT file (metres)")
+    Path | None,
+    typer.Option(
+        "--static",
+        metavar="FILE",
+        help="static occluders (metres): GeoJSON (heights from a 'height' property), a JSON list of"
+        ' {"wkt": ..., "height": ...}, or WKT, one geometry per line, optionally followed by its height',
+    ),
 ]
 Sensors = Annotated[
     str | None,
@@ -253,11 +262,17 @@ Recording = Annotated[
 Progress = Annotated[bool, typer.Option(help="show a progress bar")]
 
 
-def load_static(path: Path | None) -> list | None:
-    """``io.read_static_occluders``, a read error becoming a one-line message and exit status 2."""
-    from ..inputs.io import RecordingReadError, read_static_occluders
+def load_static(path: Path | None):
+    """``io.read_static_file`` (geometries, heights where the file gives them), a read error becoming a one-line
+    message and exit status 2; where heights were read, says from which property or column."""
+    from ..inputs.io import RecordingReadError, read_static_file
 
+    if path is None:
+        return None
     try:
-        return None if path is None else read_static_occluders(path)
+        found = read_static_file(path)
     except RecordingReadError as e:
         raise fail(e) from e
+    if found.note is not None:
+        typer.echo(f"static occluders: {found.note}")
+    return found

@@ -88,3 +88,7 @@ class OptionError(ValueError):
         if text.startswith(self.option):
             return name + text[len(self.option) :]
         return f"{name}: {text}"
+
+
+class RecordingReadError(ValueError):
+    """A file could not be read as an omega-prime recording, or its map could not be read."""

@@ -1,4 +1,5 @@
-"""Reading recordings: omega-prime MCAP files and ASAM OSI traces, with errors that name the file."""
+"""Reading recordings: omega-prime MCAP files and ASAM OSI traces, with errors that name the file; static occluder
+files (:mod:`.static_files`)."""
 
 from __future__ import annotations
 
@@ -8,13 +9,14 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import Any
 
+from .errors import RecordingReadError
 from .roads import MapNotice, check_map_fits
+from .static_files import read_static_file, read_static_occluders
+
+__all__ = ["MapNotice", "RecordingReadError", "read_recording", "read_static_file", "read_static_occluders"]
+"""(The static files' readers and the errors are read from here too, where they were first documented.)"""
 
 NO_MAP = "No map could be found"  # start of omega-prime's warning when no reader could parse the map
-
-
-class RecordingReadError(ValueError):
-    """A file could not be read as an omega-prime recording, or its map could not be read."""
 
 
 def read_recording(path: str | os.PathLike, map_path: str | os.PathLike | None = None) -> Any:
@@ -160,89 +162,3 @@ def _check_map(map_path: Path, parsed: Any, failures: list[str]) -> ET.Element |
             raise RecordingReadError(f"cannot read map {map_path}: its XML root is <{root.tag}>, not <OpenDRIVE>")
         return root
     return None
-
-
-def read_static_occluders(path: str | os.PathLike) -> list[Any]:
-    """Static occluders from a GeoJSON or WKT file, as shapely geometries in file order.
-
-    GeoJSON (``.geojson`` or ``.json``): a FeatureCollection (one occluder per feature, features without geometry
-    refused), a Feature, or a bare geometry. WKT (any other name): one geometry per line; blank lines and lines
-    starting with ``#`` are ignored. Coordinates are metres in the recording's frame. An occluder's position in the
-    returned list is its number in ``static_occluder_idxs``.
-
-    Raises
-    ------
-    RecordingReadError
-        If the file is missing or cannot be parsed; the message names the file (and the line or feature).
-
-    Examples
-    --------
-    >>> import tempfile
-    >>> with tempfile.TemporaryDirectory() as folder:
-    ...     wkt = Path(folder) / "walls.wkt"
-    ...     _ = wkt.write_text("# a wall and a building\\nLINESTRING (0 5, 10 5)\\nPOLYGON ((0 0, 1 0, 1 1, 0 0))\\n")
-    ...     [g.geom_type for g in read_static_occluders(wkt)]
-    ['LineString', 'Polygon']
-    """
-    import shapely
-
-    path = Path(path)
-    if not path.is_file():
-        raise RecordingReadError(f"static occluders {path} {'is not a file' if path.exists() else 'does not exist'}")
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as e:
-        raise RecordingReadError(f"cannot read static occluders {path} ({e})") from None
-    if path.suffix.lower() in (".geojson", ".json"):
-        return _geojson_geometries(path, text)
-    if path.suffix.lower() == ".xodr" or "<OpenDRIVE" in text[:2000]:
-        raise RecordingReadError(
-            f"static occluders {path} is an OpenDRIVE map, not GeoJSON or WKT: give it with --map, and "
-            "--map-occluders to let its road objects block the view"
-        )
-    geometries = []
-    for number, line in enumerate(text.splitlines(), start=1):
-        if not line.strip() or line.lstrip().startswith("#"):
-            continue
-        try:
-            geometries.append(shapely.from_wkt(line))
-        except shapely.errors.ShapelyError as e:
-            raise RecordingReadError(f"cannot read static occluders {path}, line {number}, as WKT ({e})") from None
-    if not geometries:
-        raise RecordingReadError(f"static occluders {path} holds no geometry")
-    return geometries
-
-
-def _geojson_geometries(path: Path, text: str) -> list[Any]:
-    """The geometries of a GeoJSON FeatureCollection, Feature or geometry, in order."""
-    import json
-
-    import shapely.geometry
-
-    try:
-        document = json.loads(text)
-    except json.JSONDecodeError as e:
-        raise RecordingReadError(f"cannot read static occluders {path} as GeoJSON ({e})") from None
-    kind = document.get("type") if isinstance(document, dict) else None
-    if kind == "FeatureCollection":
-        items = [
-            (f"feature {k}", f.get("geometry") if isinstance(f, dict) else None)
-            for k, f in enumerate(document.get("features") or [])
-        ]
-    elif kind == "Feature":
-        items = [("the feature", document.get("geometry"))]
-    else:
-        items = [("the geometry", document)]
-    if not items:
-        raise RecordingReadError(f"static occluders {path} holds no feature")
-    geometries = []
-    for name, geometry in items:
-        try:
-            if not isinstance(geometry, dict):
-                raise ValueError("it has no geometry")
-            geometries.append(shapely.geometry.shape(geometry))
-        except Exception as e:  # shapely raises several kinds for malformed GeoJSON
-            raise RecordingReadError(
-                f"cannot read static occluders {path}: {name} is no GeoJSON geometry ({e})"
-            ) from None
-    return geometries
