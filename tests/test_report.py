@@ -236,3 +236,26 @@ def test_in_town_the_scene_keeps_its_labels_readable_and_off_other_road_users(tm
     assert found["labels"] > 40 and found["covering"] == []
     assert found["px"] >= 12  # 13 px text whatever the window
     assert found["dots"] > 50  # pedestrians drawn as dots of 7 px, filled with their colour
+
+
+def test_a_crowded_report_shows_the_most_hidden_targets_and_says_how_many_are_left_out(tmp_path) -> None:
+    # 45 cars in three lanes ahead of the ego: the timeline shows the 40 least seen, the summary lists all 45
+    from omega_prime_visibility.plot.report import MAX_BANDS, most_hidden_targets
+
+    rows = [{"frame": f, "total_nanos": f * 10**8, "idx": 0, "x": 0.0, "y": 0.0, "length": 4.5, "width": 1.8,
+             "yaw": 0.0} for f in range(2)]  # fmt: skip
+    for k in range(45):
+        for f in range(2):
+            rows.append({"frame": f, "total_nanos": f * 10**8, "idx": k + 1, "x": 8.0 + 7.0 * (k // 3) + f,
+                         "y": 3.5 * (k % 3 - 1), "length": 4.5, "width": 1.8, "yaw": 0.0})  # fmt: skip
+    table = pl.DataFrame(rows)
+    out = write_report(table, 0, tmp_path / "crowd.html", progress=False, view_range=200)
+    page = out.read_text()
+    assert f"the {MAX_BANDS} most hidden targets; 5 more in the summary below" in page
+    vis = get_visibility_df(table, 0, progress=False)
+    banded, left_out = most_hidden_targets(vis)
+    means = vis.group_by("idx").agg(pl.col("visibility").mean()).sort("visibility", "idx")
+    assert left_out == 5 and set(banded["idx"]) == set(means["idx"].head(MAX_BANDS))
+    assert means["visibility"].head(MAX_BANDS).max() <= means["visibility"].tail(5).min()  # the least seen kept
+    few, none_left = most_hidden_targets(vis.filter(pl.col("idx") <= 10))
+    assert few.equals(vis.filter(pl.col("idx") <= 10)) and none_left == 0

@@ -131,7 +131,11 @@ def write_report(
     views = [viewer.view(k) for k in tqdm(positions.tolist(), desc="frames", unit="frame", disable=not show)]
     computed = views_table(views)
     shown = computed if table is None else with_any_sensor(table)
-    chart = with_time_rule(timeline_chart(shown, title=f"seen from idx {ego_idx}", width=760), views)
+    banded, left_out = most_hidden_targets(shown)
+    heading = f"seen from {observer_words(ego_idx, df)}"
+    if left_out:
+        heading += f": the {banded['idx'].n_unique()} most hidden targets; {left_out} more in the summary below"
+    chart = with_time_rule(timeline_chart(banded, title=heading, width=760), views)
     spec, mode = chart_spec(readable(chart))
     window = scene_window(source.objects, ego_idx, positions, viewer.reach, source.lanes.points)
     window = window.fitted(min(max(window.aspect, SCENE_ASPECT[0]), SCENE_ASPECT[1]))
@@ -195,6 +199,26 @@ def _script_safe(code: str) -> str:
 def _json_for_script(value: Any) -> str:
     """``value`` as JSON with every ``<`` escaped (``\\u003c``), so it cannot end or open anything in HTML."""
     return json.dumps(value, separators=(",", ":"), allow_nan=False).replace("<", "\\u003c")
+
+
+MAX_BANDS = 40
+"""Targets the report's timeline shows at most (one band each, or one per sensor): the most hidden ones."""
+
+
+def most_hidden_targets(table: pl.DataFrame, limit: int = MAX_BANDS) -> tuple[pl.DataFrame, int]:
+    """The rows of at most ``limit`` targets of ``table``: those longest hidden or partly hidden (the least mean
+    visibility first, then idx), and how many targets are left out.
+
+    >>> t = pl.DataFrame({"idx": [1, 1, 2, 2, 3, 3], "visibility": [1.0, 1.0, 0.0, 0.5, 0.2, 1.0]})
+    >>> rows, left_out = most_hidden_targets(t, limit=2)
+    >>> sorted(set(rows["idx"])), left_out
+    ([2, 3], 1)
+    """
+    means = table.group_by("idx").agg(pl.col("visibility").mean().alias("mean")).sort("mean", "idx")
+    if means.height <= limit:
+        return table, 0
+    kept = means.head(limit)["idx"]
+    return table.filter(pl.col("idx").is_in(kept.implode())), means.height - limit
 
 
 def _own_rows(table: pl.DataFrame, ego_idx: int, frames: pl.Series) -> pl.DataFrame:
