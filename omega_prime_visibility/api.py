@@ -263,7 +263,9 @@ def get_visibility_df_for_frame(
     if absent:  # (an ego that occurs nowhere is told by get_visibility_df)
         raise ValueError(f"ego idx {absent} not present in frame {frame} (idx there: {sorted(present)[:20]})")
     with warnings.catch_warnings():  # an idx of the recording absent from this frame is no mistake
-        warnings.filterwarnings("ignore", r"(targets|occluders)=.* matches no object", VisibilityInputWarning)
+        warnings.filterwarnings(
+            "ignore", r"(targets|occluders)=.* matches (no object|only the observer)", VisibilityInputWarning
+        )
         scene = resolve(question, one)
     return compute(scene, workers=1, progress=False)
 

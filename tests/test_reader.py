@@ -258,7 +258,8 @@ def test_bytes_protobuf_refuses_anywhere_in_a_message_are_refused() -> None:
     inner = inner[: lane_at + 1] + bytes([inner[lane_at + 1] + 2]) + inner[lane_at + 2 :]  # the lane's length + 2
     top = bytes([0x02, 0x00]) + data  # field 0, an empty length-delimited value
     huge = bytes([0xF8, 0xFF, 0xFF, 0xFF, 0x1F, 0x00]) + data  # field number 2^34 - 1, beyond 2^29 - 1
-    for bad in (inner, top, huge):
+    negative = data + bytes([0x80] * 9 + [0x01, 0x01])  # a 64-bit tag: its field number reads negative
+    for bad in (inner, top, huge, negative):
         with pytest.raises(DecodeError):
             GroundTruth().ParseFromString(bad)
         with pytest.raises(NotOurs, match="no valid protobuf message"):

@@ -113,6 +113,19 @@ def test_objects_off_the_lanes_or_across_them_are_told(objects) -> None:
     assert "is it this trace's map?" in note
 
 
+def test_headings_unknown_are_not_held_against_a_vehicle() -> None:
+    # NaN or null yaw, or no yaw column at all: the heading test is left out, the position decides
+    recording = _Recording([(2, along(-1.7)), (2, along(-5.2))])
+    assert told(recording) is None
+    for yaw in (pl.lit(float("nan")), pl.lit(None, dtype=pl.Float64)):
+        recording._df = recording._df.with_columns(yaw=yaw)
+        assert told(recording) is None
+    recording._df = recording._df.drop("yaw")
+    assert told(recording) is None
+    across = _Recording([(2, along(-1.7, math.pi / 2)), (2, along(-3.0, math.pi / 2))])
+    assert told(across) is not None  # (the heading test itself still applies where known)
+
+
 def test_a_few_positions_off_the_map_are_not_told() -> None:
     # one car of six parks off the road (under a fifth of the positions): real traces have such
     objects = [(2, along(-1.7)) for _ in range(5)] + [(2, along(-20.0))]

@@ -341,6 +341,16 @@ def test_occluders_that_match_nothing_are_told_on_the_shell(tmp_path) -> None:
     assert "occluders=['cyclists'] matches no object of the recording" in done.stderr
 
 
+def test_a_frame_where_only_the_observer_of_the_chosen_occluders_is_left_says_nothing() -> None:
+    # told for the whole recording (here: nothing to tell), never again for one of its frames
+    from omega_prime_visibility import get_visibility_df_for_frame
+
+    two = pl.concat([street(), street(frame=[1, 1, 1]).filter(pl.col("idx") != 2)])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        get_visibility_df_for_frame(two, 0, 1, occluders=[0, 2])
+
+
 def test_occluders_that_match_some_object_say_nothing() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error")

@@ -29,10 +29,9 @@ def geojson(*features) -> str:
     ("name", "text", "heights", "said"),
     [
         ("walls.geojson", geojson((WALL, {"height": 1.0}), (WALL, {"height": "2.5"})), (1.0, 2.5), "property 'height'"),
-        ("walls.geojson", geojson((WALL, {"height": 1.0}), (WALL, {})), (1.0, float("inf")), "the others block"),
         ("walls.geojson", geojson((WALL, {"name": "x"})), None, None),
-        ("city.json", json.dumps([{"wkt": "LINESTRING (5 -3, 5 3)", "height": 1}, {"wkt": "POINT (9 9)"}]),
-         (1.0, float("inf")), "key 'height'"),
+        ("city.json", json.dumps([{"wkt": "LINESTRING (5 -3, 5 3)", "height": 1}, {"wkt": "POINT (9 9)", "height": 2}]),
+         (1.0, 2.0), "key 'height'"),
         ("walls.wkt", "# heights after the geometry\nLINESTRING (5 -3, 5 3) 1.0\nLINESTRING (5 -3, 5 3);2\n",
          (1.0, 2.0), "the column after each WKT geometry"),
         ("walls.wkt", "LINESTRING (5 -3, 5 3)\n", None, None),
@@ -60,6 +59,8 @@ def test_heights_are_read_where_files_carry_them(tmp_path, name, text, heights, 
         ("b.geojson", geojson((WALL, {"height": "tall"})), "feature 0 has a height that is no number ('tall')"),
         ("b.wkt", "LINESTRING (5 -3, 5 3) 0\n", "line 1 has the height '0'"),
         ("b.json", json.dumps([{"wkt": "POLYGON ((0 0, 1"}]), "item 0's wkt"),
+        ("b.geojson", geojson((WALL, {"height": 1.0}), (WALL, {})), "1 of 2 occluders have a height (the property"),
+        ("b.wkt", "LINESTRING (5 -3, 5 3) 3\nLINESTRING (5 -3, 5 3)\n", "but occluder 1 has none: give every"),
     ],
 )
 def test_files_of_no_shape_they_may_have_are_one_line(tmp_path, name, text, words) -> None:

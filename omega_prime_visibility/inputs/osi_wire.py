@@ -173,7 +173,7 @@ def valid_messages(buf: np.ndarray, starts: np.ndarray, ends: np.ndarray, schema
                 depth -= 1
                 continue
             number, wire, start, after = next_field(buf, pos, end)
-            if after == BAD or number == 0 or number > MAX_FIELD_NUMBER:
+            if after == BAD or number <= 0 or number > MAX_FIELD_NUMBER:  # (a 64-bit tag reads negative)
                 return k
             stack_pos[depth] = after
             if wire == LENGTH and number < schema.shape[1] and schema[kind, number] >= 0:

@@ -191,10 +191,10 @@ def check_map_fits(recording: Any, map_path: Path, root: ET.Element | None = Non
 
     Each object's positions (:data:`SAMPLES` of them) are compared with points every 2 m along the roads'
     reference lines: a position is *on the map* where it lies beside such a point (within 2 m along the line) and
-    within the road's lanes on that side plus :data:`OFF_ROAD` metres and, for a vehicle (omega-prime's type 2),
-    heads along that road (either way, within 30°: a trace on another map's road that happens to cross it is not on
-    it); the map is told not to fit when :data:`OFF_MAP_SHARE` of the positions or more are off it (a
-    :class:`MapNotice`). ``root``: the map's XML, parsed already.
+    within the road's lanes on that side plus :data:`OFF_ROAD` metres and, for a vehicle (omega-prime's type 2)
+    whose heading is known, heads along that road (either way, within 30°: a trace on another map's road that
+    happens to cross it is not on it); the map is told not to fit when :data:`OFF_MAP_SHARE` of the positions or
+    more are off it (a :class:`MapNotice`). ``root``: the map's XML, parsed already.
     """
     from scipy.spatial import cKDTree
 
@@ -205,7 +205,9 @@ def check_map_fits(recording: Any, map_path: Path, root: ET.Element | None = Non
         root = ET.fromstring(odr_xml)
     points, headings, halves = road_points(root)
     names = recording._df.columns
-    df = recording._df.select("idx", "x", "y", *(c for c in ("yaw", "type") if c in names)).drop_nulls()
+    df = recording._df.select("idx", "x", "y", *(c for c in ("yaw", "type") if c in names)).drop_nulls(
+        ["idx", "x", "y"]
+    )
     if not len(points) or df.height == 0:
         return
     rows = df.sort("idx", maintain_order=True)
@@ -221,7 +223,8 @@ def check_map_fits(recording: Any, map_path: Path, root: ET.Element | None = Non
     reach = float(np.hypot(halves.max(), 2.0)) + OFF_ROAD
     near = cKDTree(points).query_ball_point(xy, reach)
     vehicle = rows["type"].to_numpy()[picks] == 2 if "type" in names else np.zeros(len(picks), dtype=bool)
-    yaw = rows["yaw"].to_numpy()[picks] if "yaw" in names else np.zeros(len(picks))
+    yaw = rows["yaw"].cast(float).fill_null(np.nan).to_numpy()[picks] if "yaw" in names else np.full(len(picks), np.nan)
+    vehicle &= np.isfinite(yaw)  # the heading test only where a heading is known
     on = np.zeros(len(picks), dtype=bool)
     for k, found in enumerate(near):
         found = np.asarray(found, dtype=np.int64)

@@ -34,8 +34,8 @@ _WKT_WITH_HEIGHT = re.compile(r"^(?P<wkt>.*?\))\s*[,;\t ]\s*(?P<height>[-+0-9.eE
 @dataclass(frozen=True)
 class StaticFile:
     """What a static occluders file holds: the geometries in file order, their heights (metres, z of the top) where
-    the file gives them (None where it gives none; ``inf`` for an occluder without one among others that have
-    one), and a note saying where the heights came from (None without heights)."""
+    the file gives them (None where it gives none; a file giving some but not all is refused), and a note saying
+    where the heights came from (None without heights)."""
 
     geometries: list[Any]
     heights: tuple[float, ...] | None
@@ -109,9 +109,14 @@ def _with_note(path: Path, geometries: list[Any], heights: list[float | None], k
     if not given:
         return StaticFile(geometries, None, None)
     where = "the column after each WKT geometry" if kind == "column" else f"the {kind} 'height'"
-    missing = "" if given == len(heights) else "; the others block at every height"
-    note = f"heights of {given} of {len(heights)} static occluders from {where} of {path.name}{missing}"
-    return StaticFile(geometries, tuple(math.inf if h is None else h for h in heights), note)
+    if given < len(heights):
+        first = heights.index(None)
+        raise RecordingReadError(
+            f"static occluders {path}: {given} of {len(heights)} occluders have a height ({where}) but occluder "
+            f"{first} has none: give every occluder a height, or none (then each blocks at every height)"
+        )
+    note = f"heights of {given} of {len(heights)} static occluders from {where} of {path.name}"
+    return StaticFile(geometries, tuple(heights), note)
 
 
 def _height(path: Path, name: str, value: Any) -> float | None:

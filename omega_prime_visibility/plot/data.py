@@ -364,7 +364,7 @@ def frames_table(df: Any, question: Query, frame_numbers: Sequence[int]) -> pl.D
     rows = table.filter(pl.col("frame").is_in(list(frame_numbers)))
     part = within_recording(question, table.lazy())  # idx of the whole recording
     with warnings.catch_warnings():  # told for the whole recording, not again for its frames
-        warnings.filterwarnings("ignore", r"(targets|occluders)=.* matches no object")
+        warnings.filterwarnings("ignore", r"(targets|occluders)=.* matches (no object|only the observer)")
         return compute(resolve(part, rows if not hasattr(df, "map") else _with_rows(df, rows)), progress=False)
 
 
