@@ -142,20 +142,17 @@ def load_objects(
         k = int(np.flatnonzero(dup)[0])
         raise ValueError(f"object idx {idx[k]} appears more than once in frame {frame[k]}: (frame, idx) must be unique")
     blocks, wanted = role_mask(df, occluders, "occluders"), role_mask(df, targets, "targets")
-    if wanted is not None and not wanted.any():
-        warnings.warn(
-            f"targets={describe_choice(targets)!r} matches no object of the recording, so the table has no rows "
-            f"(present: {kinds_present(df)})",
-            VisibilityInputWarning,
-            stacklevel=3,
-        )
-    if blocks is not None and not blocks.any():
-        warnings.warn(
-            f"occluders={describe_choice(occluders)!r} matches no object of the recording, so no road user blocks "
-            f"the view (only static occluders do; present: {kinds_present(df)})",
-            VisibilityInputWarning,
-            stacklevel=3,
-        )
+    for option, choice, mask, outcome in (
+        ("targets", targets, wanted, "the table has no rows ("),
+        ("occluders", occluders, blocks, "no road user blocks the view (only static occluders do; "),
+    ):
+        if mask is not None and not mask.any():  # a choice that matches nothing is never silent
+            warnings.warn(
+                f"{option}={describe_choice(choice)!r} matches no object of the recording, so {outcome}"
+                f"present: {kinds_present(df)})",
+                VisibilityInputWarning,
+                stacklevel=3,
+            )
     floats = float_columns(df, ("x", "y", "yaw", *BOX_COLUMNS))
     x, y = floats["x"], floats["y"]
     yaw = floats.get("yaw", np.zeros(df.height))
