@@ -32,6 +32,8 @@ from typing import ClassVar, Protocol
 import numba
 import numpy as np
 
+from ..inputs.cameras import Pinhole
+from ..inputs.lidars import BeamPattern
 from ..inputs.objects import FrameObjects
 from ..inputs.sensors import DRIVER_EYE_HEIGHT, TWO_PI
 from ..inputs.statics import StaticOccluders
@@ -90,6 +92,9 @@ class Viewpoint:
     passive : ndarray of bool, shape (n,), or None
         Targets that neither block nor occlude (``occluders=``), each measured against the others that may; only
         for engines with :attr:`Engine.passive_targets` (None: none).
+    optics : Pinhole or BeamPattern, optional
+        The image of a camera or the beams of a lidar: such a viewpoint counts pixels or beams
+        (:mod:`.imaging`), in the 3D mode.
     """
 
     position: np.ndarray
@@ -103,6 +108,7 @@ class Viewpoint:
     vertical_fov: float = math.pi
     pitch: float = 0.0
     passive: np.ndarray | None = None
+    optics: Pinhole | BeamPattern | None = None
 
     @property
     def limited(self) -> bool:
@@ -135,6 +141,9 @@ class Observation:
         count those directions only. None: the whole extent is in view.
     in_fov_angle : ndarray, shape (n,), or None
         Likewise, angle of the extent inside the field of view, range ignored.
+    counts : dict of str to ndarray, or None
+        A camera's or lidar's own columns by name (:data:`..table.schema.COUNT_SCHEMA`), one entry per object
+        (shape (n,) or (n, 4)).
 
     Entries for objects with ``Reason.CONTAINS_OBSERVER`` are unspecified but for the code itself.
     """
@@ -148,6 +157,7 @@ class Observation:
     static_occluders: np.ndarray
     in_view_angle: np.ndarray | None = None
     in_fov_angle: np.ndarray | None = None
+    counts: dict[str, np.ndarray] | None = None
 
     @classmethod
     def from_parts(
@@ -161,6 +171,7 @@ class Observation:
         transparent: np.ndarray,
         in_view_angle: np.ndarray | None = None,
         in_fov_angle: np.ndarray | None = None,
+        counts: dict[str, np.ndarray] | None = None,
     ) -> Observation:
         """An observation whose reason codes follow from the occluder lists and the transparency mask."""
         reason = _reason_codes(occluder_offsets, static_offsets, np.asarray(transparent, dtype=np.bool_))
@@ -174,6 +185,7 @@ class Observation:
             static_occluders,
             in_view_angle,
             in_fov_angle,
+            counts,
         )
 
 

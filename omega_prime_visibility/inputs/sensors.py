@@ -32,6 +32,8 @@ from pathlib import Path
 import numpy as np
 
 from ..geometry.kernels import TWO_PI
+from .cameras import Pinhole, pinhole_from_dict
+from .lidars import BeamPattern, pattern_from
 
 DRIVER_EYE_HEIGHT = 1.25
 """Metres above the ground: the default eye point of the 3D mode."""
@@ -61,6 +63,12 @@ class Sensor:
         Vertical field of view, radians, ``0 < vertical_fov <= π``, centred on ``pitch`` (3D mode only).
     pitch : float
         Radians, positive looking down, as OSI's pitch of a forward axis turned towards -z (3D mode only).
+    camera : Pinhole, optional
+        Makes the sensor a camera that counts pixels (3D mode only, :func:`camera`): its frustum is the image's,
+        and ``fov`` and ``vertical_fov`` are the image's (set from it).
+    lidar : BeamPattern, optional
+        Makes the sensor a spinning lidar that counts beams (3D mode only, :func:`lidar`): ``fov`` is 2π and
+        ``vertical_fov`` the span of its elevations (set from it).
     """
 
     name: str
@@ -72,11 +80,14 @@ class Sensor:
     z: float = DRIVER_EYE_HEIGHT
     vertical_fov: float = math.pi
     pitch: float = 0.0
+    camera: Pinhole | None = None
+    lidar: BeamPattern | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name:
             raise ValueError(f"sensor name must be a non-empty string, not {self.name!r}")
-        for f in fields(self)[1:]:
+        self._take_optics()
+        for f in fields(self)[1:-2]:
             value = getattr(self, f.name)
             if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
                 raise ValueError(f"sensor {self.name!r}: {f.name} must be a number, not {value!r}")
@@ -102,6 +113,35 @@ class Sensor:
         if not self.range > 0.0:
             raise ValueError(f"sensor {self.name!r}: range must be > 0 metres (inf for no limit), not {self.range!r}")
 
+    def _take_optics(self) -> None:
+        """Check ``camera`` and ``lidar`` and set the fields of view they fix."""
+        if self.camera is not None and self.lidar is not None:
+            raise ValueError(f"sensor {self.name!r} is a camera or a lidar, not both")
+        if self.camera is not None and not isinstance(self.camera, Pinhole):
+            raise ValueError(f"sensor {self.name!r}: camera must be a Pinhole, not {self.camera!r}")
+        if self.lidar is not None and not isinstance(self.lidar, BeamPattern):
+            raise ValueError(f"sensor {self.name!r}: lidar must be a BeamPattern, not {self.lidar!r}")
+        if self.camera is None and self.lidar is None:
+            return
+        if self.camera is not None:
+            fov, vertical = self.camera.horizontal_fov, self.camera.vertical_fov
+        else:
+            fov, vertical = TWO_PI, min(math.pi, self.lidar.elevations[-1] - self.lidar.elevations[0])  # type: ignore[union-attr]
+        for name, value in (("fov", fov), ("vertical_fov", vertical)):
+            given = getattr(self, name)
+            default = TWO_PI if name == "fov" else math.pi
+            if isinstance(given, int | float) and given != default and abs(given - value) > 1e-9:
+                raise ValueError(
+                    f"sensor {self.name!r}: the {self.kind}'s {name} is {value:.6g} radians, set by its "
+                    f"{'image' if self.camera is not None else 'beam pattern'}; leave {name} out (given {given!r})"
+                )
+            object.__setattr__(self, name, max(value, 1e-12))
+
+    @property
+    def kind(self) -> str:
+        """``"camera"``, ``"lidar"`` or ``"view"`` (a field of view and a range: radars, the 2D sensors)."""
+        return "camera" if self.camera is not None else "lidar" if self.lidar is not None else "view"
+
     @property
     def fov_degrees(self) -> float:
         """The horizontal field of view in degrees."""
@@ -113,10 +153,74 @@ class Sensor:
         return self.fov >= TWO_PI
 
     def to_dict(self) -> dict:
-        """The sensor as plain JSON-able values (``range`` inf becomes None)."""
+        """The sensor as plain JSON-able values (``range`` inf becomes None; a camera's or lidar's fields of view
+        are left out, as they follow from its image or pattern)."""
         out = asdict(self)
         out["range"] = None if math.isinf(self.range) else self.range
+        for name in ("camera", "lidar"):
+            value = getattr(self, name)
+            if value is None:
+                del out[name]
+            else:
+                out[name] = value.to_dict()
+                del out["fov"], out["vertical_fov"]
         return out
+
+
+def camera(
+    name: str,
+    width: int = 1920,
+    height: int = 1080,
+    fov: float = math.radians(90),
+    *,
+    focal: float | None = None,
+    matrix: Sequence[Sequence[float]] | np.ndarray | None = None,
+    x: float = 0.0,
+    y: float = 0.0,
+    z: float = DRIVER_EYE_HEIGHT,
+    yaw: float = 0.0,
+    pitch: float = 0.0,
+    range: float = math.inf,
+) -> Sensor:
+    """A pinhole camera of ``width`` x ``height`` pixels, mounted as any :class:`Sensor`: square pixels, the
+    principal point at the image centre, horizontal field of view ``fov`` (radians; ``f = (width / 2) /
+    tan(fov / 2)``), or else the focal length ``focal`` (pixels) or the intrinsic ``matrix`` (3 x 3, pixels).
+    See :mod:`.cameras` for the image's conventions.
+
+    >>> cam = camera("front", 1280, 720, math.radians(60), x=1.5, z=1.4)
+    >>> cam.kind, round(math.degrees(cam.fov), 6), round(cam.camera.fx, 3)
+    ('camera', 60.0, 1108.513)
+    """
+    if focal is not None and matrix is not None:
+        raise ValueError(f"camera {name!r}: give focal or matrix, not both")
+    if matrix is not None:
+        image = Pinhole.from_matrix(width, height, matrix)
+    elif focal is not None:
+        image = Pinhole.from_focal_length(width, height, focal)
+    else:
+        image = Pinhole.from_fov(width, height, fov)
+    return Sensor(name, x=x, y=y, yaw=yaw, range=range, z=z, pitch=pitch, camera=image)
+
+
+def lidar(
+    name: str,
+    pattern: str | BeamPattern = "os1-128",
+    *,
+    x: float = 0.0,
+    y: float = 0.0,
+    z: float = 2.0,
+    yaw: float = 0.0,
+    pitch: float = 0.0,
+    range: float = 120.0,
+) -> Sensor:
+    """A spinning lidar with the beam ``pattern`` (a name in :data:`.lidars.PATTERNS` or a
+    :class:`~.lidars.BeamPattern`), mounted as any :class:`Sensor` (``pitch`` tilts its spin axis forward-down).
+
+    >>> roof_lidar = lidar("roof_lidar", "vlp16", z=1.9, range=100.0)
+    >>> roof_lidar.kind, roof_lidar.lidar.channels, round(math.degrees(roof_lidar.vertical_fov), 6)
+    ('lidar', 16, 30.0)
+    """
+    return Sensor(name, x=x, y=y, yaw=yaw, range=range, z=z, pitch=pitch, lidar=pattern_from(pattern))
 
 
 def roof(length: float = 4.6, width: float = 1.85, *, range: float = math.inf, z: float = 2.0) -> list[Sensor]:
@@ -219,6 +323,10 @@ def read_sensors(path: str | os.PathLike) -> tuple[Sensor, ...]:
         if item.get("range", 0) is None:
             item["range"] = math.inf
         try:
+            if "camera" in item:
+                item["camera"] = pinhole_from_dict(item["camera"])
+            if "lidar" in item:
+                item["lidar"] = pattern_from(item["lidar"])
             out.append(Sensor(**item))
         except ValueError as e:
             raise ValueError(f"sensors file {path}: {e}") from None

@@ -110,6 +110,17 @@ class Query:
         with _option("sensors"):
             if not is_layout(self.sensors) and self.sensors is not None:
                 put(self, "sensors", resolve_sensors(self.sensors))
+                counting = [s.name for s in self.sensors if s.kind != "view"]
+                if counting and self.mode != "3d":
+                    raise ValueError(
+                        f"cameras and lidars count pixels and beams among 3D boxes ({', '.join(counting)}): "
+                        "pass mode='3d'"
+                    )
+                if counting and meshes:
+                    raise ValueError(
+                        f"cameras and lidars ({', '.join(counting)}) count among boxes and static footprints with "
+                        "heights; static_meshes are not convex bodies: give the buildings as footprints with heights"
+                    )
         for name in ("occluders", "targets"):
             with _option(name):
                 put(self, name, _choice(getattr(self, name), name))
