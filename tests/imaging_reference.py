@@ -75,11 +75,13 @@ def _slabs(origin, rays, normals, lows, highs):
         with np.errstate(divide="ignore", invalid="ignore"):
             a = (low - o) / g
             b = (high - o) / g
-        lo = np.where(g != 0, np.minimum(a, b), np.where((o >= low) & (o <= high), -np.inf, np.inf))
-        hi = np.where(g != 0, np.maximum(a, b), np.where((o >= low) & (o <= high), np.inf, -np.inf))
+        inside = low <= o <= high
+        lo = np.where(g != 0, np.minimum(a, b), -np.inf if inside else np.inf)
+        hi = np.where(g != 0, np.maximum(a, b), np.inf if inside else -np.inf)
         t_in = np.maximum(t_in, lo)
         t_out = np.minimum(t_out, hi)
-        miss |= (g == 0) & ~((o >= low) & (o <= high))
+        if not inside:
+            miss |= g == 0
     hit = (t_in <= t_out + TIE * np.maximum(t_out, 1.0)) & ~miss & (t_out > 0)
     return np.where(hit, t_in, np.inf)
 

@@ -18,7 +18,7 @@ from ..inputs.objects import ObjectTable
 from ..query import Resolved
 from ..threed.mode import Finisher, with_can_see
 from .output import PartWriter, atomic_directory
-from .pipeline import ContainmentLog, chunks, run
+from .pipeline import ContainmentLog, chunks, counted_columns, run
 from .schema import STATUSES, empty_table, to_polars
 from .selection import passive_in_place
 
@@ -82,11 +82,12 @@ def compute(
     with atomic_directory(output) if output is not None else nullcontext() as temp:
         # workers write their own parts: only row counts and containment logs come back here
         names = scene.sensor_names
+        counted = counted_columns(sensor_set)
         labels = {} if names is None else {"sensor": names, "status": STATUSES}
         finish = Finisher(scene.static_positions, three_d)
         sink = None
         if temp is not None:
-            schema = with_can_see(empty_table(with_ego, names is not None), mode).to_arrow().schema
+            schema = with_can_see(empty_table(with_ego, names is not None, counted), mode).to_arrow().schema
             sink = Finisher(scene.static_positions, three_d, PartWriter(temp, schema, labels))
         try:
             with _executor(n_workers) as pool:
@@ -100,7 +101,8 @@ def compute(
                     if sink is not None:
                         written += result
                     else:
-                        tables.append(with_can_see(to_polars(finish.columns(result), with_ego, names), mode))
+                        table = to_polars(finish.columns(result), with_ego, names, counted)
+                        tables.append(with_can_see(table, mode))
                     bar.update(n_frames)
         finally:
             beat.stop()
@@ -111,7 +113,9 @@ def compute(
     mark_compiled(path_key)
     if output is not None:
         return pl.scan_parquet(output)
-    return pl.concat(tables, rechunk=True) if tables else with_can_see(empty_table(with_ego, names is not None), mode)
+    if tables:
+        return pl.concat(tables, rechunk=True)
+    return with_can_see(empty_table(with_ego, names is not None, counted), mode)
 
 
 @contextmanager

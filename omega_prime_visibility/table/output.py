@@ -23,6 +23,8 @@ import polars as pl
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from .schema import COUNT_SCHEMA, count_present
+
 PART = re.compile(r"part-\d{6,}\.parquet")
 """Names of the parts of a dataset written here."""
 
@@ -204,6 +206,14 @@ class PartWriter:
         pq.write_table(self.schema.empty_table(), self.directory / "part-000000.parquet")
 
     def _array(self, f: pa.Field, data) -> pa.Array:
+        if f.name in COUNT_SCHEMA:  # nulls where the sensor does not count (see .schema.missing_counts)
+            values = np.asarray(data)
+            valid = np.packbits(count_present(f.name, values), bitorder="little")
+            if pa.types.is_fixed_size_list(f.type):
+                flat = _numbers(values.reshape(-1), f.type.value_type)
+                return pa.Array.from_buffers(f.type, len(values), [pa.py_buffer(valid)], children=[flat])
+            numbers = _numbers(values, f.type)
+            return pa.Array.from_buffers(f.type, len(values), [pa.py_buffer(valid), numbers.buffers()[1]])
         if pa.types.is_large_list(f.type):
             lengths, values = data
             offsets = np.zeros(len(lengths) + 1, dtype=np.int64)

@@ -26,7 +26,7 @@ from ..inputs.sensors import TWO_PI, Sensor, sensor_poses
 from ..inputs.statics import StaticOccluders
 from .notices import ContainmentLog
 from .rows import chunk_rows, frame_rows
-from .schema import Columns, TableBuilder
+from .schema import Columns, TableBuilder, count_columns
 from .selection import (
     chunk_scenes,
     frame_scenes,
@@ -79,10 +79,14 @@ def viewpoints(
             for k, row in enumerate(owners.tolist())
         ]
     limits = [(s.fov, s.range, s.z, s.vertical_fov, s.pitch) for s in sensors]
+    optics = [s.camera if s.camera is not None else s.lidar for s in sensors]
     return [
-        Viewpoint(positions[k], headings[k], row, transparent[k], static_transparent[k], *limits[k % len(sensors)])
+        Viewpoint(
+            positions[k], headings[k], row, transparent[k], static_transparent[k], *limits[k % len(sensors)],
+            optics=optics[k % len(sensors)],
+        )
         for k, row in enumerate(owners.tolist())
-    ]
+    ]  # fmt: skip
 
 
 def sensors_per_observer(sensors: SensorSet | None) -> int:
@@ -92,12 +96,21 @@ def sensors_per_observer(sensors: SensorSet | None) -> int:
     return len(next(iter(sensors.values())) if isinstance(sensors, dict) else sensors)
 
 
+def _all_sensors(sensors: SensorSet) -> list[Sensor]:
+    return [s for one in (sensors.values() if isinstance(sensors, dict) else [sensors]) for s in one]
+
+
 def unlimited(sensors: SensorSet | None) -> bool:
-    """Whether every sensor (if any) sees all around without range, so viewpoints see as bare points."""
+    """Whether every sensor (if any) sees all around without range, so viewpoints see as bare points (a camera or
+    a lidar never does: it counts its own rays)."""
     if sensors is None:
         return True
-    sets = sensors.values() if isinstance(sensors, dict) else [sensors]
-    return all(s.fov >= TWO_PI and not np.isfinite(s.range) for one in sets for s in one)
+    return all(s.fov >= TWO_PI and not np.isfinite(s.range) and s.kind == "view" for s in _all_sensors(sensors))
+
+
+def counted_columns(sensors: SensorSet | None) -> tuple[str, ...]:
+    """The count columns (:data:`..schema.COUNT_SCHEMA`) the table gains from these sensors' cameras and lidars."""
+    return () if sensors is None else count_columns({s.kind for s in _all_sensors(sensors)})
 
 
 def chunk_viewpoints(
@@ -181,6 +194,7 @@ def observe_frame(
     if len(ego):
         containment.add_static_pairs(ego, np.concatenate(sources), np.full(len(ego), objects.frame))
     sensor_codes = None if sensors is None else np.tile(np.arange(sensors_per_observer(sensors)), len(rows))
+    counted = counted_columns(sensors)
     if passive_in_place(objects, engine):  # occluders= alone, measured by the engine itself
         views = frame_with_passive_targets(objects, views)
     elif objects.blocks is not None or objects.wanted is not None:  # occluders= or targets= (see .selection)
@@ -192,6 +206,7 @@ def observe_frame(
                 np.array([view.own]),
                 scene.idx,
                 None if codes is None else codes[e : e + 1],
+                counted,
             )
             for e, (scene, view) in enumerate(scenes)
         ]
@@ -200,19 +215,46 @@ def observe_frame(
         return
     observations = _observe(engine, statics, objects, views, containment)
     owns = np.array([view.own for view in views], dtype=np.int64)
-    columns = frame_rows(observations, owns, objects.idx, sensor_codes)
+    columns = frame_rows(observations, owns, objects.idx, sensor_codes, counted)
     builder.add(columns, frame=objects.frame, total_nanos=objects.total_nanos)
 
 
 def _observe(
     engine: Engine, statics: StaticOccluders, objects: FrameObjects, views: list[Viewpoint], log: ContainmentLog
 ) -> list:
-    """The engine's observations of one frame, or the fallback engine's where it cannot compute the frame."""
+    """The engine's observations of one frame, or the fallback engine's where it cannot compute the frame; the
+    cameras' and lidars' views go to the counting engine (:mod:`..engines.imaging`)."""
+    counting = [k for k, view in enumerate(views) if view.optics is not None]
+    if counting:
+        others = [k for k, view in enumerate(views) if view.optics is None]
+        out: list = [None] * len(views)
+        for k, seen in zip(
+            counting, _imaging_engine(statics).observe(objects, [views[k] for k in counting]), strict=True
+        ):
+            out[k] = seen
+        if others:
+            for k, seen in zip(
+                others, _observe(engine, statics, objects, [views[k] for k in others], log), strict=True
+            ):
+                out[k] = seen
+        return out
     try:
         return engine.observe(objects, views)
     except EngineFailure as failure:  # e.g. VisiLibity with the viewpoint within a wall's thickness
         log.add_fallback(objects.frame, str(failure))
         return _fallback_engine(statics).observe(objects, views)
+
+
+_IMAGING: list = []  # [(statics, engine)]: the counting engine for these static occluders, built once
+
+
+def _imaging_engine(statics: StaticOccluders) -> Engine:
+    """The counting engine (:class:`..engines.imaging.ImagingEngine`) for these static occluders."""
+    if not _IMAGING or _IMAGING[0][0] is not statics:
+        from ..engines.imaging import ImagingEngine
+
+        _IMAGING[:] = [(statics, ImagingEngine(statics))]
+    return _IMAGING[0][1]
 
 
 def _joined(parts: list[Columns]) -> Columns:

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..engines import ChunkObservation, ChunkViewpoints, Observation, Reason
 from ..geometry.kernels import copy_into
-from .schema import Columns, view_of, visibility_of
+from .schema import Columns, missing_counts, view_of, visibility_of
 
 _CONTAINS_OBSERVER = int(Reason.CONTAINS_OBSERVER)
 
@@ -266,8 +266,26 @@ def _flat_offsets(offsets: Sequence[np.ndarray], cut: np.ndarray, n: int) -> np.
     return flat
 
 
+def count_rows(observations: Sequence[Observation], owns: np.ndarray, n: int, counted: Sequence[str]) -> Columns:
+    """The ``counted`` columns (:data:`.schema.COUNT_SCHEMA`) of the rows of ``observations`` (each of ``n``
+    objects, the observer ``owns[k]`` left out), null where an observation does not count them."""
+    keep = [np.flatnonzero(np.arange(n) != own) for own in np.asarray(owns).tolist()]
+    out: Columns = {}
+    for name in counted:
+        parts = [
+            o.counts[name][rows] if o.counts is not None and name in o.counts else missing_counts(name, len(rows))
+            for o, rows in zip(observations, keep, strict=True)
+        ]
+        out[name] = np.concatenate(parts) if parts else missing_counts(name, 0)
+    return out
+
+
 def frame_rows(
-    observations: Sequence[Observation], owns: np.ndarray, idx: np.ndarray, sensors: np.ndarray | None = None
+    observations: Sequence[Observation],
+    owns: np.ndarray,
+    idx: np.ndarray,
+    sensors: np.ndarray | None = None,
+    counted: Sequence[str] = (),
 ) -> Columns:
     """:func:`observation_rows` for all observations of one frame at once (one compiled call), in order, with an
     ``idx_ego`` column (the observer of each row) and, given ``sensors``, ``sensor``, ``in_view`` and ``status``.
@@ -282,6 +300,8 @@ def frame_rows(
         The objects' idx.
     sensors : ndarray of int64, shape (k,), optional
         Each viewpoint's sensor code (its position in the list of sensors).
+    counted : sequence of str
+        The count columns to add (:func:`count_rows`).
     """
     k, n = len(observations), len(idx)
     if k == 1:  # one viewpoint (the usual case): its rows as they are
@@ -289,6 +309,7 @@ def frame_rows(
         columns["idx_ego"] = np.full(len(columns["idx"]), idx[owns[0]] if owns[0] >= 0 else -1, dtype=np.int64)
         if sensors is not None:
             columns["sensor"] = np.full(len(columns["idx"]), sensors[0], dtype=np.int64)
+        columns.update(count_rows(observations, owns, n, counted))
         return columns
     occ = [o.occluders for o in observations]
     st = [o.static_occluders for o in observations]
@@ -334,4 +355,5 @@ def frame_rows(
     if with_view:
         columns.update({"sensor": np.repeat(np.asarray(sensors, dtype=np.int64), counts), "in_view": in_view})
         columns["status"] = status
+    columns.update(count_rows(observations, owns, n, counted))
     return columns

@@ -47,6 +47,58 @@ SENSOR_SCHEMA: dict[str, pl.DataType] = {
 }
 """The columns a table gains when sensors were given: ``sensor`` follows ``idx``, the others come last."""
 
+COUNT_SCHEMA: dict[str, pl.DataType] = {
+    "pixels": pl.Int64(),
+    "pixels_unoccluded": pl.Int64(),
+    "occlusion": pl.Float64(),
+    "truncation": pl.Float64(),
+    "bbox": pl.Array(pl.Int64(), 4),
+    "bbox_unoccluded": pl.Array(pl.Int64(), 4),
+    "points": pl.Int64(),
+    "points_unoccluded": pl.Int64(),
+}
+"""A camera's and a lidar's own columns, after the sensor columns (null on the rows of other sensors):
+
+- ``pixels``: pixels whose centre ray meets the target first within range (ties visible); ``pixels_unoccluded``:
+  those whose centre ray meets it within range, other bodies ignored;
+- ``occlusion``: ``1 - pixels / pixels_unoccluded`` (null when no pixel meets it);
+- ``truncation``: the share of the target's solid angle outside the image (its frustum), occlusion ignored;
+- ``bbox``, ``bbox_unoccluded``: ``(u0, v0, u1, v1)``, the first and last column and row (inclusive pixel
+  indices, from the top-left corner) of those pixels: the visible and the full 2D box (null when empty);
+- ``points``, ``points_unoccluded``: a lidar's beams of one turn that meet the target first within range, and
+  within range at all.
+"""
+CAMERA_COLUMNS = ("pixels", "pixels_unoccluded", "occlusion", "truncation", "bbox", "bbox_unoccluded")
+LIDAR_COLUMNS = ("points", "points_unoccluded")
+
+
+def count_columns(kinds: Sequence[str]) -> tuple[str, ...]:
+    """The count columns a table gains from sensors of these kinds (``"camera"``, ``"lidar"``, ``"view"``).
+
+    >>> count_columns(["view", "lidar"]), count_columns(["view"])
+    (('points', 'points_unoccluded'), ())
+    """
+    return (CAMERA_COLUMNS if "camera" in kinds else ()) + (LIDAR_COLUMNS if "lidar" in kinds else ())
+
+
+def missing_counts(name: str, n: int) -> np.ndarray:
+    """``n`` null entries of count column ``name`` as its arrays carry them: -1, NaN, or boxes of -1."""
+    if name in ("bbox", "bbox_unoccluded"):
+        return np.full((n, 4), -1, dtype=np.int64)
+    if COUNT_SCHEMA[name] == pl.Float64():
+        return np.full(n, np.nan)
+    return np.full(n, -1, dtype=np.int64)
+
+
+def count_present(name: str, values: np.ndarray) -> np.ndarray:
+    """Which entries of count column ``name`` hold a value (see :func:`missing_counts`)."""
+    if values.ndim == 2:
+        return values[:, 0] >= 0
+    if values.dtype.kind == "f":
+        return ~np.isnan(values)
+    return values >= 0
+
+
 STATIC_LABEL = "static #"
 """How a person reads a static occluder's entry in ``static_occluder_idxs`` (its position in the list given):
 ``static #0`` is the first, never a bare number that reads as a count."""
@@ -70,8 +122,9 @@ _CONTAINS_OBSERVER = int(Reason.CONTAINS_OBSERVER)
 _IN_VIEW = int(Reason.IN_VIEW)
 
 
-def schema(with_ego: bool, with_sensors: bool = False) -> dict[str, pl.DataType]:
-    """The table's schema, with or without the ``idx_ego`` column and the sensor columns."""
+def schema(with_ego: bool, with_sensors: bool = False, counted: Sequence[str] = ()) -> dict[str, pl.DataType]:
+    """The table's schema, with or without the ``idx_ego`` column and the sensor columns, and with the
+    ``counted`` columns of :data:`COUNT_SCHEMA` (:func:`count_columns`)."""
     out = {}
     for name, dtype in SCHEMA.items():
         if with_ego or name != "idx_ego":
@@ -80,12 +133,13 @@ def schema(with_ego: bool, with_sensors: bool = False) -> dict[str, pl.DataType]
             out["sensor"] = SENSOR_SCHEMA["sensor"]
     if with_sensors:
         out.update({k: v for k, v in SENSOR_SCHEMA.items() if k != "sensor"})
+    out.update({name: COUNT_SCHEMA[name] for name in counted})
     return out
 
 
-def empty_table(with_ego: bool = False, with_sensors: bool = False) -> pl.DataFrame:
+def empty_table(with_ego: bool = False, with_sensors: bool = False, counted: Sequence[str] = ()) -> pl.DataFrame:
     """A visibility table with no rows."""
-    return pl.DataFrame(schema=schema(with_ego, with_sensors))
+    return pl.DataFrame(schema=schema(with_ego, with_sensors, counted))
 
 
 @numba.njit(cache=True)
@@ -189,16 +243,25 @@ def _int64_array(values: np.ndarray) -> pa.Array:
     return pa.Array.from_buffers(pa.int64(), len(values), [None, pa.py_buffer(values)])
 
 
-def to_polars(columns: Columns | None, with_ego: bool, sensor_names: Sequence[str] | None = None) -> pl.DataFrame:
+def to_polars(
+    columns: Columns | None, with_ego: bool, sensor_names: Sequence[str] | None = None, counted: Sequence[str] = ()
+) -> pl.DataFrame:
     """The visibility table from :meth:`TableBuilder.arrays` output, columns in schema order; ``sensor_names``
-    (when sensors were used) turns the ``sensor`` codes into names."""
+    (when sensors were used) turns the ``sensor`` codes into names; ``counted`` names the count columns."""
     with_sensors = sensor_names is not None
     if columns is None:
-        return empty_table(with_ego, with_sensors)
-    target = schema(with_ego, with_sensors)
+        return empty_table(with_ego, with_sensors, counted)
+    target = schema(with_ego, with_sensors, counted)
     data = {}
     for name in target:
-        if name in LIST_COLUMNS:
+        if name in COUNT_SCHEMA:
+            values = np.asarray(columns[name])
+            series = pl.Series(name, values, dtype=target[name])
+            present = count_present(name, values)
+            if not present.all():
+                series = series.to_frame().select(pl.when(pl.lit(pl.Series(present))).then(pl.col(name))).to_series()
+            data[name] = series
+        elif name in LIST_COLUMNS:
             data[name] = _list_column(*columns[name])
         elif name == "sensor":
             data[name] = pl.Series(list(sensor_names), dtype=pl.String).gather(columns[name])

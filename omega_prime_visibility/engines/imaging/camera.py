@@ -20,18 +20,32 @@ import numba
 import numpy as np
 
 from ...inputs.cameras import Pinhole
-from .lines import count_line
+from .lines import count_line, workspace
 from .scene import SensorScene
 from .solid_angle import body_solid_angles
 
 
 @numba.njit(cache=True)
-def _row_ranges(vertices, vstart, fy, cy, height):
-    """Per body the first and last pixel row it can meet (last < first: none)."""
+def _row_ranges(vertices, vstart, fy, cy, height, planes):
+    """Per body the first and last pixel row it can meet (last < first: none, as for a body wholly outside one of
+    the frustum's ``planes``)."""
     n = len(vstart) - 1
     first = np.zeros(n, dtype=np.int64)
     last = np.full(n, height - 1, dtype=np.int64)
     for k in range(n):
+        outside = False
+        for p in range(len(planes)):
+            out = True
+            for i in range(vstart[k], vstart[k + 1]):
+                if planes[p, 0] * vertices[i, 0] + planes[p, 1] * vertices[i, 1] + planes[p, 2] * vertices[i, 2] >= 0:
+                    out = False
+                    break
+            if out:
+                outside = True
+                break
+        if outside:
+            last[k] = -1
+            continue
         lo = np.inf
         hi = -np.inf
         ahead = 0
@@ -69,28 +83,29 @@ def line_candidates(first, last, n_lines):
 
 
 @numba.njit(cache=True)
-def _count_rows(vertices, vstart, edges, estart, normals, offsets, slot, near, far, overlap, n_targets,
-                fx, fy, cx, cy, width, height, max_range):  # fmt: skip
+def new_counts(n_targets, n_bodies):
+    """Zeroed ``(first, unoccluded, met, first_box, unoccluded_box, hidden_by)`` for :func:`.lines.count_line`."""
+    return (
+        np.zeros(n_targets, dtype=np.int64), np.zeros(n_targets, dtype=np.int64), np.zeros(n_targets, dtype=np.int64),
+        np.full((n_targets, 4), -1, dtype=np.int64), np.full((n_targets, 4), -1, dtype=np.int64),
+        np.zeros((n_targets, n_bodies), dtype=np.bool_),
+    )  # fmt: skip
+
+
+@numba.njit(cache=True)
+def _count_rows(body, target, n_targets, fx, fy, cx, cy, width, height, planes, max_range):
+    vertices, vstart = body[0], body[1]
     samples = (np.arange(width) + 0.5 - cx) / fx
-    first_row, last_row = _row_ranges(vertices, vstart, fy, cy, height)
+    first_row, last_row = _row_ranges(vertices, vstart, fy, cy, height, planes)
     cand_offsets, cand = line_candidates(first_row, last_row, height)
-    first = np.zeros(n_targets, dtype=np.int64)
-    unoccluded = np.zeros(n_targets, dtype=np.int64)
-    met = np.zeros(n_targets, dtype=np.int64)
-    first_box = np.full((n_targets, 4), -1, dtype=np.int64)
-    unoccluded_box = np.full((n_targets, 4), -1, dtype=np.int64)
-    hidden_by = np.zeros((n_targets, len(slot)), dtype=np.bool_)
-    scratch = np.empty((max(1, 2 * len(edges) + len(vertices)), 2))
+    out = new_counts(n_targets, len(vstart) - 1)
+    work = workspace(body)
     b = np.array([1.0, 0.0, 0.0])
     a = np.array([0.0, 0.0, 1.0])
     for v in range(height):
         a[1] = (v + 0.5 - cy) / fy
-        count_line(
-            v, a, b, samples, cand[cand_offsets[v] : cand_offsets[v + 1]], vertices, vstart, edges, estart, normals,
-            offsets, slot, near, far, max_range, overlap, first, unoccluded, met, first_box, unoccluded_box,
-            hidden_by, scratch,
-        )  # fmt: skip
-    return first, unoccluded, met, first_box, unoccluded_box, hidden_by
+        count_line(v, a, b, samples, cand[cand_offsets[v] : cand_offsets[v + 1]], body, target, max_range, out, work)
+    return out
 
 
 def frustum_planes(image: Pinhole) -> np.ndarray:
@@ -113,10 +128,18 @@ def camera_counts(scene: SensorScene, image: Pinhole, max_range: float) -> dict[
     ``hidden_by`` (targets x bodies: entered before the target along a pixel ray that meets it within range)."""
     n_targets = int((scene.slot >= 0).sum())
     first, unoccluded, met, first_box, unoccluded_box, hidden_by = _count_rows(
-        scene.vertices, scene.vstart, scene.edges, scene.estart, scene.normals, scene.offsets, scene.slot,
-        scene.near, scene.far, scene.overlap, n_targets, image.fx, image.fy, image.cx, image.cy, image.width,
-        image.height, float(max_range),
-    )  # fmt: skip
+        scene.body_arrays(),
+        scene.target_arrays(),
+        n_targets,
+        image.fx,
+        image.fy,
+        image.cx,
+        image.cy,
+        image.width,
+        image.height,
+        frustum_planes(image),
+        float(max_range),
+    )
     targets = np.flatnonzero(scene.slot >= 0)
     target_vstart = np.r_[0, np.cumsum(np.diff(scene.vstart)[targets])].astype(np.int64)
     target_vertices = np.concatenate([scene.vertices[scene.vstart[k] : scene.vstart[k + 1]] for k in targets] or

@@ -18,8 +18,8 @@ import numba
 import numpy as np
 
 from ...inputs.lidars import BeamPattern
-from .camera import line_candidates
-from .lines import count_line
+from .camera import line_candidates, new_counts
+from .lines import count_line, workspace
 from .scene import SensorScene
 
 _TURN = 2 * math.pi
@@ -65,8 +65,8 @@ def _column_ranges(vertices, vstart, step, n_columns):
 
 
 @numba.njit(cache=True)
-def _count_columns(vertices, vstart, edges, estart, normals, offsets, slot, near, far, overlap, n_targets,
-                   samples, step, n_columns, max_range):  # fmt: skip
+def _count_columns(body, target, n_targets, samples, step, n_columns, max_range):
+    vertices, vstart = body[0], body[1]
     first_col, last_col = _column_ranges(vertices, vstart, step, n_columns)
     # a body whose columns wrap past the last is listed from its first to the end and from 0 on
     n = len(first_col)
@@ -82,24 +82,15 @@ def _count_columns(vertices, vstart, edges, estart, normals, offsets, slot, near
             m += 1
     cand_offsets, pieces = line_candidates(lo[:m], hi[:m], n_columns)
     cand = who[:m][pieces]
-    first = np.zeros(n_targets, dtype=np.int64)
-    unoccluded = np.zeros(n_targets, dtype=np.int64)
-    met = np.zeros(n_targets, dtype=np.int64)
-    first_box = np.full((n_targets, 4), -1, dtype=np.int64)
-    unoccluded_box = np.full((n_targets, 4), -1, dtype=np.int64)
-    hidden_by = np.zeros((n_targets, len(slot)), dtype=np.bool_)
-    scratch = np.empty((max(1, 2 * len(edges) + len(vertices)), 2))
+    out = new_counts(n_targets, n)
+    work = workspace(body)
     b = np.array([0.0, 0.0, 1.0])
     a = np.zeros(3)
     for c in range(n_columns):
         phi = c * step
         a[0], a[1] = math.cos(phi), math.sin(phi)
-        count_line(
-            c, a, b, samples, cand[cand_offsets[c] : cand_offsets[c + 1]], vertices, vstart, edges, estart, normals,
-            offsets, slot, near, far, max_range, overlap, first, unoccluded, met, first_box, unoccluded_box,
-            hidden_by, scratch,
-        )  # fmt: skip
-    return first, unoccluded, met, hidden_by
+        count_line(c, a, b, samples, cand[cand_offsets[c] : cand_offsets[c + 1]], body, target, max_range, out, work)
+    return out
 
 
 def lidar_counts(scene: SensorScene, pattern: BeamPattern, max_range: float) -> dict[str, np.ndarray]:
@@ -108,9 +99,13 @@ def lidar_counts(scene: SensorScene, pattern: BeamPattern, max_range: float) -> 
     (targets x bodies: entered before the target along a beam that meets it within range)."""
     n_targets = int((scene.slot >= 0).sum())
     samples = np.tan(np.asarray(pattern.elevations, dtype=np.float64))
-    first, unoccluded, met, hidden_by = _count_columns(
-        scene.vertices, scene.vstart, scene.edges, scene.estart, scene.normals, scene.offsets, scene.slot,
-        scene.near, scene.far, scene.overlap, n_targets, samples, pattern.azimuth_step, pattern.azimuths,
+    first, unoccluded, met, _, _, hidden_by = _count_columns(
+        scene.body_arrays(),
+        scene.target_arrays(),
+        n_targets,
+        samples,
+        pattern.azimuth_step,
+        pattern.azimuths,
         float(max_range),
-    )  # fmt: skip
+    )
     return {"points": first, "points_unoccluded": unoccluded, "points_met": met, "hidden_by": hidden_by}

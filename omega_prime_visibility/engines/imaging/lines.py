@@ -27,6 +27,7 @@ import numba
 import numpy as np
 
 from ...geometry.occlusion import RELATIVE_TOLERANCE
+from .scene import pair_overlaps
 
 SAMPLE_MARGIN = 1e-12
 """A sample within this share (of ``1 + |t|``) outside a body's interval of ``t`` still meets it: a ray along an
@@ -36,34 +37,46 @@ _HALF_PI = math.pi / 2
 
 
 @numba.njit(cache=True)
-def body_span(vertices, v0, v1, edges, e0, e1, a, b, norm_a, scratch):
+def body_span(vertices, v0, v1, edges, e0, e1, a, b, norm_a, scratch, side):
     """The interval ``(t_lo, t_hi)`` of rays ``a + t b`` (``a ⟂ b``, ``|b| = 1``) that meet the convex body
     whose vertices are ``vertices[v0:v1]`` and edges ``edges[e0:e1]`` (eye at the origin, outside the body);
-    ``t_lo > t_hi`` when none does. ``scratch`` has room for one point per edge and vertex, shape (k, 2)."""
+    ``t_lo > t_hi`` when none does. ``scratch`` has room for one point per edge and vertex, shape (k, 2), and
+    ``side`` for three numbers per vertex, shape (v, 3)."""
     mx = a[1] * b[2] - a[2] * b[1]
     my = a[2] * b[0] - a[0] * b[2]
     mz = a[0] * b[1] - a[1] * b[0]
     count = 0
-    for i in range(v0, v1):  # the vertices on the plane
-        s = mx * vertices[i, 0] + my * vertices[i, 1] + mz * vertices[i, 2]
-        if s == 0.0:
-            scratch[count, 0] = (vertices[i, 0] * a[0] + vertices[i, 1] * a[1] + vertices[i, 2] * a[2]) / norm_a
-            scratch[count, 1] = vertices[i, 0] * b[0] + vertices[i, 1] * b[1] + vertices[i, 2] * b[2]
+    for i in range(v0, v1):  # each vertex's side of the plane and its coordinates along a and b, once
+        x, y, z = vertices[i, 0], vertices[i, 1], vertices[i, 2]
+        r = i - v0
+        side[r, 0] = mx * x + my * y + mz * z
+        side[r, 1] = (x * a[0] + y * a[1] + z * a[2]) / norm_a
+        side[r, 2] = x * b[0] + y * b[1] + z * b[2]
+        if side[r, 0] == 0.0:  # on the plane
+            scratch[count, 0], scratch[count, 1] = side[r, 1], side[r, 2]
             count += 1
     for k in range(e0, e1):  # and the edges crossing it
-        i, j = edges[k, 0], edges[k, 1]
-        si = mx * vertices[i, 0] + my * vertices[i, 1] + mz * vertices[i, 2]
-        sj = mx * vertices[j, 0] + my * vertices[j, 1] + mz * vertices[j, 2]
+        i, j = edges[k, 0] - v0, edges[k, 1] - v0
+        si, sj = side[i, 0], side[j, 0]
         if (si < 0.0 < sj) or (sj < 0.0 < si):
             w = si / (si - sj)
-            qx = vertices[i, 0] + w * (vertices[j, 0] - vertices[i, 0])
-            qy = vertices[i, 1] + w * (vertices[j, 1] - vertices[i, 1])
-            qz = vertices[i, 2] + w * (vertices[j, 2] - vertices[i, 2])
-            scratch[count, 0] = (qx * a[0] + qy * a[1] + qz * a[2]) / norm_a
-            scratch[count, 1] = qx * b[0] + qy * b[1] + qz * b[2]
+            scratch[count, 0] = side[i, 1] + w * (side[j, 1] - side[i, 1])
+            scratch[count, 1] = side[i, 2] + w * (side[j, 2] - side[i, 2])
             count += 1
     if count == 0:
         return 1.0, -1.0
+    t_lo = np.inf
+    t_hi = -np.inf
+    ahead = True
+    for p in range(count):
+        if scratch[p, 0] <= 0.0:
+            ahead = False
+            break
+        t = norm_a * scratch[p, 1] / scratch[p, 0]
+        t_lo = min(t_lo, t)
+        t_hi = max(t_hi, t)
+    if ahead:  # the whole cross-section ahead of the line: its ends are the extreme points
+        return t_lo, t_hi
     # a direction inside the cone of the cross-section: the sum of its points' directions
     rx = 0.0
     ry = 0.0
@@ -126,31 +139,54 @@ def _widen(box, slot, line, j0, j1):
 
 
 @numba.njit(cache=True)
-def count_line(
-    line, a, b, samples, candidates, vertices, vstart, edges, estart, normals, offsets,
-    slot, near, far, max_range, overlap, first, unoccluded, met, first_box, unoccluded_box, hidden_by, scratch,
-):  # fmt: skip
-    """Count the samples of one line (rays ``a + samples[j] b``) for every target among the ``candidates``
-    (body numbers whose row or column range holds this line).
+def workspace(body):
+    """Room for :func:`count_line`'s work on lines among these bodies (``body`` as it takes it), made once."""
+    vertices, vstart, edges = body[0], body[1], body[2]
+    n = len(vstart) - 1
+    most = 1
+    for k in range(n):
+        most = max(most, vstart[k + 1] - vstart[k])
+    return (
+        np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64),
+        np.empty(2 * n + 1, dtype=np.int64), np.empty(n, dtype=np.int64), np.empty(n),
+        np.empty((max(1, 2 * len(edges) + len(vertices)), 2)), np.empty((most, 3)),
+    )  # fmt: skip
 
-    Per target (``slot[body] >= 0``): ``met`` counts the rays that meet it, ``unoccluded`` those that meet it within
-    ``max_range`` (metres), ``first`` those that meet it first within range; ``first_box`` and ``unoccluded_box``
-    grow by ``(sample, line)`` of those rays; ``hidden_by[slot, body]`` is set where ``body`` is entered before
-    the target along a ray that meets the target within range. ``near`` and ``far`` are each body's nearest and
-    farthest distance (metres); ``overlap[slot, body]`` says whether a target's inside overlaps the body's.
+
+@numba.njit(cache=True, inline="always")
+def _overlapping(body, overlap, g, k, other):
+    """Whether target ``g`` (body ``k``) may overlap body ``other``, decided once per scene on first need."""
+    if overlap[g, other] < 0:
+        vertices, vstart, _, _, normals, offsets, centre, radius = body
+        overlap[g, other] = pair_overlaps(vertices, vstart, normals, offsets, centre, radius, k, other)
+    return overlap[g, other] == 1
+
+
+@numba.njit(cache=True)
+def count_line(line, a, b, samples, candidates, body, target, max_range, out, work):
+    """Count the samples of one line (rays ``a + samples[j] b``) for every target among the ``candidates``
+    (body numbers whose line range holds this line).
+
+    ``body`` is ``(vertices, vstart, edges, estart, normals, offsets, centre, radius)`` and ``target`` is
+    ``(slot, near, far, overlap)`` of a :class:`.scene.SensorScene`; ``out`` is ``(first, unoccluded, met,
+    first_box, unoccluded_box, hidden_by)``. Per target (``slot[body] >= 0``): ``met`` counts the rays that meet
+    it, ``unoccluded`` those that meet it within ``max_range`` (metres), ``first`` those that meet it first within
+    range; ``first_box`` and ``unoccluded_box`` grow by ``(sample, line)`` of those rays; ``hidden_by[slot, body]``
+    is set where ``body`` is entered before the target along a ray that meets the target within range. ``work``
+    is :func:`workspace`'s.
     """
+    vertices, vstart, edges, estart, normals, offsets, _, _ = body
+    slot, near, far, overlap = target
+    first, unoccluded, met, first_box, unoccluded_box, hidden_by = out
     norm_a = math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
-    len(samples)
     k_max = len(candidates)
-    bodies = np.empty(k_max, dtype=np.int64)
-    j_lo = np.empty(k_max, dtype=np.int64)
-    j_hi = np.empty(k_max, dtype=np.int64)
+    bodies, j_lo, j_hi, cuts, active, depth, scratch, sides = work
     m = 0
     any_target = False
     for c in range(k_max):
         k = candidates[c]
         t_lo, t_hi = body_span(
-            vertices, vstart[k], vstart[k + 1], edges, estart[k], estart[k + 1], a, b, norm_a, scratch
+            vertices, vstart[k], vstart[k + 1], edges, estart[k], estart[k + 1], a, b, norm_a, scratch, sides
         )
         if t_lo > t_hi:
             continue
@@ -163,12 +199,9 @@ def count_line(
         m += 1
     if not any_target:
         return
-    cuts = np.empty(2 * m, dtype=np.int64)
     cuts[:m] = j_lo[:m]
-    cuts[m:] = j_hi[:m] + 1
-    cuts.sort()
-    active = np.empty(m, dtype=np.int64)
-    depth = np.empty(m)
+    cuts[m : 2 * m] = j_hi[:m] + 1
+    cuts[: 2 * m].sort()
     for q in range(2 * m - 1):
         s, e = cuts[q], cuts[q + 1]
         if s == e:
@@ -192,17 +225,17 @@ def count_line(
             if g < 0:
                 continue
             met[g] += e - s
+            if near[k] > max_range:
+                continue
             hidden = False  # by a body it does not overlap: then on the whole run
-            mixed = far[k] > max_range and near[k] <= max_range  # straddles the range: ray by ray
+            mixed = far[k] > max_range  # straddles the range: ray by ray
             for o in range(n_active):
                 if o != i:
-                    if overlap[g, active[o]]:
+                    if _overlapping(body, overlap, g, k, active[o]):
                         mixed = True
                     elif depth[o] < depth[i] * (1.0 - RELATIVE_TOLERANCE):
                         hidden = True
             if not mixed:
-                if near[k] > max_range:
-                    continue
                 unoccluded[g] += e - s
                 _widen(unoccluded_box, g, line, s, e - 1)
                 if hidden:
@@ -226,7 +259,7 @@ def count_line(
                     if o == i:
                         continue
                     other = active[o]
-                    if overlap[g, other]:
+                    if overlap[g, other] == 1:
                         if entry(normals, offsets, other, dx, dy, dz) < mine * (1.0 - RELATIVE_TOLERANCE):
                             hidden_by[g, other] = True
                             seen = False

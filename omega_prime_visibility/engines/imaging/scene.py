@@ -63,11 +63,22 @@ class SensorScene:
     slot: np.ndarray
     near: np.ndarray
     far: np.ndarray
+    centre: np.ndarray
+    radius: np.ndarray
     overlap: np.ndarray
     source: np.ndarray
 
     def __len__(self) -> int:
         return len(self.slot)
+
+    def body_arrays(self) -> tuple:
+        """``(vertices, vstart, edges, estart, normals, offsets, centre, radius)``, as the kernels take them."""
+        return (self.vertices, self.vstart, self.edges, self.estart, self.normals, self.offsets, self.centre,
+                self.radius)  # fmt: skip
+
+    def target_arrays(self) -> tuple:
+        """``(slot, near, far, overlap)``, as the kernels take them."""
+        return self.slot, self.near, self.far, self.overlap
 
 
 def sensor_scene(bodies: ConvexBodies, targets: np.ndarray, axes: np.ndarray, near: np.ndarray) -> SensorScene:
@@ -89,10 +100,11 @@ def sensor_scene(bodies: ConvexBodies, targets: np.ndarray, axes: np.ndarray, ne
     near_all = np.zeros(n)
     near_all[targets] = near
     offsets = np.ascontiguousarray(bodies.offsets, dtype=np.float64)
-    overlap = overlaps(vertices, vstart, normals, offsets, targets)
+    centre, radius = bounding_spheres(vertices, vstart)
+    overlap = np.full((len(targets), n), -1, dtype=np.int8)
     return SensorScene(
         vertices, vstart, np.ascontiguousarray(bodies.edges, dtype=np.int64), estart, normals, offsets, slot,
-        near_all, far, overlap, bodies.source,
+        near_all, far, centre, radius, overlap, bodies.source,
     )  # fmt: skip
 
 
@@ -119,32 +131,30 @@ def _separated(vertices, vstart, normals, offsets, k, other):
 
 
 @numba.njit(cache=True)
-def overlaps(vertices, vstart, normals, offsets, targets):
-    """Per target and body: True unless a face plane of one separates the two (their bounding spheres apart, or
-    all of one's vertices beyond a face of the other). Conservative: a pair separated only along an edge-edge
-    direction is ordered ray by ray, which costs time, never exactness."""
+def bounding_spheres(vertices, vstart):
+    """Centre (n, 3) and radius (n,) of a sphere around each body (centred on its mean vertex)."""
     n = len(vstart) - 1
     centre = np.zeros((n, 3))
     radius = np.zeros(n)
     for k in range(n):
         count = vstart[k + 1] - vstart[k]
         for i in range(vstart[k], vstart[k + 1]):
-            centre[k] += vertices[i] / count
+            for c in range(3):
+                centre[k, c] += vertices[i, c] / count
         for i in range(vstart[k], vstart[k + 1]):
-            d = vertices[i] - centre[k]
-            radius[k] = max(radius[k], math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]))
-    out = np.zeros((len(targets), n), dtype=np.bool_)
-    for g in range(len(targets)):
-        k = targets[g]
-        for other in range(n):
-            if other == k:
-                continue
-            d = centre[k] - centre[other]
-            if math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) > radius[k] + radius[other] + OVERLAP_MARGIN:
-                continue
-            if _separated(vertices, vstart, normals, offsets, k, other):
-                continue
-            if _separated(vertices, vstart, normals, offsets, other, k):
-                continue
-            out[g, other] = True
-    return out
+            d0, d1, d2 = vertices[i, 0] - centre[k, 0], vertices[i, 1] - centre[k, 1], vertices[i, 2] - centre[k, 2]
+            radius[k] = max(radius[k], math.sqrt(d0 * d0 + d1 * d1 + d2 * d2))
+    return centre, radius
+
+
+@numba.njit(cache=True)
+def pair_overlaps(vertices, vstart, normals, offsets, centre, radius, k, other):
+    """Whether the insides of bodies ``k`` and ``other`` may overlap: False when their bounding spheres are apart
+    or a face plane of one has all of the other's vertices on or beyond it. Conservative: a pair separated only
+    along an edge-edge direction is ordered ray by ray, which costs time, never exactness."""
+    d0, d1, d2 = centre[k, 0] - centre[other, 0], centre[k, 1] - centre[other, 1], centre[k, 2] - centre[other, 2]
+    if math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) > radius[k] + radius[other] + OVERLAP_MARGIN:
+        return False
+    if _separated(vertices, vstart, normals, offsets, k, other):
+        return False
+    return not _separated(vertices, vstart, normals, offsets, other, k)
