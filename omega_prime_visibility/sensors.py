@@ -4,15 +4,17 @@ They live in :mod:`.inputs.sensors`; this module keeps the documented import pat
 ``omega_prime_visibility.sensors``.
 """
 
+from .inputs.sensor_files import read_sensors, resolve_sensors
 from .inputs.sensors import (
     DRIVER_EYE_HEIGHT,
     LAYOUTS,
     Sensor,
+    camera,
     check_sensors,
     fitted_layout,
     is_layout,
-    read_sensors,
-    resolve_sensors,
+    lidar,
+    nuscenes,
     roof,
     sensor_poses,
     typical,
@@ -22,9 +24,12 @@ __all__ = [
     "DRIVER_EYE_HEIGHT",
     "LAYOUTS",
     "Sensor",
+    "camera",
     "check_sensors",
     "fitted_layout",
     "is_layout",
+    "lidar",
+    "nuscenes",
     "read_sensors",
     "resolve_sensors",
     "roof",

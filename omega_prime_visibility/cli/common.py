@@ -34,7 +34,7 @@ def parse_sensors(spec: str | None):
     """``--sensors`` as the API's ``sensors`` (checked before any computing); a bad value exits with one line."""
     if spec is None:
         return None
-    from ..inputs.sensors import resolve_sensors
+    from ..inputs.sensor_files import resolve_sensors
 
     try:
         return resolve_sensors(spec)

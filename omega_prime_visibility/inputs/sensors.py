@@ -9,8 +9,9 @@ opening angle, centred on the sensor's heading; ``range`` the distance up to whi
 the 2D engines look in the ground plane.
 
 Ready-made layouts (:data:`LAYOUTS`, numbers in each function's docstring): :func:`roof` (one 360° sensor at the
-centre) and :func:`typical` (front camera, front long-range radar, four corner radars), both scaled to the
-observer's length and width.
+centre), :func:`typical` (front camera, front long-range radar, four corner radars) and :func:`nuscenes` (six
+pixel-counting cameras and a roof lidar), each scaled to the observer's length and width. :func:`camera` and
+:func:`lidar` make the sensors that count pixels and beams (the 3D mode).
 
 >>> import math
 >>> cam = Sensor("front_camera", x=1.0, fov=math.radians(60), range=150.0)
@@ -22,17 +23,14 @@ observer's length and width.
 
 from __future__ import annotations
 
-import json
 import math
-import os
 from collections.abc import Iterable, Sequence
 from dataclasses import asdict, dataclass, fields
-from pathlib import Path
 
 import numpy as np
 
 from ..geometry.kernels import TWO_PI
-from .cameras import Pinhole, pinhole_from_dict
+from .cameras import Pinhole
 from .lidars import BeamPattern, pattern_from
 
 DRIVER_EYE_HEIGHT = 1.25
@@ -269,7 +267,42 @@ def typical(length: float = 4.6, width: float = 1.85) -> list[Sensor]:
     ]
 
 
-LAYOUTS = {"roof": roof, "typical": typical}
+def nuscenes(length: float = 4.6, width: float = 1.85) -> list[Sensor]:
+    """A perception rig after nuScenes' (six 1600 x 900 cameras around the car and a 32-beam roof lidar), its
+    mounts approximately those of the dataset's car, scaled to the observer's ``length`` and ``width``:
+
+    ============================  =================  ==========  =====  =======
+    name                          position (x, y)    yaw         fov    z
+    ============================  =================  ==========  =====  =======
+    ``cam_front``                 (0.37 L, 0)        0°          70°    1.5 m
+    ``cam_front_left``            (0.35 L, W / 4)    55°         70°    1.5 m
+    ``cam_front_right``           (0.35 L, -W / 4)   -55°        70°    1.5 m
+    ``cam_back``                  (-0.4 L, 0)        180°        110°   1.5 m
+    ``cam_back_left``             (-0.05 L, W / 4)   110°        70°    1.5 m
+    ``cam_back_right``            (-0.05 L, -W / 4)  -110°       70°    1.5 m
+    ``lidar_top``                 (0, 0)             0°          360°   1.85 m
+    ============================  =================  ==========  =====  =======
+
+    The lidar fires the HDL-32E's pattern (:data:`.lidars.PATTERNS`) to 70 m; the cameras see without a range.
+
+    >>> [s.kind for s in nuscenes()].count("camera"), nuscenes()[-1].lidar.channels
+    (6, 32)
+    """
+    _check_size(length, width)
+    quarter = width / 4
+    front = math.radians(70)
+    return [
+        camera("cam_front", 1600, 900, front, x=0.37 * length, z=1.5),
+        camera("cam_front_left", 1600, 900, front, x=0.35 * length, y=quarter, yaw=math.radians(55), z=1.5),
+        camera("cam_front_right", 1600, 900, front, x=0.35 * length, y=-quarter, yaw=math.radians(-55), z=1.5),
+        camera("cam_back", 1600, 900, math.radians(110), x=-0.4 * length, yaw=math.pi, z=1.5),
+        camera("cam_back_left", 1600, 900, front, x=-0.05 * length, y=quarter, yaw=math.radians(110), z=1.5),
+        camera("cam_back_right", 1600, 900, front, x=-0.05 * length, y=-quarter, yaw=math.radians(-110), z=1.5),
+        lidar("lidar_top", "hdl32e", z=1.85, range=70.0),
+    ]
+
+
+LAYOUTS = {"roof": roof, "typical": typical, "nuscenes": nuscenes}
 """Ready-made layouts by name, each a function of the observer's ``length`` and ``width``."""
 
 
@@ -292,72 +325,6 @@ def check_sensors(sensors: Iterable[Sensor]) -> tuple[Sensor, ...]:
     if duplicates:
         raise ValueError(f"sensor names must be unique; repeated: {duplicates}")
     return out
-
-
-def read_sensors(path: str | os.PathLike) -> tuple[Sensor, ...]:
-    """Sensors from a JSON file: a list of objects with :class:`Sensor`'s fields (angles in radians; ``range``
-    null or absent for no limit), or ``{"sensors": [...]}``. Any problem raises ``ValueError`` naming the file.
-    """
-    path = Path(path)
-    try:
-        data = json.loads(path.read_text())
-    except OSError as e:
-        raise ValueError(f"cannot read sensors file {path}: {e.strerror or e}") from None
-    except (json.JSONDecodeError, UnicodeDecodeError) as e:
-        raise ValueError(f"sensors file {path} is not valid JSON: {e}") from None
-    if isinstance(data, dict) and "sensors" in data:
-        data = data["sensors"]
-    if not isinstance(data, list):
-        raise ValueError(f"sensors file {path} must hold a list of sensors (or {{'sensors': [...]}})")
-    known = {f.name for f in fields(Sensor)}
-    out = []
-    for k, item in enumerate(data):
-        if not isinstance(item, dict):
-            raise ValueError(f"sensors file {path}: entry {k} is not an object")
-        unknown = sorted(set(item) - known)
-        if unknown:
-            raise ValueError(f"sensors file {path}: entry {k} has unknown field(s) {unknown}; known: {sorted(known)}")
-        if "name" not in item:
-            raise ValueError(f"sensors file {path}: entry {k} has no name")
-        item = dict(item)
-        if item.get("range", 0) is None:
-            item["range"] = math.inf
-        try:
-            if "camera" in item:
-                item["camera"] = pinhole_from_dict(item["camera"])
-            if "lidar" in item:
-                item["lidar"] = pattern_from(item["lidar"])
-            out.append(Sensor(**item))
-        except ValueError as e:
-            raise ValueError(f"sensors file {path}: {e}") from None
-    try:
-        return check_sensors(out)
-    except ValueError as e:
-        raise ValueError(f"sensors file {path}: {e}") from None
-
-
-def resolve_sensors(
-    spec: str | os.PathLike | Sensor | Sequence[Sensor] | None, length: float = 4.6, width: float = 1.85
-) -> tuple[Sensor, ...] | None:
-    """Sensors from a layout name (:data:`LAYOUTS`), a JSON file path, one :class:`Sensor` or a sequence of them.
-
-    >>> [s.name for s in resolve_sensors("roof")]
-    ['roof']
-    >>> resolve_sensors(None) is None
-    True
-    """
-    if spec is None:
-        return None
-    if isinstance(spec, Sensor):
-        return (spec,)
-    if isinstance(spec, str) and spec in LAYOUTS:
-        return check_sensors(LAYOUTS[spec](length, width))
-    if isinstance(spec, str | os.PathLike):
-        path = Path(spec)
-        if path.suffix.lower() != ".json" and not path.exists():
-            raise ValueError(f"unknown sensor layout {str(spec)!r}; give one of {sorted(LAYOUTS)} or a .json file")
-        return read_sensors(path)
-    return check_sensors(spec)
 
 
 def is_layout(spec: object) -> bool:

@@ -37,7 +37,8 @@ import shapely
 from ..engines.registry import check_mode, resolve_measure
 from ..inputs.errors import OptionError
 from ..inputs.roles import RoleSpec, canonical_name, check_names
-from ..inputs.sensors import Sensor, is_layout, resolve_sensors
+from ..inputs.sensor_files import resolve_sensors
+from ..inputs.sensors import Sensor, is_layout
 from ..inputs.statics import load_static_occluders
 from ..threed.statics import check_heights
 
