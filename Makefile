@@ -47,6 +47,7 @@ bench: .venv/.installed
 	$(UV) run --no-sync python benchmarks/bench_3d.py --quick
 	$(UV) run --no-sync python benchmarks/bench_urban.py
 	$(UV) run --no-sync python benchmarks/bench_reader.py
+	$(UV) run --no-sync python benchmarks/bench_imaging.py
 
 bench-batch: .venv/.installed
 	$(UV) run --no-sync python benchmarks/bench_batch.py

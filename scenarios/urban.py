@@ -30,6 +30,7 @@ polygons, metres), e.g. ``get_visibility_df(table, 0, buildings)``.
 from __future__ import annotations
 
 import argparse
+import json
 from pathlib import Path
 
 import numpy as np
@@ -68,6 +69,17 @@ def buildings() -> list[shapely.Polygon]:
         for k in range(3):  # plain buildings along the other street, with gaps
             out.append(place(b, b + 32 + 14 * k, b + 12, b + 42 + 14 * k))
     return [shapely.geometry.polygon.orient(g, 1.0) for g in out]
+
+
+def building_heights(blocks: list[shapely.Polygon]) -> list[float]:
+    """Heights (metres) of the buildings, in the order :func:`buildings` gives them: courtyard blocks of 18 m,
+    L-shaped ones of 15 m, and the plain ones of 9, 12 and 21 m (town houses, offices), so that some rise over
+    their neighbours and a raised sensor sees over the low ones."""
+    out = []
+    for k in range(len(blocks)):
+        place = k % 5
+        out.append((18.0, 15.0, 9.0, 12.0, 21.0)[place])
+    return out
 
 
 def _row(idx, t, x, y, yaw, kind, vx=0.0, vy=0.0):
@@ -233,6 +245,8 @@ def main() -> None:
         table.write_parquet(args.output)
     wkt = args.output.with_suffix(".buildings.wkt")
     wkt.write_text("".join(f"{g.wkt}\n" for g in blocks))
+    heights = args.output.with_suffix(".heights.json")
+    heights.write_text(json.dumps(building_heights(blocks)))
     per_frame = table.filter(pl.col("frame") == 0).height
     print(f"wrote {args.output} ({table.height} rows, {per_frame} road users per frame) and {wkt} ({len(blocks)})")
 

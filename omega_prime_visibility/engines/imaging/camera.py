@@ -141,9 +141,12 @@ def camera_counts(scene: SensorScene, image: Pinhole, max_range: float) -> dict[
         float(max_range),
     )
     targets = np.flatnonzero(scene.slot >= 0)
-    target_vstart = np.r_[0, np.cumsum(np.diff(scene.vstart)[targets])].astype(np.int64)
-    target_vertices = np.concatenate([scene.vertices[scene.vstart[k] : scene.vstart[k + 1]] for k in targets] or
-                                     [np.zeros((0, 3))])  # fmt: skip
+    if np.array_equal(targets, np.arange(n_targets)):  # the targets come first (as the engine lays them out)
+        target_vstart, target_vertices = scene.vstart[: n_targets + 1], scene.vertices[: scene.vstart[n_targets]]
+    else:
+        target_vstart = np.r_[0, np.cumsum(np.diff(scene.vstart)[targets])].astype(np.int64)
+        pieces = [scene.vertices[scene.vstart[k] : scene.vstart[k + 1]] for k in targets]
+        target_vertices = np.concatenate(pieces or [np.zeros((0, 3))])
     whole, inside = body_solid_angles(
         target_vertices, target_vstart, scene.normals[targets], scene.offsets[targets], frustum_planes(image)
     )

@@ -68,9 +68,10 @@ class ImagingEngine:
         boxes = getattr(objects, "boxes3d", None)
         if boxes is None:
             raise ValueError("cameras and lidars need the 3D boxes of the objects: pass mode='3d'")
-        return [self._observe(boxes, view) for view in viewpoints]
+        world = bodies_from_boxes(boxes)  # once for all the frame's sensors
+        return [self._observe(boxes, world, view) for view in viewpoints]
 
-    def _observe(self, boxes: np.ndarray, view: Viewpoint) -> Observation:
+    def _observe(self, boxes: np.ndarray, world: ConvexBodies, view: Viewpoint) -> Observation:
         n = len(boxes)
         optics = view.optics
         if optics is None:
@@ -81,7 +82,7 @@ class ImagingEngine:
         own = np.zeros(n, dtype=bool)
         if 0 <= view.own < n:
             own[view.own] = True
-        boxes_rel = bodies_from_boxes(boxes).relative_to(eye)
+        boxes_rel = world.relative_to(eye)
         skip = containing_origin(boxes_rel) | own
         rows = np.flatnonzero(~skip)
         bodies = boxes_rel.take(rows)

@@ -149,7 +149,8 @@ def workspace(body):
     return (
         np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64),
         np.empty(2 * n + 1, dtype=np.int64), np.empty(n, dtype=np.int64), np.empty(n),
-        np.empty((max(1, 2 * len(edges) + len(vertices)), 2)), np.empty((most, 3)),
+        np.empty((max(1, 2 * len(edges) + len(vertices)), 2)), np.empty((most, 3)), np.empty(n, dtype=np.int64),
+        np.empty((max(1, n * body[4].shape[1]), 2), dtype=np.int64),
     )  # fmt: skip
 
 
@@ -160,6 +161,69 @@ def _overlapping(body, overlap, g, k, other):
         vertices, vstart, _, _, normals, offsets, centre, radius = body
         overlap[g, other] = pair_overlaps(vertices, vstart, normals, offsets, centre, radius, k, other)
     return overlap[g, other] == 1
+
+
+@numba.njit(cache=True)
+def hidden_ranges(normals, offsets, k, other, a, b, samples, s, e, ranges, count):
+    """Append to ``ranges[count:]`` the runs of samples ``s .. e - 1`` (index pairs ``[j0, j1)``) along which
+    body ``other`` is entered before body ``k`` (both met by every ray of the run); the new count.
+
+    Along every ray that meets a body, each of its face planes that the eye lies outside of (``offset < 0``) has
+    ``normal . d < 0``, and the entry is the largest ``offset / (normal . d)`` of them; so ``other`` comes first
+    (by more than the tolerance) exactly where, for some such face ``p`` of ``k`` and every such face ``q`` of
+    ``other``, ``(offset_q normal_p - (1 - tol) offset_p normal_q) . d < 0``: half-lines of ``t`` along the line
+    (as :mod:`..threed.order` draws them on the cube), one interval per face of ``k``.
+    """
+    keep = 1.0 - RELATIVE_TOLERANCE
+    for p in range(normals.shape[1]):
+        op = offsets[k, p]
+        if op >= 0.0:
+            continue
+        lo = -np.inf
+        hi = np.inf
+        for q in range(normals.shape[1]):
+            oq = offsets[other, q]
+            if oq >= 0.0:
+                continue
+            wx = oq * normals[k, p, 0] - keep * op * normals[other, q, 0]
+            wy = oq * normals[k, p, 1] - keep * op * normals[other, q, 1]
+            wz = oq * normals[k, p, 2] - keep * op * normals[other, q, 2]
+            alpha = wx * a[0] + wy * a[1] + wz * a[2]
+            beta = wx * b[0] + wy * b[1] + wz * b[2]
+            if beta > 0.0:
+                hi = min(hi, -alpha / beta)
+            elif beta < 0.0:
+                lo = max(lo, -alpha / beta)
+            elif alpha >= 0.0:
+                lo = np.inf
+        if lo < hi:
+            j0 = max(s, np.searchsorted(samples, lo, side="right"))
+            j1 = min(e, np.searchsorted(samples, hi))
+            if j0 < j1:
+                ranges[count, 0], ranges[count, 1] = j0, j1
+                count += 1
+    return count
+
+
+@numba.njit(cache=True)
+def _count_visible(ranges, n_ranges, s, e, g, line, first, first_box):
+    """Count samples ``s .. e - 1`` outside the hidden ``ranges[:n_ranges]`` as seen first by target ``g``."""
+    for i in range(1, n_ranges):  # by their starts (a handful)
+        j = i
+        while j > 0 and ranges[j - 1, 0] > ranges[j, 0]:
+            r0, r1 = ranges[j, 0], ranges[j, 1]
+            ranges[j, 0], ranges[j, 1] = ranges[j - 1, 0], ranges[j - 1, 1]
+            ranges[j - 1, 0], ranges[j - 1, 1] = r0, r1
+            j -= 1
+    cursor = s
+    for i in range(n_ranges):
+        if ranges[i, 0] > cursor:
+            first[g] += ranges[i, 0] - cursor
+            _widen(first_box, g, line, cursor, ranges[i, 0] - 1)
+        cursor = max(cursor, ranges[i, 1])
+    if cursor < e:
+        first[g] += e - cursor
+        _widen(first_box, g, line, cursor, e - 1)
 
 
 @numba.njit(cache=True)
@@ -180,25 +244,29 @@ def count_line(line, a, b, samples, candidates, body, target, max_range, out, wo
     first, unoccluded, met, first_box, unoccluded_box, hidden_by = out
     norm_a = math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
     k_max = len(candidates)
-    bodies, j_lo, j_hi, cuts, active, depth, scratch, sides = work
+    bodies, j_lo, j_hi, cuts, active, depth, scratch, sides, overlapping, ranges = work
     m = 0
-    any_target = False
-    for c in range(k_max):
-        k = candidates[c]
-        t_lo, t_hi = body_span(
-            vertices, vstart[k], vstart[k + 1], edges, estart[k], estart[k + 1], a, b, norm_a, scratch, sides
-        )
-        if t_lo > t_hi:
-            continue
-        lo = np.searchsorted(samples, t_lo - SAMPLE_MARGIN * (1.0 + abs(t_lo)))
-        hi = np.searchsorted(samples, t_hi + SAMPLE_MARGIN * (1.0 + abs(t_hi)), side="right") - 1
-        if lo > hi:
-            continue
-        bodies[m], j_lo[m], j_hi[m] = k, lo, hi
-        any_target |= slot[k] >= 0
-        m += 1
-    if not any_target:
-        return
+    reach_lo = len(samples)
+    reach_hi = -1
+    for blockers in range(2):  # the targets first; then, if any is met, the bodies that only block
+        for c in range(k_max):
+            k = candidates[c]
+            if (slot[k] < 0) != (blockers == 1):
+                continue
+            v0, v1, e0, e1 = vstart[k], vstart[k + 1], estart[k], estart[k + 1]
+            t_lo, t_hi = body_span(vertices, v0, v1, edges, e0, e1, a, b, norm_a, scratch, sides)
+            if t_lo > t_hi:
+                continue
+            lo = np.searchsorted(samples, t_lo - SAMPLE_MARGIN * (1.0 + abs(t_lo)))
+            hi = np.searchsorted(samples, t_hi + SAMPLE_MARGIN * (1.0 + abs(t_hi)), side="right") - 1
+            if lo > hi or (blockers == 1 and (hi < reach_lo or lo > reach_hi)):
+                continue  # no ray, or none shared with a target
+            bodies[m], j_lo[m], j_hi[m] = k, lo, hi
+            m += 1
+            if blockers == 0:
+                reach_lo, reach_hi = min(reach_lo, lo), max(reach_hi, hi)
+        if m == 0:
+            return
     cuts[:m] = j_lo[:m]
     cuts[m : 2 * m] = j_hi[:m] + 1
     cuts[: 2 * m].sort()
@@ -228,23 +296,30 @@ def count_line(line, a, b, samples, candidates, body, target, max_range, out, wo
             if near[k] > max_range:
                 continue
             hidden = False  # by a body it does not overlap: then on the whole run
-            mixed = far[k] > max_range  # straddles the range: ray by ray
+            n_overlap = 0
             for o in range(n_active):
                 if o != i:
                     if _overlapping(body, overlap, g, k, active[o]):
-                        mixed = True
+                        overlapping[n_overlap] = active[o]
+                        n_overlap += 1
                     elif depth[o] < depth[i] * (1.0 - RELATIVE_TOLERANCE):
                         hidden = True
-            if not mixed:
+            if far[k] <= max_range:  # wholly within range: every ray of the run meets it within range
                 unoccluded[g] += e - s
                 _widen(unoccluded_box, g, line, s, e - 1)
                 if hidden:
                     for o in range(n_active):
                         if o != i and depth[o] < depth[i] * (1.0 - RELATIVE_TOLERANCE):
                             hidden_by[g, active[o]] = True
-                else:
-                    first[g] += e - s
-                    _widen(first_box, g, line, s, e - 1)
+                # the overlapping bodies hide it where their entry comes first: intervals of the line, exactly
+                n_ranges = 0
+                for q in range(n_overlap):
+                    added = hidden_ranges(normals, offsets, k, overlapping[q], a, b, samples, s, e, ranges, n_ranges)
+                    if added > n_ranges:
+                        hidden_by[g, overlapping[q]] = True
+                    n_ranges = added
+                if not hidden:
+                    _count_visible(ranges, n_ranges, s, e, g, line, first, first_box)
                 continue
             for j in range(s, e):  # ray by ray
                 t = samples[j]
