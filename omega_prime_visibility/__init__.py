@@ -54,6 +54,7 @@ _WHERE = {
     "visibility": "metric",
     # the pictures need matplotlib/altair (the 'plot' extra)
     "animate": "plot",
+    "plot_camera": "plot",
     "plot_frame": "plot",
     "save_timeline": "plot",
     "timeline_chart": "plot",

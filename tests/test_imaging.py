@@ -313,3 +313,15 @@ def test_a_camera_checks_its_image_and_a_lidar_its_beams() -> None:
         Sensor("x", camera=SQUARE_CAMERA, lidar=uniform(2, -1, 1, 10))
     with pytest.raises(ValueError, match="leave fov out"):
         Sensor("x", fov=1.0, camera=SQUARE_CAMERA)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_label_image_holds_each_targets_first_hit_pixels(seed) -> None:
+    rng = np.random.default_rng(200 + seed)
+    boxes = random_boxes(rng, 8, tilted=seed % 2 == 1)
+    image = Pinhole.from_fov(120, 80, 1.6)
+    bodies = bodies_from_boxes(boxes).relative_to(EYE)
+    scene = sensor_scene(bodies, np.arange(len(boxes)), sensor_axes(0.4, 0.1, "camera"), nearest_distance(boxes, EYE))
+    c = camera_counts(scene, image, math.inf, labels=True)
+    assert c["labels"].shape == (80, 120)
+    assert np.bincount(c["labels"][c["labels"] >= 0], minlength=len(boxes)).tolist() == c["pixels"].tolist()

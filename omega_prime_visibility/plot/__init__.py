@@ -1,5 +1,6 @@
-"""Pictures of visibility: one frame (:func:`plot_frame`), an animation (:func:`animate`), a timeline
-(:func:`timeline_chart`, :func:`save_timeline`) and an interactive offline HTML report (:func:`write_report`).
+"""Pictures of visibility: one frame (:func:`plot_frame`), what a camera sees (:func:`plot_camera`), an animation
+(:func:`animate`), a timeline (:func:`timeline_chart`, :func:`save_timeline`) and an interactive offline HTML report
+(:func:`write_report`).
 
 The plotting libraries (matplotlib, altair, vl-convert, imageio, pillow) come with the ``plot`` extra:
 ``pip install 'omega-prime-visibility[plot]'``. They are imported only when a picture is drawn, and a missing one
@@ -12,6 +13,7 @@ from .. import _lazy_names
 
 _WHERE = {
     "animate": "animate",
+    "plot_camera": "camera",
     "plot_frame": "frame",
     "save_timeline": "timeline",
     "timeline_chart": "timeline",

@@ -83,22 +83,23 @@ def line_candidates(first, last, n_lines):
 
 
 @numba.njit(cache=True)
-def new_counts(n_targets, n_bodies):
-    """Zeroed ``(first, unoccluded, met, first_box, unoccluded_box, hidden_by)`` for :func:`.lines.count_line`."""
+def new_counts(n_targets, n_bodies, lines, samples):
+    """Zeroed ``(first, unoccluded, met, first_box, unoccluded_box, hidden_by, labels)`` for
+    :func:`.lines.count_line`; ``labels`` is ``lines x samples`` of -1 (an empty array when ``lines`` is 0)."""
     return (
         np.zeros(n_targets, dtype=np.int64), np.zeros(n_targets, dtype=np.int64), np.zeros(n_targets, dtype=np.int64),
         np.full((n_targets, 4), -1, dtype=np.int64), np.full((n_targets, 4), -1, dtype=np.int64),
-        np.zeros((n_targets, n_bodies), dtype=np.bool_),
+        np.zeros((n_targets, n_bodies), dtype=np.bool_), np.full((lines, samples), -1, dtype=np.int32),
     )  # fmt: skip
 
 
 @numba.njit(cache=True)
-def _count_rows(body, target, n_targets, fx, fy, cx, cy, width, height, planes, max_range):
+def _count_rows(body, target, n_targets, fx, fy, cx, cy, width, height, planes, max_range, label):
     vertices, vstart = body[0], body[1]
     samples = (np.arange(width) + 0.5 - cx) / fx
     first_row, last_row = _row_ranges(vertices, vstart, fy, cy, height, planes)
     cand_offsets, cand = line_candidates(first_row, last_row, height)
-    out = new_counts(n_targets, len(vstart) - 1)
+    out = new_counts(n_targets, len(vstart) - 1, height if label else 0, width if label else 0)
     work = workspace(body)
     b = np.array([1.0, 0.0, 0.0])
     a = np.array([0.0, 0.0, 1.0])
@@ -121,13 +122,15 @@ def frustum_planes(image: Pinhole) -> np.ndarray:
     )
 
 
-def camera_counts(scene: SensorScene, image: Pinhole, max_range: float) -> dict[str, np.ndarray]:
+def camera_counts(scene: SensorScene, image: Pinhole, max_range: float, labels: bool = False) -> dict[str, np.ndarray]:
     """Per target of ``scene`` (in its slot order): ``pixels`` (met first within range), ``pixels_unoccluded``
     (met within range), ``pixels_met`` (met at all, range ignored), ``bbox`` and ``bbox_unoccluded`` (``(u0,
     v0, u1, v1)`` inclusive, -1 when empty), ``truncation`` (share of its solid angle outside the image), and
-    ``hidden_by`` (targets x bodies: entered before the target along a pixel ray that meets it within range)."""
+    ``hidden_by`` (targets x bodies: entered before the target along a pixel ray that meets it within range); with
+    ``labels``, also ``labels``: the image (height x width, int32) of the target each pixel meets first (-1: none).
+    """
     n_targets = int((scene.slot >= 0).sum())
-    first, unoccluded, met, first_box, unoccluded_box, hidden_by = _count_rows(
+    first, unoccluded, met, first_box, unoccluded_box, hidden_by, label_image = _count_rows(
         scene.body_arrays(),
         scene.target_arrays(),
         n_targets,
@@ -139,6 +142,7 @@ def camera_counts(scene: SensorScene, image: Pinhole, max_range: float) -> dict[
         image.height,
         frustum_planes(image),
         float(max_range),
+        labels,
     )
     targets = np.flatnonzero(scene.slot >= 0)
     if np.array_equal(targets, np.arange(n_targets)):  # the targets come first (as the engine lays them out)
@@ -152,7 +156,7 @@ def camera_counts(scene: SensorScene, image: Pinhole, max_range: float) -> dict[
     )
     with np.errstate(divide="ignore", invalid="ignore"):
         truncation = np.where(whole > 0, np.clip(1.0 - inside / whole, 0.0, 1.0), 1.0)
-    return {
+    out = {
         "pixels": first,
         "pixels_unoccluded": unoccluded,
         "pixels_met": met,
@@ -161,3 +165,6 @@ def camera_counts(scene: SensorScene, image: Pinhole, max_range: float) -> dict[
         "truncation": truncation,
         "hidden_by": hidden_by,
     }
+    if labels:
+        out["labels"] = label_image
+    return out

@@ -29,7 +29,7 @@ from .. import Observation, Viewpoint, group_pairs
 from ..observe3d import static_heights, statics_around_eye
 from .camera import camera_counts, frustum_planes
 from .lidar import lidar_counts
-from .scene import sensor_axes, sensor_scene
+from .scene import SensorScene, sensor_axes, sensor_scene
 
 
 def _outside_frustum(vertices: np.ndarray, vertex_body: np.ndarray, n: int, planes: np.ndarray) -> np.ndarray:
@@ -71,19 +71,19 @@ class ImagingEngine:
         world = bodies_from_boxes(boxes)  # once for all the frame's sensors
         return [self._observe(boxes, world, view) for view in viewpoints]
 
-    def _observe(self, boxes: np.ndarray, world: ConvexBodies, view: Viewpoint) -> Observation:
-        n = len(boxes)
+    def _scene(self, boxes: np.ndarray, world: ConvexBodies, view: Viewpoint) -> tuple[SensorScene, np.ndarray]:
+        """The sensor's scene (targets first: the frame's boxes but the observer's and those holding the eye,
+        then the static prisms that may block) and the object row of each target."""
         optics = view.optics
         if optics is None:
             raise ValueError("the imaging engine counts for cameras and lidars only")
         is_camera = isinstance(optics, Pinhole)
         eye = eye_point(view.position, view.height, boxes, view.own)
         axes = sensor_axes(view.heading, view.pitch, "camera" if is_camera else "lidar")
-        own = np.zeros(n, dtype=bool)
-        if 0 <= view.own < n:
-            own[view.own] = True
         boxes_rel = world.relative_to(eye)
-        skip = containing_origin(boxes_rel) | own
+        skip = containing_origin(boxes_rel)
+        if 0 <= view.own < len(boxes):
+            skip[view.own] = True
         rows = np.flatnonzero(~skip)
         bodies = boxes_rel.take(rows)
         prisms = self._prisms_for(view, eye)
@@ -95,13 +95,18 @@ class ImagingEngine:
                 keep &= ~_outside_frustum(turned, rel.vertex_body, len(rel), frustum_planes(optics))
             bodies = concatenate(bodies, rel.take(np.flatnonzero(keep)))
         near = nearest_distance(boxes[rows], eye)
-        scene = sensor_scene(bodies, np.arange(len(rows)), axes, near)
+        return sensor_scene(bodies, np.arange(len(rows)), axes, near), rows
+
+    def _observe(self, boxes: np.ndarray, world: ConvexBodies, view: Viewpoint, labels: bool = False) -> Observation:
+        n = len(boxes)
+        scene, rows = self._scene(boxes, world, view)
+        is_camera = isinstance(view.optics, Pinhole)
         if is_camera:
-            counts = camera_counts(scene, optics, view.range)
+            counts = camera_counts(scene, view.optics, view.range, labels)
             met, unoccluded, first = counts["pixels_met"], counts["pixels_unoccluded"], counts["pixels"]
             share_in = np.where(met > 0, 1.0 - counts["truncation"], 0.0)
         else:
-            counts = lidar_counts(scene, optics, view.range)
+            counts = lidar_counts(scene, view.optics, view.range)
             met, unoccluded, first = counts["points_met"], counts["points_unoccluded"], counts["points"]
             share_in = (met > 0).astype(np.float64)
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -112,15 +117,30 @@ class ImagingEngine:
         offsets, occluders = group_pairs(rows[target[is_box]], rows[body[is_box]], n)
         st_offsets, st_occluders = group_pairs(rows[target[~is_box]], scene.source[body[~is_box]], n)
         columns = _per_object(counts, rows, n, is_camera)
+        if labels:  # the object row each pixel meets first (-1: none)
+            columns["labels"] = np.where(counts["labels"] >= 0, rows[np.maximum(counts["labels"], 0)], -1)
         full = np.zeros(n)
         full[rows] = visible
         seen = np.zeros(n)
         seen[rows] = in_view
         inside = np.zeros(n)
         inside[rows] = share_in
+        transparent = np.ones(n, dtype=bool)
+        transparent[rows] = False
         return Observation.from_parts(
-            full, np.ones(n), offsets, occluders, st_offsets, st_occluders, skip, seen, inside, columns
+            full, np.ones(n), offsets, occluders, st_offsets, st_occluders, transparent, seen, inside, columns
         )
+
+    def picture(self, objects: FrameObjects, view: Viewpoint) -> tuple[Observation, SensorScene, np.ndarray]:
+        """What a camera's picture needs: its :class:`Observation` (its ``counts`` with ``labels``, the image of
+        the object row each pixel meets first), its scene in the camera frame, and the object row of each of the
+        scene's targets (the bodies after them are static prisms)."""
+        boxes = getattr(objects, "boxes3d", None)
+        if boxes is None or not isinstance(view.optics, Pinhole):
+            raise ValueError("a camera picture needs a camera among the sensors and mode='3d'")
+        world = bodies_from_boxes(boxes)
+        scene, rows = self._scene(boxes, world, view)
+        return self._observe(boxes, world, view, labels=True), scene, rows
 
 
 def _per_object(counts: dict[str, np.ndarray], rows: np.ndarray, n: int, is_camera: bool) -> dict[str, np.ndarray]:

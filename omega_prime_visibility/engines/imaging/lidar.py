@@ -82,7 +82,7 @@ def _count_columns(body, target, n_targets, samples, step, n_columns, max_range)
             m += 1
     cand_offsets, pieces = line_candidates(lo[:m], hi[:m], n_columns)
     cand = who[:m][pieces]
-    out = new_counts(n_targets, n)
+    out = new_counts(n_targets, n, 0, 0)
     work = workspace(body)
     b = np.array([0.0, 0.0, 1.0])
     a = np.zeros(3)
@@ -99,7 +99,7 @@ def lidar_counts(scene: SensorScene, pattern: BeamPattern, max_range: float) -> 
     (targets x bodies: entered before the target along a beam that meets it within range)."""
     n_targets = int((scene.slot >= 0).sum())
     samples = np.tan(np.asarray(pattern.elevations, dtype=np.float64))
-    first, unoccluded, met, _, _, hidden_by = _count_columns(
+    first, unoccluded, met, _, _, hidden_by, _ = _count_columns(
         scene.body_arrays(),
         scene.target_arrays(),
         n_targets,

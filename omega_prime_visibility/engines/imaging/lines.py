@@ -205,8 +205,18 @@ def hidden_ranges(normals, offsets, k, other, a, b, samples, s, e, ranges, count
     return count
 
 
+@numba.njit(cache=True, inline="always")
+def _seen(out, g, line, j0, j1):
+    """Samples ``j0 .. j1`` of ``line`` meet target ``g`` first: count them, grow its box, label them."""
+    first, first_box, labels = out[0], out[3], out[6]
+    first[g] += j1 - j0 + 1
+    _widen(first_box, g, line, j0, j1)
+    if labels.shape[0] > 0:
+        labels[line, j0 : j1 + 1] = g
+
+
 @numba.njit(cache=True)
-def _count_visible(ranges, n_ranges, s, e, g, line, first, first_box):
+def _count_visible(ranges, n_ranges, s, e, g, line, out):
     """Count samples ``s .. e - 1`` outside the hidden ``ranges[:n_ranges]`` as seen first by target ``g``."""
     for i in range(1, n_ranges):  # by their starts (a handful)
         j = i
@@ -218,12 +228,10 @@ def _count_visible(ranges, n_ranges, s, e, g, line, first, first_box):
     cursor = s
     for i in range(n_ranges):
         if ranges[i, 0] > cursor:
-            first[g] += ranges[i, 0] - cursor
-            _widen(first_box, g, line, cursor, ranges[i, 0] - 1)
+            _seen(out, g, line, cursor, ranges[i, 0] - 1)
         cursor = max(cursor, ranges[i, 1])
     if cursor < e:
-        first[g] += e - cursor
-        _widen(first_box, g, line, cursor, e - 1)
+        _seen(out, g, line, cursor, e - 1)
 
 
 @numba.njit(cache=True)
@@ -233,15 +241,16 @@ def count_line(line, a, b, samples, candidates, body, target, max_range, out, wo
 
     ``body`` is ``(vertices, vstart, edges, estart, normals, offsets, centre, radius)`` and ``target`` is
     ``(slot, near, far, overlap)`` of a :class:`.scene.SensorScene`; ``out`` is ``(first, unoccluded, met,
-    first_box, unoccluded_box, hidden_by)``. Per target (``slot[body] >= 0``): ``met`` counts the rays that meet
+    first_box, unoccluded_box, hidden_by, labels)``. Per target (``slot[body] >= 0``): ``met`` counts the rays that meet
     it, ``unoccluded`` those that meet it within ``max_range`` (metres), ``first`` those that meet it first within
     range; ``first_box`` and ``unoccluded_box`` grow by ``(sample, line)`` of those rays; ``hidden_by[slot, body]``
-    is set where ``body`` is entered before the target along a ray that meets the target within range. ``work``
-    is :func:`workspace`'s.
+    is set where ``body`` is entered before the target along a ray that meets the target within range; ``labels``
+    (lines x samples, or empty) gets the target number of each sample that meets a target first. ``work`` is
+    :func:`workspace`'s.
     """
     vertices, vstart, edges, estart, normals, offsets, _, _ = body
     slot, near, far, overlap = target
-    first, unoccluded, met, first_box, unoccluded_box, hidden_by = out
+    unoccluded, met, unoccluded_box, hidden_by = out[1], out[2], out[4], out[5]
     norm_a = math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
     k_max = len(candidates)
     bodies, j_lo, j_hi, cuts, active, depth, scratch, sides, overlapping, ranges = work
@@ -319,7 +328,7 @@ def count_line(line, a, b, samples, candidates, body, target, max_range, out, wo
                         hidden_by[g, overlapping[q]] = True
                     n_ranges = added
                 if not hidden:
-                    _count_visible(ranges, n_ranges, s, e, g, line, first, first_box)
+                    _count_visible(ranges, n_ranges, s, e, g, line, out)
                 continue
             for j in range(s, e):  # ray by ray
                 t = samples[j]
@@ -342,5 +351,4 @@ def count_line(line, a, b, samples, candidates, body, target, max_range, out, wo
                         hidden_by[g, other] = True
                         seen = False
                 if seen:
-                    first[g] += 1
-                    _widen(first_box, g, line, j, j)
+                    _seen(out, g, line, j, j)
