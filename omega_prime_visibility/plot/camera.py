@@ -179,7 +179,7 @@ def plot_camera(
     ax.set_xlabel("u (pixels)")
     ax.set_ylabel("v (pixels)")
     ax.set_title(
-        f"frame {frame}: what {sensor.name} of ego {ego_idx} sees ({image.width} x {image.height}); "
+        f"frame {frame}: what camera {sensor.name!r} of ego {ego_idx} sees ({image.width} x {image.height}); "
         "hatched: hidden, dashed: full 2D box, red: visible 2D box",
         fontsize=9,
     )

@@ -35,7 +35,7 @@ import polars as pl
 import shapely
 
 from ..engines.registry import check_mode, resolve_measure
-from ..inputs.errors import OptionError
+from ..inputs.errors import OptionError, Setting
 from ..inputs.roles import RoleSpec, canonical_name, check_names
 from ..inputs.sensor_files import resolve_sensors
 from ..inputs.sensors import Sensor, is_layout
@@ -113,9 +113,11 @@ class Query:
                 put(self, "sensors", resolve_sensors(self.sensors))
                 counting = [s.name for s in self.sensors if s.kind != "view"]
                 if counting and self.mode != "3d":
-                    raise ValueError(
-                        f"cameras and lidars count pixels and beams among 3D boxes ({', '.join(counting)}): "
-                        "pass mode='3d'"
+                    names = ", ".join(counting).replace("{", "{{").replace("}", "}}")
+                    raise OptionError(
+                        "sensors",
+                        f"cameras and lidars count pixels and beams among 3D boxes ({names}): pass {{fix}}",
+                        fix=Setting("mode", "3d"),
                     )
                 if counting and meshes:
                     raise ValueError(
