@@ -48,6 +48,7 @@ _WHERE = {
     "visible_intervals": "analysis.intervals",
     "write_csv": "table.output",
     "write_kitti": "export.kitti",
+    "write_mcap": "export.mcap",
     # the Metric imports omega-prime, which takes seconds
     "metrics": "metric",
     "occluded_conflicts_metric": "metric",

@@ -188,7 +188,9 @@ def load_recording(path: Path, map_path: Path | None = None):
 RUN_OUTPUT = (
     "write the table here instead of printing it: a .parquet path becomes a folder of parquet parts, as the API's"
     " get_visibility_df(output=...) writes it (read it back with polars.read_parquet); a .csv path becomes one"
-    " file with the list columns (occluder idx) joined by spaces. (batch writes one .parquet file per recording.)"
+    " file with the list columns (occluder idx) joined by spaces; a .mcap path a new MCAP file with the recording's"
+    " own channels and the answer drawn for Lichtblick, plus OSI SensorData (docs: View it in Lichtblick). (batch"
+    " writes one .parquet file per recording.)"
 )
 RUN_MAP = (
     "OpenDRIVE map (.xodr) for an OSI trace, or a JSON list of [trace, map] pairs as batch takes it (the trace is"

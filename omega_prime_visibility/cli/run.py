@@ -56,6 +56,7 @@ def run(
     """Compute the visibility table of one recording; print it with a per-target summary, or write it."""
     from ..analysis.summary import DEFINITION, target_summary
     from ..api import get_visibility_df
+    from ..export.mcap import write_answer_mcap
     from ..table.output import check_dataset_path, check_output_path, write_csv
 
     # every check that needs no computing comes first, so a typo never costs a long run
@@ -65,9 +66,11 @@ def run(
         raise fail(f"--rows takes a number of rows to print, 0 or more, not {rows}")
     if output is not None:
         try:
-            output = check_output_path(output, (".parquet", ".csv"))
+            output = check_output_path(output, (".parquet", ".csv", ".mcap"))
             if output.suffix == ".parquet":  # a folder of parts: a single file there is refused before reading
                 check_dataset_path(output)
+            if output.suffix == ".mcap" and output.exists():
+                raise ValueError(f"{output} exists already: an MCAP of the answer is written as a new file")
         except ValueError as e:
             raise fail(e) from None
     map_path = resolve_map(recording, map_path)
@@ -82,7 +85,9 @@ def run(
     stream = output if output is not None and output.suffix == ".parquet" else None
     try:
         table = get_visibility_df(r, query=question, progress=progress, workers=workers, output=stream)
-        if output is not None and stream is None:
+        if output is not None and output.suffix == ".mcap":
+            written = write_answer_mcap(recording, r, table, output, question)
+        elif output is not None and stream is None:
             write_csv(table, output)
     except ValueError as e:
         raise fail(e) from None
@@ -96,6 +101,10 @@ def run(
         typer.echo(note)
     if stream is not None:
         typer.echo(f"wrote {table.select(pl.len()).collect().item()} rows to {output}")
+    elif output is not None and output.suffix == ".mcap":
+        typer.echo(
+            f"wrote {output} ({table.height} rows drawn) and {len(written) - 1} OSI SensorData trace(s) beside it"
+        )
     elif output is not None:
         typer.echo(f"wrote {table.height} rows to {output}")
     else:
