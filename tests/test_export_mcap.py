@@ -179,3 +179,59 @@ def test_bad_calls_are_told(tmp_path, written) -> None:
     topics = {t for t, *_ in messages(out[0])}
     assert "ground_truth" not in topics and "/visibility/ego_0/scene" in topics
     assert not list(tmp_path.glob("*.part"))
+
+
+def test_the_observer_has_a_frame_to_follow_and_the_layout_names_the_files_channels(written) -> None:
+    from foxglove_schemas_protobuf.FrameTransform_pb2 import FrameTransform
+
+    from omega_prime_visibility.export.layout import lichtblick_layout
+
+    path, _, _ = written
+    transforms = [FrameTransform.FromString(d) for *_, d in messages(path, ["/tf"])]
+    ego = read_recording(MERGE).table.filter(pl.col("idx") == 0).sort("frame")
+    assert len(transforms) == ego.height and {t.child_frame_id for t in transforms} == {"ego_0"}
+    assert [t.translation.x for t in transforms] == pytest.approx(ego["x"].to_list())
+    topics = {t for t, *_ in messages(path)}
+    layout = lichtblick_layout(0, sensor="front", target=2)
+    assert set(layout["configById"]["3D!answer"]["topics"]) - {"/visibility/static_occluders"} <= topics
+    assert layout["configById"]["3D!answer"]["followTf"] == "ego_0"
+    plotted = layout["configById"]["Plot!visibility"]["paths"][0]["value"].split(".rows")[0]
+    assert plotted in topics
+
+
+def test_the_command_line_and_batch_write_it(tmp_path) -> None:
+    from typer.testing import CliRunner
+
+    from omega_prime_visibility import run_batch
+    from omega_prime_visibility.batch.campaign import campaign_statistics
+    from omega_prime_visibility.cli import app
+
+    out = tmp_path / "vis.mcap"
+    result = CliRunner().invoke(app, ["run", str(MERGE), "--ego", "0", "-o", str(out), "--no-progress"])
+    assert result.exit_code == 0, result.output
+    assert "wrote" in result.output and out.is_file() and len(list(tmp_path.glob("*_sd_*.osi"))) == 1
+    again = CliRunner().invoke(app, ["run", str(MERGE), "--ego", "0", "-o", str(out), "--no-progress"])
+    assert again.exit_code == 2 and "exists already" in again.output
+    summary = run_batch(MERGE, tmp_path / "batch", ego=0, mcap=True, workers=1, progress=False)
+    assert summary["status"].to_list() == ["done"]
+    drawn = tmp_path / "batch" / "highway_merge.mcap.mcap"
+    assert messages(drawn, ["ground_truth"]) == messages(MERGE, ["ground_truth"])
+    assert campaign_statistics(tmp_path / "batch")["by_recording"]["mcap"].to_list() == [str(drawn.resolve())]
+
+
+def test_static_occluders_are_drawn_once_extruded_to_their_heights(tmp_path) -> None:
+    import shapely
+
+    wall = shapely.box(60, -7, 140, -5.4)
+    table = get_visibility_df(MERGE, 0, [wall], progress=False)
+    out = write_mcap(MERGE, table, tmp_path / "s.mcap", ego_idx=0, static_occluder_polys=[wall],
+                     static_occluder_heights=[1.2], osi_traces=False)  # fmt: skip
+    drawn = messages(out[0], ["/visibility/static_occluders"])
+    assert len(drawn) == 1
+    entity = SceneUpdate.FromString(drawn[0][3]).entities[0]
+    heights = {round(p.z, 9) for t in entity.triangles for p in t.points}
+    assert heights == {0.0, 1.2} and entity.triangles[0].color.a > 0
+    # the top face tiles the footprint: its triangles' areas add up to the wall's
+    top = [p for t in entity.triangles for p in t.points if p.z == 1.2][: 2 * 3]
+    area = sum(shapely.Polygon([(p.x, p.y) for p in top[k : k + 3]]).area for k in range(0, len(top), 3))
+    assert area == pytest.approx(wall.area)

@@ -22,7 +22,7 @@ from ..inputs.objects import VisibilityInputWarning
 from .files import OPTIONS_KEY, RECORDING_KEY, stored_observer
 from .options import FileOptions
 from .run import SUMMARY_NAME
-from .task import conflicts_path, objects_path
+from .task import conflicts_path, mcap_path, objects_path
 
 
 def campaign_statistics(
@@ -39,12 +39,14 @@ def campaign_statistics(
     dict of polars.DataFrame
         ``"by_band"``, ``"histogram"`` and ``"occluder_types"`` over all recordings together, and
         ``"by_recording"``: ``recording, rows, visible, partly, hidden, out_of_view`` (shares of the recording's
-        rows), and
+        rows) and ``mcap`` (the path of the recording with the answer drawn in, ``batch --mcap``; else null), and
         ``"conflicts"``: every result's occluded conflicts with its ``recording`` (written by ``batch --conflicts``;
         empty without them).
     """
-    frames, conflicts = [], []
+    frames, conflicts, drawn = [], [], {}
     for result, options, recording in _results(Path(folder)):
+        if mcap_path(result).is_file():  # (batch --mcap)
+            drawn[recording] = str(mcap_path(result).resolve())
         if conflicts_path(result).is_file():
             conflicts.append(pl.read_parquet(conflicts_path(result)).with_columns(recording=pl.lit(recording)))
         ego, table, stored = options.get("ego"), _table(result), objects_path(result)
@@ -62,7 +64,10 @@ def campaign_statistics(
     rows = pl.concat(frames, how="vertical_relaxed")
     stats = statistics_of_rows(rows, bands=bands, partly=partly, bins=bins)
     shares = class_shares(rows.collect_schema().names(), partly)
-    stats["by_recording"] = rows.group_by("recording").agg(shares).sort("recording").collect()
+    by_recording = rows.group_by("recording").agg(shares).sort("recording").collect()
+    stats["by_recording"] = by_recording.with_columns(
+        mcap=pl.col("recording").replace_strict(drawn, default=None, return_dtype=pl.String)
+    )
     stats["conflicts"] = (
         pl.concat(conflicts, how="vertical_relaxed") if conflicts else pl.DataFrame(schema={"recording": pl.String})
     )

@@ -48,6 +48,10 @@ class FileOptions:
     fallback_ego : int, optional
         With the observers None: the observer of a recording that names no host vehicle (esmini's OSI traces name
         none; its first entity, idx 0, is usually the ego); without it such a recording fails, saying so.
+    mcap : bool
+        Also write each recording with the answer drawn in (:func:`~omega_prime_visibility.write_mcap`: its own
+        channels, the scene and rows per observer and sensor, OSI SensorData) beside its result, as
+        ``<result>.mcap``.
 
     Examples
     --------
@@ -61,6 +65,7 @@ class FileOptions:
     map: str | None = None
     conflicts: bool = False
     fallback_ego: int | None = None
+    mcap: bool = False
 
     def __post_init__(self) -> None:
         if not isinstance(self.query, Query):
@@ -90,6 +95,7 @@ class FileOptions:
         map: Any = None,
         conflicts: bool = False,
         fallback_ego: int | None = None,
+        mcap: bool = False,
         **keywords: Any,
     ) -> FileOptions:
         """The options of ``run_batch(query, ..., **keywords)``: the keywords of :data:`BATCH_KEYWORDS` folded into
@@ -98,7 +104,7 @@ class FileOptions:
 
         unknown = sorted(set(keywords) - set(BATCH_KEYWORDS))
         if unknown:
-            known = ["query", "map", "conflicts", "fallback_ego", *BATCH_KEYWORDS]
+            known = ["query", "map", "conflicts", "fallback_ego", "mcap", *BATCH_KEYWORDS]
             raise ValueError(f"unknown option(s) {unknown}; options are {known}")
         table = {BATCH_KEYWORDS[k]: v for k, v in keywords.items()}
         if table.get("map_occluders") is False:
@@ -112,7 +118,7 @@ class FileOptions:
             table["static_occluder_polys"] = found.geometries
             if found.heights is not None and table.get("static_occluder_heights") is None:
                 table["static_occluder_heights"] = found.heights  # (the file's own heights)
-        return cls(fold_keywords(query, **table), map, conflicts, fallback_ego)
+        return cls(fold_keywords(query, **table), map, conflicts, fallback_ego, bool(mcap))
 
     def question(self, recording: Any, name: str, map_path: str | None) -> Query:
         """The question of one recording (read from the file ``name`` with ``map_path``): the observers settled
@@ -161,6 +167,8 @@ class FileOptions:
         values = {"query": json.loads(self.query.text()), "conflicts": self.conflicts, "map": self.map}
         if self.fallback_ego is not None:  # (only when given: results made before it stay current)
             values["fallback_ego"] = self.fallback_ego
+        if self.mcap:  # (likewise)
+            values["mcap"] = True
         if self.map is not None:
             values["map"] = {"path": self.map, "sha256": _sha256(self.map)}
         return json.dumps(values, sort_keys=True)

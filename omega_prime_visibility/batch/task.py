@@ -113,6 +113,12 @@ def _compute_and_write(task: FileTask) -> tuple[int, str]:
         conflicts = _conflicts(recording, table, question.observers)
         with atomic_write(conflicts_path(task.result)) as temp:
             conflicts.write_parquet(temp)
+    if options.mcap:  # the recording with the answer drawn in (written whole, under a temporary name)
+        from ..export.mcap import write_answer_mcap
+
+        drawn = mcap_path(task.result)
+        drawn.unlink(missing_ok=True)  # (a stale one, from before this result was recomputed)
+        write_answer_mcap(task.recording, recording, table, drawn, question, osi_traces=False)
     with atomic_write(task.result) as temp:
         pq.write_table(arrow.replace_schema_metadata(metadata), temp)
     return table.height, words
@@ -122,6 +128,13 @@ def objects_path(result: str | Path) -> Path:
     """Where batch writes a result's moving objects (``total_nanos, idx, x, y, type``): ``<result>.objects.parquet``."""
     result = Path(result)
     return result.with_name(result.name.removesuffix(".parquet") + ".objects.parquet")
+
+
+def mcap_path(result: str | Path) -> Path:
+    """Where ``batch --mcap`` writes a result's recording with the answer drawn in: ``<result>.mcap`` (without
+    the ``.parquet``)."""
+    result = Path(result)
+    return result.with_name(result.name.removesuffix(".parquet") + ".mcap")
 
 
 def conflicts_path(result: str | Path) -> Path:

@@ -67,6 +67,14 @@ def batch(
             " RESULT.conflicts.parquet",
         ),
     ] = False,
+    mcap: Annotated[
+        bool,
+        typer.Option(
+            "--mcap",
+            help="also write each recording with the answer drawn in for Lichtblick (its own channels, the scene and"
+            " rows per observer and sensor, OSI SensorData) beside its result, as RESULT.mcap",
+        ),
+    ] = False,
     fallback_ego: Annotated[
         int | None,
         typer.Option(
@@ -107,6 +115,7 @@ def batch(
             question,
             map=map_path,
             conflicts=conflicts,
+            mcap=mcap,
             fallback_ego=fallback_ego,
             workers=workers,
             scheduler=scheduler,

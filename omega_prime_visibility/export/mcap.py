@@ -13,7 +13,9 @@ where there are sensors):
   channel of OSI's multi-channel trace format (its schema a FileDescriptorSet with imports, channel metadata
   ``net.asam.osi.trace.channel.osi_version`` and ``...protobuf_version``, ``log_time = publish_time`` = the
   OSI timestamp), with the file's ``net.asam.osi.trace`` metadata record;
-- ``/visibility/static_occluders``: the static occluders extruded, once.
+- ``/visibility/static_occluders``: the static occluders extruded, once;
+- ``/tf``: a ``foxglove.FrameTransform`` per frame and observer, from ``global`` to ``ego_<idx>`` (its box's
+  centre and heading), so that the 3D panel can follow the observer.
 
 Every message's ``log_time`` is its frame's ``total_nanos``: the OSI timestamp of the recording's ground truth, so
 the viewer's time line lines them up. Beside the MCAP, each SensorData stream is also written as an ``.osi`` trace
@@ -34,6 +36,7 @@ from typing import Any
 import google.protobuf
 import numpy as np
 import polars as pl
+from foxglove_schemas_protobuf.FrameTransform_pb2 import FrameTransform
 from foxglove_schemas_protobuf.SceneUpdate_pb2 import SceneUpdate
 from mcap.reader import make_reader
 from mcap.writer import CompressionType, Writer
@@ -43,7 +46,7 @@ from osi3.osi_sensordata_pb2 import SensorData
 from ..inputs.objects import VisibilityInputWarning
 from ..inputs.scene import as_lazy
 from ..inputs.sensors import Sensor
-from .scene import frame_update, static_update
+from .scene import frame_update, observer_frame, static_update
 from .sensordata import OSI_VERSION, osi_trace_bytes, sensor_data
 
 PROTOBUF_VERSION = google.protobuf.__version__
@@ -213,7 +216,9 @@ def write_mcap(
     return written
 
 
-def write_answer_mcap(path: Any, recording: Any, table: pl.DataFrame, output: Path, question: Any) -> list[Path]:
+def write_answer_mcap(
+    path: Any, recording: Any, table: pl.DataFrame, output: Path, question: Any, osi_traces: bool = True
+) -> list[Path]:
     """:func:`write_mcap` for a front end's question (a :class:`~omega_prime_visibility.Query`): its observer,
     its sensors (a layout fitted to the observer's size) and its static occluders; ``path`` is the recording's
     file (copied where it is an MCAP), ``recording`` what was read from it."""
@@ -228,12 +233,13 @@ def write_answer_mcap(path: Any, recording: Any, table: pl.DataFrame, output: Pa
     source = path if isinstance(path, str | os.PathLike) and Path(path).suffix.lower() == ".mcap" else recording
     return write_mcap(source, table, output, ego_idx=observers[0] if len(observers) == 1 else None,
                       sensors=tuple(sensors or ()), static_occluder_polys=statics,
-                      static_occluder_heights=question.static_heights)  # fmt: skip
+                      static_occluder_heights=question.static_heights, osi_traces=osi_traces)  # fmt: skip
 
 
 def _write_answer(writer, objects, table, by_name, statics, heights, traces) -> None:
     """The visibility channels, frame by frame."""
     scene_schema = register_schema(writer, SceneUpdate)
+    transform_channel = writer.register_channel("/tf", "protobuf", register_schema(writer, FrameTransform))
     sensor_schema = register_schema(writer, SensorData)
     rows_schema = writer.register_schema("omega_prime_visibility.Rows", "jsonschema", json.dumps(ROWS_SCHEMA).encode())
     views = table.select("idx_ego", "sensor").unique(maintain_order=True).sort("idx_ego", "sensor").rows()
@@ -265,6 +271,10 @@ def _write_answer(writer, objects, table, by_name, statics, heights, traces) -> 
         idx = frame_objects["idx"].to_numpy()
         boxes = frame_objects.select(BOX).to_numpy()
         here = rows_by_frame.get((frame,))
+        for ego in sorted({ego for ego, _ in channels}):  # each observer's own frame, for the viewer to follow
+            if ego in idx:
+                pose = observer_frame(nanos, ego, boxes[int(np.flatnonzero(idx == ego)[0])])
+                writer.add_message(transform_channel, nanos, pose.SerializeToString(), nanos)
         for (ego, sensor), (scene_id, table_id, data_id) in channels.items():
             if ego not in idx:
                 continue

@@ -20,6 +20,7 @@ import numpy as np
 import shapely
 from foxglove_schemas_protobuf.Color_pb2 import Color
 from foxglove_schemas_protobuf.CubePrimitive_pb2 import CubePrimitive
+from foxglove_schemas_protobuf.FrameTransform_pb2 import FrameTransform
 from foxglove_schemas_protobuf.KeyValuePair_pb2 import KeyValuePair
 from foxglove_schemas_protobuf.LinePrimitive_pb2 import LinePrimitive
 from foxglove_schemas_protobuf.Point3_pb2 import Point3
@@ -145,6 +146,13 @@ def frame_update(
             entity.lines.append(line)
         update.entities.append(entity)
     return update
+
+
+def observer_frame(nanos: int, ego: int, box: np.ndarray) -> FrameTransform:
+    """The frame ``ego_<idx>`` of an observer at ``nanos``: its box's centre and orientation in :data:`FRAME_ID`."""
+    x, y, z, _, _, _, roll, pitch, yaw = (float(v) for v in box)
+    return FrameTransform(timestamp=_stamp(nanos), parent_frame_id=FRAME_ID, child_frame_id=f"ego_{ego}",
+                          translation=Vector3(x=x, y=y, z=z), rotation=quaternion(roll, pitch, yaw))  # fmt: skip
 
 
 def static_update(nanos: int, footprints: Sequence[shapely.Geometry], tops: Sequence[float]) -> SceneUpdate:

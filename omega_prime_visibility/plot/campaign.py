@@ -35,6 +35,11 @@ def write_campaign_page(
     charts = {"bands": _bands_chart(stats["by_band"]), "histogram": _histogram_chart(stats["histogram"])}
     charts["occluders"] = _occluders_chart(stats["occluder_types"])
     recordings = stats["by_recording"]
+    here = Path(output).resolve().parent
+    links = [None if p is None else os.path.relpath(p, here) for p in recordings["mcap"].to_list()]
+    recordings = recordings.with_columns(pl.Series("mcap", links, dtype=pl.String))
+    if recordings["mcap"].null_count() == recordings.height:  # no batch --mcap: no column of dashes
+        recordings = recordings.drop("mcap")
     page = PAGE.format(
         title=html.escape(f"Occlusion over a campaign: {Path(folder).name}"),
         subtitle=html.escape(
@@ -163,13 +168,16 @@ def _table_html(table: pl.DataFrame, element_id: str) -> str:
     def cell(value: Any, column: str) -> str:
         if value is None:
             return "–"
+        if column == "mcap":  # the recording with the answer drawn in, to open in Lichtblick
+            return f'<a href="{html.escape(str(value), quote=True)}">{html.escape(Path(str(value)).name)}</a>'
         if column in SHARES and isinstance(value, float | int):
             return f"{100 * value:.1f} %"
         if isinstance(value, float):
             return f"{value:.3f}".rstrip("0").rstrip(".") if abs(value) < 1e6 else f"{value:g}"
         return html.escape(str(value))
 
-    head = "".join(f"<th>{html.escape(c)}</th>" for c in table.columns)
+    titles = {"mcap": "with the answer drawn in (open in Lichtblick)"}
+    head = "".join(f"<th>{html.escape(titles.get(c, c))}</th>" for c in table.columns)
     rows = (
         "".join(f"<td>{cell(v, c)}</td>" for v, c in zip(row, table.columns, strict=True)) for row in table.iter_rows()
     )
