@@ -27,8 +27,16 @@ def lichtblick_layout(ego: int, sensor: str | None = None, target: int | None = 
         "followMode": "follow-pose",
         "followTf": f"ego_{ego}",
         "scene": {"enableStats": False, "transforms": {"showLabel": False}},
-        "cameraState": {"distance": 60, "perspective": True, "phi": 55, "thetaOffset": 0, "targetOffset": [0, 0, 0],
-                        "fovy": 45, "near": 0.5, "far": 5000},  # fmt: skip
+        "cameraState": {
+            "distance": 60,
+            "perspective": True,
+            "phi": 55,
+            "thetaOffset": 0,
+            "targetOffset": [0, 0, 0],
+            "fovy": 45,
+            "near": 0.5,
+            "far": 5000,
+        },
         "topics": {f"{base}/scene": {"visible": True}, "/visibility/static_occluders": {"visible": True}},
     }
     plot = {
@@ -48,16 +56,18 @@ def lichtblick_layout(ego: int, sensor: str | None = None, target: int | None = 
         "layout": {
             "direction": "row",
             "first": "3D!answer",
-            "second": {"direction": "column", "first": "Plot!visibility", "second": "RawMessages!rows",
-                       "splitPercentage": 45},  # fmt: skip
+            "second": {
+                "direction": "column",
+                "first": "Plot!visibility",
+                "second": "RawMessages!rows",
+                "splitPercentage": 45,
+            },
             "splitPercentage": 62,
         },
     }
 
 
-def write_layout(
-    path: str | os.PathLike, ego: int, sensor: str | None = None, target: int | None = None
-) -> Path:
+def write_layout(path: str | os.PathLike, ego: int, sensor: str | None = None, target: int | None = None) -> Path:
     """Write :func:`lichtblick_layout` to ``path`` (``.json``); return the path."""
     path = Path(path)
     if path.suffix != ".json":
