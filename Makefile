@@ -48,6 +48,7 @@ bench: .venv/.installed
 	$(UV) run --no-sync python benchmarks/bench_urban.py
 	$(UV) run --no-sync python benchmarks/bench_reader.py
 	$(UV) run --no-sync python benchmarks/bench_imaging.py
+	$(UV) run --no-sync python benchmarks/bench_export.py
 
 bench-batch: .venv/.installed
 	$(UV) run --no-sync python benchmarks/bench_batch.py

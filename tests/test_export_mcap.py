@@ -235,3 +235,19 @@ def test_static_occluders_are_drawn_once_extruded_to_their_heights(tmp_path) -> 
     top = [p for t in entity.triangles for p in t.points if p.z == 1.2][: 2 * 3]
     area = sum(shapely.Polygon([(p.x, p.y) for p in top[k : k + 3]]).area for k in range(0, len(top), 3))
     assert area == pytest.approx(wall.area)
+
+
+def test_a_2d_answer_draws_the_region_the_observer_sees(tmp_path) -> None:
+    import shapely
+
+    from omega_prime_visibility import visible_area
+
+    table = get_visibility_df(MERGE, 0, progress=False)
+    out = write_mcap(MERGE, table, tmp_path / "r.mcap", ego_idx=0, osi_traces=False)
+    times = dict(table.select("total_nanos", "frame").unique().iter_rows())
+    for _, log_time, _, data in messages(out[0], ["/visibility/ego_0/scene"])[::50]:
+        region = [e for e in SceneUpdate.FromString(data).entities if e.id == "seen region"]
+        assert len(region) == 1
+        points = [(p.x, p.y) for p in region[0].triangles[0].points]
+        area = sum(shapely.Polygon(points[k : k + 3]).area for k in range(0, len(points), 3))
+        assert area == pytest.approx(visible_area(MERGE, 0, times[log_time]).area, rel=1e-9)

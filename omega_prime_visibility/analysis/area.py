@@ -24,7 +24,7 @@ import dataclasses
 import math
 import numbers
 from collections import Counter
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from typing import Any
 
 import numpy as np
@@ -263,3 +263,35 @@ def visible_area_over_time(
         table["hidden_road_area"] = hidden
     schema = {"frame": pl.Int64, "total_nanos": pl.Int64, "visible_area": pl.Float64, "hidden_road_area": pl.Float64}
     return pl.DataFrame(table, schema={k: v for k, v in schema.items() if k in table})
+
+
+def visible_regions(
+    df: Any,
+    ego_idx: int | None,
+    sensors: SensorSpec = None,
+    static_occluder_polys: Sequence[shapely.Geometry] | None = None,
+    *,
+    query: Query | None = None,
+    **question: Any,
+) -> Iterator[tuple[int, shapely.Geometry]]:
+    """``(frame, region)`` for every frame where the ego exists: :func:`visible_area`'s region, frame by frame
+    (one reading of the recording), for pictures and viewers that draw it.
+
+    >>> import polars as pl
+    >>> objects = pl.DataFrame({"frame": [0, 0], "total_nanos": [0, 0], "idx": [0, 1], "x": [0.0, -30.0],
+    ...     "y": [0.0, 0.0], "length": [4.0, 4.0], "width": [2.0, 2.0], "yaw": [0.0, 0.0]})
+    >>> [(f, g.geom_type) for f, g in visible_regions(objects, 0)]
+    [(0, 'Polygon')]
+    """
+    keywords = {"sensors": sensors, **question}
+    objects, statics, sensor_set, ego_idx = _prepare(df, ego_idx, static_occluder_polys, query, keywords)
+    engine = SweepEngine(statics)
+    ego = np.array([ego_idx], dtype=np.int64)
+    for k in range(objects.n_frames):
+        one = objects.frame_objects(k)
+        rows = observer_rows(one, ego)
+        if len(rows):
+            yield (
+                int(one.frame),
+                _union(_outlines(engine, one, statics, int(rows[0]), sensor_set), one.position[int(rows[0])]),
+            )

@@ -6,7 +6,8 @@ unchanged (its schemas, channels, every message's bytes and times, its attachmen
 the same recording in omega-prime, in this package's reader and in the viewer), and, per observer (and sensor,
 where there are sensors):
 
-- ``/visibility/ego_<idx>[/<sensor>]/scene``: a ``foxglove.SceneUpdate`` per frame (:mod:`.scene`);
+- ``/visibility/ego_<idx>[/<sensor>]/scene``: a ``foxglove.SceneUpdate`` per frame (:mod:`.scene`), with the region
+  the observer sees as triangles on the ground (2D);
 - ``/visibility/ego_<idx>[/<sensor>]/table``: the frame's rows as JSON (schema ``omega_prime_visibility.Rows``),
   for the plot and table panels: ``.rows[:]{idx==3}.visibility`` plots target 3's visibility over time;
 - ``/visibility/ego_<idx>[/<sensor>]/sensor_data``: an ``osi3.SensorData`` per frame (:mod:`.sensordata`), an OSI
@@ -25,7 +26,6 @@ named after OSI's convention (``<time>_sd_<osi>_<protobuf>_<frames>_<name>.osi``
 from __future__ import annotations
 
 import json
-import math
 import os
 import warnings
 from collections.abc import Sequence
@@ -46,7 +46,7 @@ from osi3.osi_sensordata_pb2 import SensorData
 from ..inputs.objects import VisibilityInputWarning
 from ..inputs.scene import as_lazy
 from ..inputs.sensors import Sensor
-from .scene import frame_update, observer_frame, static_update
+from .scene import frame_update, observer_frame, region_entity, static_update
 from .sensordata import OSI_VERSION, osi_trace_bytes, sensor_data
 
 PROTOBUF_VERSION = google.protobuf.__version__
@@ -140,9 +140,11 @@ def _osi_record(theirs: dict[str, str] | None) -> dict[str, str]:
     return out
 
 
+_NOT_IN_ROWS = frozenset(("frame", "total_nanos", "idx_ego", "sensor"))
+
+
 def _row_dict(row: dict) -> dict:
-    return {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in row.items()
-            if k not in ("frame", "total_nanos", "idx_ego", "sensor")}  # fmt: skip
+    return {k: (None if v != v else v) for k, v in row.items() if k not in _NOT_IN_ROWS}  # (v != v: NaN)
 
 
 def write_mcap(
@@ -155,6 +157,7 @@ def write_mcap(
     static_occluder_polys: Sequence[Any] = (),
     static_occluder_heights: Sequence[float] | float | None = None,
     osi_traces: bool = True,
+    region: bool | None = None,
 ) -> list[Path]:
     """Write the MCAP of the answer (see the module docstring) to ``output`` (a new ``.mcap`` path), and with
     ``osi_traces`` an ``.osi`` SensorData trace per view beside it; the paths written, the MCAP first.
@@ -172,6 +175,9 @@ def write_mcap(
         The sensors the table was computed with (their mounting goes into SensorData).
     static_occluder_polys, static_occluder_heights
         The static occluders drawn (footprints and tops, metres; none: 3 m).
+    region : bool, optional
+        Draw the region each observer (sensor) sees, as triangles on its ground; default: for a 2D table of one
+        observer (a 3D table's targets are seen over what a region on the ground would call blocked).
     """
     output = Path(output)
     if output.exists():
@@ -190,6 +196,9 @@ def write_mcap(
         warnings.warn("the recording is not an MCAP file: the output holds the visibility channels only, not the "
                       "recording's own ground truth", VisibilityInputWarning, stacklevel=2)  # fmt: skip
     objects = _objects(recording)
+    if region is None:
+        region = "can_see" not in table.columns and table["idx_ego"].n_unique() <= 1
+    regions = _regions(recording, table, by_name, static_occluder_polys, static_occluder_heights) if region else {}
     temporary = output.with_name(output.name + ".part")
     traces: dict[tuple[int, str | None], list[bytes]] = {}
     try:
@@ -198,7 +207,8 @@ def write_mcap(
             writer.start(profile="", library="omega-prime-visibility")
             theirs = _copy_input(source, writer)[0] if source is not None else None
             writer.add_metadata("net.asam.osi.trace", _osi_record(theirs))
-            _write_answer(writer, objects, table, by_name, static_occluder_polys, static_occluder_heights, traces)
+            _write_answer(writer, objects, table, by_name, static_occluder_polys, static_occluder_heights, traces,
+                          regions)  # fmt: skip
             writer.finish()
         temporary.replace(output)
     finally:
@@ -236,7 +246,19 @@ def write_answer_mcap(
                       static_occluder_heights=question.static_heights, osi_traces=osi_traces)  # fmt: skip
 
 
-def _write_answer(writer, objects, table, by_name, statics, heights, traces) -> None:
+def _regions(recording, table, by_name, statics, heights) -> dict:
+    """``{(ego, sensor): {frame: region}}`` of every view of the table (:func:`..analysis.area.visible_regions`)."""
+    from ..analysis.area import visible_regions
+
+    out = {}
+    for ego, sensor in table.select("idx_ego", "sensor").unique().rows():
+        view = None if sensor is None else [by_name[sensor][1]]
+        out[(ego, sensor)] = dict(visible_regions(recording, int(ego), view, list(statics) or None,
+                                                  static_occluder_heights=heights))  # fmt: skip
+    return out
+
+
+def _write_answer(writer, objects, table, by_name, statics, heights, traces, regions) -> None:
     """The visibility channels, frame by frame."""
     scene_schema = register_schema(writer, SceneUpdate)
     transform_channel = writer.register_channel("/tf", "protobuf", register_schema(writer, FrameTransform))
@@ -265,12 +287,11 @@ def _write_answer(writer, objects, table, by_name, statics, heights, traces) -> 
         tops = np.broadcast_to(np.asarray(3.0 if heights is None else heights, dtype=np.float64), (len(statics),))
         channel = writer.register_channel("/visibility/static_occluders", "protobuf", scene_schema)
         writer.add_message(channel, first, static_update(first, list(statics), tops).SerializeToString(), first)
-    rows_by_frame = table.partition_by("frame", as_dict=True)
+    parts = table.partition_by("frame", "idx_ego", "sensor", as_dict=True)
     for (frame,), frame_objects in objects.partition_by("frame", as_dict=True, maintain_order=True).items():
         nanos = int(frame_objects["total_nanos"][0])
         idx = frame_objects["idx"].to_numpy()
         boxes = frame_objects.select(BOX).to_numpy()
-        here = rows_by_frame.get((frame,))
         for ego in sorted({ego for ego, _ in channels}):  # each observer's own frame, for the viewer to follow
             if ego in idx:
                 pose = observer_frame(nanos, ego, boxes[int(np.flatnonzero(idx == ego)[0])])
@@ -278,12 +299,14 @@ def _write_answer(writer, objects, table, by_name, statics, heights, traces) -> 
         for (ego, sensor), (scene_id, table_id, data_id) in channels.items():
             if ego not in idx:
                 continue
-            mine = [] if here is None else here.filter(
-                (pl.col("idx_ego") == ego) & (pl.col("sensor").eq_missing(sensor))
-            ).iter_rows(named=True)  # fmt: skip
-            rows = {r["idx"]: _row_dict(r) for r in mine}
-            update = frame_update(nanos, boxes, idx, ego, rows)
-            writer.add_message(scene_id, nanos, update.SerializeToString(), nanos)
+            mine = parts.get((frame, ego, sensor))
+            rows = {} if mine is None else {r["idx"]: _row_dict(r) for r in mine.to_dicts()}
+            scene = frame_update(nanos, boxes, idx, ego, rows)
+            seen_region = regions.get((ego, sensor), {}).get(frame)
+            if seen_region is not None:
+                ego_box = boxes[int(np.flatnonzero(idx == ego)[0])]
+                scene += region_entity(nanos, seen_region, float(ego_box[2] - ego_box[5] / 2))
+            writer.add_message(scene_id, nanos, scene, nanos)
             message = {"frame": int(frame), "total_nanos": nanos, "ego": int(ego), "sensor": sensor,
                        "rows": list(rows.values())}  # fmt: skip
             writer.add_message(table_id, nanos, json.dumps(message).encode(), nanos)

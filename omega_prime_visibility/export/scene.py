@@ -34,8 +34,11 @@ from foxglove_schemas_protobuf.TriangleListPrimitive_pb2 import TriangleListPrim
 from foxglove_schemas_protobuf.Vector3_pb2 import Vector3
 from google.protobuf.timestamp_pb2 import Timestamp
 
-from ..plot.style import OKABE_ITO, visibility_colour
+from ..plot.style import OKABE_ITO, visibility_rgb
 from ..threed.boxes import EDGES, corners
+from .wire import Layout, boolean, delimited, double, key, length_delimited, string, tag, varint
+
+_PAIR = KeyValuePair.DESCRIPTOR
 
 FRAME_ID = "global"
 """The coordinate frame of every entity: the recording's own (x east, y north, z up, metres)."""
@@ -81,71 +84,141 @@ def _stamp(nanos: int) -> Timestamp:
 
 
 def _value(value: object) -> str:
+    """A row's value as the viewer shows it (numbers to six significant digits, lists joined by commas)."""
     if value is None:
         return ""
     if isinstance(value, float):
         return f"{value:.6g}"
-    if isinstance(value, list | tuple | np.ndarray):
-        return ", ".join(_value(v) for v in value)
+    if isinstance(value, list | tuple):
+        return ", ".join(map(_value, value)) if value and isinstance(value[0], float | list | tuple) else (
+            ", ".join(map(str, value)))  # fmt: skip
     return str(value)
 
 
-def frame_update(
-    nanos: int,
-    boxes: np.ndarray,
-    idx: np.ndarray,
-    ego: int,
-    rows: dict[int, dict],
-) -> SceneUpdate:
-    """One frame's scene: ``boxes`` (shape (n, 9), :mod:`..threed.boxes`) of the objects ``idx`` at ``nanos``,
-    the observer ``ego``, and ``rows`` (the table's row of each target, by idx: its ``visibility``, ``status``,
-    ``occluder_idxs``, ...). The update first deletes what the previous frame drew."""
+def _vector(slot: str) -> Layout:
+    return Layout(Vector3.DESCRIPTOR).doubles(slot, ["x", "y", "z"])
+
+
+def _pose(position: str, orientation: str) -> Layout:
+    rotation = Layout(Quaternion.DESCRIPTOR).doubles(orientation, ["x", "y", "z", "w"])
+    return Layout(Pose.DESCRIPTOR).message("position", _vector(position)).message("orientation", rotation)
+
+
+def _colour(slot: str) -> Layout:
+    return Layout(Color.DESCRIPTOR).doubles(slot, ["r", "g", "b", "a"])
+
+
+_TEXT = TextPrimitive.DESCRIPTOR
+_ENTITY = SceneEntity.DESCRIPTOR
+_UPDATE = SceneUpdate.DESCRIPTOR
+CUBE = (
+    Layout(CubePrimitive.DESCRIPTOR)
+    .message("pose", _pose("position", "orientation"))
+    .message("size", _vector("size"))
+    .message("color", _colour("colour"))
+)
+"""A box's bytes: its pose, size and colour (:mod:`.wire`)."""
+LABEL = (
+    Layout(_TEXT)
+    .message("pose", _pose("label_at", "upright"))
+    .constant(boolean(_TEXT, "billboard", True) + double(_TEXT, "font_size", 14.0))
+    .constant(boolean(_TEXT, "scale_invariant", True))
+    .message("color", _colour("black"))
+)
+"""A label's bytes but its text."""
+
+
+def quaternions(roll: np.ndarray, pitch: np.ndarray, yaw: np.ndarray) -> np.ndarray:
+    """:func:`quaternion` of many rotations, columns ``x, y, z, w``, shape (n, 4)."""
+    cr, sr, cp, sp = np.cos(roll / 2), np.sin(roll / 2), np.cos(pitch / 2), np.sin(pitch / 2)
+    cy, sy = np.cos(yaw / 2), np.sin(yaw / 2)
+    return np.column_stack([sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy,
+                            cr * cp * cy + sr * sp * sy])  # fmt: skip
+
+
+_LINE = LinePrimitive.DESCRIPTOR
+_POINT = Layout(Point3.DESCRIPTOR)
+OUTLINE_LINE = Layout(_LINE).constant(tag(_LINE, "type", 0) + varint(LinePrimitive.Type.LINE_LIST))
+OUTLINE_LINE.message("pose", _pose("origin", "upright")).constant(double(_LINE, "thickness", OUTLINE))
+for _k in range(8):
+    OUTLINE_LINE.message("points", Layout(Point3.DESCRIPTOR).doubles(f"corner{_k}", ["x", "y", "z"]))
+OUTLINE_LINE.message("color", _colour("black"))
+OUTLINE_LINE.constant(key(_LINE, "indices") + varint(len(b"".join(varint(int(v)) for v in EDGES.ravel())))
+                      + b"".join(varint(int(v)) for v in EDGES.ravel()))  # fmt: skip
+"""A black outline of a box's 12 edges (``LINE_LIST`` over its 8 corners): the bytes but the corners."""
+
+_KEYS = {name: key(_ENTITY, name) for name in ("metadata", "cubes", "texts", "lines", "id")}
+_PAIR_KEY, _PAIR_VALUE = key(KeyValuePair.DESCRIPTOR, "key"), key(KeyValuePair.DESCRIPTOR, "value")
+_TEXT_KEY, _ENTITIES_KEY = key(TextPrimitive.DESCRIPTOR, "text"), key(SceneUpdate.DESCRIPTOR, "entities")
+
+
+def _pair(name: str, value: str) -> bytes:
+    return delimited(_KEYS["metadata"], delimited(_PAIR_KEY, name.encode()) + delimited(_PAIR_VALUE, value.encode()))
+
+
+def frame_update(nanos: int, boxes: np.ndarray, idx: np.ndarray, ego: int, rows: dict[int, dict]) -> bytes:
+    """One frame's scene, serialized: ``boxes`` (shape (n, 9), :mod:`..threed.boxes`) of the objects ``idx`` at
+    ``nanos``, the observer ``ego``, and ``rows`` (the table's row of each target, by idx: its ``visibility``,
+    ``status``, ``occluder_idxs``, ...). The update first deletes what the previous frame drew. Its bytes are a
+    ``foxglove.SceneUpdate`` (written through :mod:`.wire`, many boxes at once)."""
     stamp = _stamp(nanos)
-    update = SceneUpdate(deletions=[SceneEntityDeletion(timestamp=stamp, type=SceneEntityDeletion.Type.ALL)])
-    hiding = {
-        o for row in rows.values() if (row.get("visibility") or 0.0) < 1.0 for o in row.get("occluder_idxs") or []
-    }
-    outline = corners(boxes) if len(boxes) else np.zeros((0, 8, 3))
-    for k, i in enumerate(idx.tolist()):
-        x, y, z, length, width, height, roll, pitch, yaw = boxes[k].tolist()
+    deletion = SceneEntityDeletion(timestamp=stamp, type=SceneEntityDeletion.Type.ALL).SerializeToString()
+    n = len(idx)
+    out = [length_delimited(_UPDATE, "deletions", deletion)]
+    if n == 0:
+        return b"".join(out)
+    ids = idx.tolist()
+    share = np.array([np.nan if rows.get(i, {}).get("visibility") is None else rows[i]["visibility"] for i in ids])
+    colour = np.column_stack([visibility_rgb(share) / 255, np.full(n, 0.9)])
+    colour[np.isnan(share)] = [0.8, 0.8, 0.8, 0.6]
+    is_ego = idx == ego
+    colour[is_ego] = [int(OKABE_ITO["vermillion"][k : k + 2], 16) / 255 for k in (1, 3, 5)] + [1.0]
+    height = np.maximum(boxes[:, 5], FLAT)
+    centre = boxes[:, :3]
+    cubes = CUBE.encode({"position": centre, "orientation": quaternions(boxes[:, 6], boxes[:, 7], boxes[:, 8]),
+                         "size": np.column_stack([boxes[:, 3], boxes[:, 4], height]), "colour": colour})  # fmt: skip
+    above = centre + np.column_stack([np.zeros((n, 2)), height / 2 + 0.6])
+    upright = np.tile([0.0, 0.0, 0.0, 1.0], (n, 1))
+    labels = LABEL.encode({"label_at": above, "upright": upright, "black": upright})
+    hiding = {o for r in rows.values() if (r.get("visibility") or 0.0) < 1.0 for o in r.get("occluder_idxs") or []}
+    outlines = None
+    if hiding:
+        points = corners(boxes)
+        slots = {f"corner{c}": points[:, c] for c in range(8)}
+        outlines = OUTLINE_LINE.encode(slots | {"origin": np.zeros((n, 3)), "upright": upright, "black": upright})
+    prefix = length_delimited(_ENTITY, "timestamp", stamp.SerializeToString()) + string(_ENTITY, "frame_id", FRAME_ID)
+    cube_key = tag(_ENTITY, "cubes", 2) + varint(CUBE.size)
+    for k, i in enumerate(ids):
         row = rows.get(i)
-        if i == ego:
-            colour, label = rgba(OKABE_ITO["vermillion"]), f"{i} observer"
-        elif row is not None:
-            share = row.get("visibility")
-            colour = rgba(visibility_colour(float("nan") if share is None else share), 0.9)
-            label = f"{i}: {share:.0%}" if share is not None else f"{i}"
+        if is_ego[k]:
+            text = f"{i} observer"
+        elif row is not None and row.get("visibility") is not None:
+            text = f"{i}: {row['visibility']:.0%}"
         else:
-            colour, label = rgba("#cccccc", 0.6), f"{i}"
-        pose = Pose(position=Vector3(x=x, y=y, z=z), orientation=quaternion(roll, pitch, yaw))
-        entity = SceneEntity(
-            timestamp=stamp,
-            frame_id=FRAME_ID,
-            id=f"object {i}",
-            cubes=[CubePrimitive(pose=pose, size=Vector3(x=length, y=width, z=max(height, FLAT)), color=colour)],
-            texts=[
-                TextPrimitive(
-                    pose=Pose(
-                        position=Vector3(x=x, y=y, z=z + max(height, FLAT) / 2 + 0.6), orientation=Quaternion(w=1.0)
-                    ),
-                    billboard=True,
-                    font_size=14.0,
-                    scale_invariant=True,
-                    color=rgba("#000000"),
-                    text=label,
-                )
-            ],
-            metadata=[KeyValuePair(key="idx", value=str(i))]
-            + [KeyValuePair(key=key, value=_value(value)) for key, value in (row or {}).items() if key != "idx"],
-        )
-        if i in hiding:  # it hides some target: outlined in black
-            points = [Point3(x=float(p[0]), y=float(p[1]), z=float(p[2])) for p in outline[k]]
-            line = LinePrimitive(type=LinePrimitive.Type.LINE_LIST, pose=Pose(orientation=Quaternion(w=1.0)),
-                                 thickness=OUTLINE, color=rgba("#000000"), points=points,
-                                 indices=EDGES.ravel().tolist())  # fmt: skip
-            entity.lines.append(line)
-        update.entities.append(entity)
-    return update
+            text = f"{i}"
+        metadata = _pair("idx", str(i)) + b"".join(_pair(k2, _value(v)) for k2, v in (row or {}).items() if k2 != "idx")
+        label = delimited(_KEYS["texts"], labels[k].tobytes() + delimited(_TEXT_KEY, text.encode()))
+        lines = delimited(_KEYS["lines"], outlines[k].tobytes()) if i in hiding else b""
+        body = b"".join((prefix, delimited(_KEYS["id"], f"object {i}".encode()), metadata, cube_key,
+                         cubes[k].tobytes(), label, lines))  # fmt: skip
+        out.append(delimited(_ENTITIES_KEY, body))
+    return b"".join(out)
+
+
+def region_entity(nanos: int, region: shapely.Geometry, ground: float) -> bytes:
+    """The region the observer sees, as triangles on its ground (``ground`` metres, just above it), serialized as a
+    ``SceneUpdate`` entity field (to append to :func:`frame_update`'s bytes)."""
+    points: list[Point3] = []
+    for part in shapely.get_parts(region):
+        if part.is_empty or part.geom_type != "Polygon":
+            continue
+        for tri in shapely.get_parts(shapely.constrained_delaunay_triangles(part)):
+            points += [Point3(x=p[0], y=p[1], z=ground + 0.02) for p in np.asarray(tri.exterior.coords)[:3]]
+    entity = SceneEntity(timestamp=_stamp(nanos), frame_id=FRAME_ID, id="seen region",
+                         triangles=[TriangleListPrimitive(pose=Pose(orientation=Quaternion(w=1.0)), points=points,
+                                                          color=rgba(OKABE_ITO["sky blue"], 0.35))],
+                         metadata=[KeyValuePair(key="seen area (m²)", value=f"{region.area:.6g}")])  # fmt: skip
+    return delimited(_ENTITIES_KEY, entity.SerializeToString())
 
 
 def observer_frame(nanos: int, ego: int, box: np.ndarray) -> FrameTransform:

@@ -103,6 +103,21 @@ def visibility_colour(v: float) -> str:
     return f"#{r:02x}{g:02x}{bl:02x}"
 
 
+def visibility_rgb(values: np.ndarray) -> np.ndarray:
+    """:func:`visibility_colour` of many visibilities at once, as integers 0-255, shape (n, 3); NaN grey.
+
+    >>> visibility_rgb(np.array([0.0, 0.5, np.nan])).tolist()
+    [[0, 34, 78], [125, 124, 120], [204, 204, 204]]
+    """
+    values = np.asarray(values, dtype=np.float64)
+    stops = np.array([[int(c[i : i + 2], 16) for i in (1, 3, 5)] for c in CIVIDIS], dtype=np.float64)
+    x = np.clip(np.nan_to_num(values, nan=0.0), 0.0, 1.0) * (len(CIVIDIS) - 1)
+    k = np.minimum(x.astype(np.int64), len(CIVIDIS) - 2)
+    out = np.rint(stops[k] + (stops[k + 1] - stops[k]) * (x - k)[:, None]).astype(np.int64)
+    out[np.isnan(values)] = 204
+    return out
+
+
 def sensor_colour(k: int) -> str:
     """Outline colour of the ``k``-th sensor (0-based).
 
