@@ -135,3 +135,23 @@ def test_docs_conflicts_examples_run(namespace) -> None:
     statistics = next(block for block in python_blocks() if "occlusion_statistics(" in block)
     run_block(statistics, ns, REPO)
     assert ns["one"]["histogram"]["rows"].sum() == 1206
+
+
+@pytest.mark.parametrize("page", ["docs/cameras.md", "docs/lichtblick.md"])
+def test_the_camera_and_lichtblick_pages_examples_run(page, tmp_path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    (tmp_path / "highway_merge.mcap").symlink_to(REPO / "highway_merge.mcap")
+    blocks = re.findall(r"```python\n(.*?)```", (REPO / page).read_text(), re.S)
+    ns: dict = {}
+    for block in blocks:
+        run_block(block, ns, tmp_path)
+    if page.endswith("cameras.md"):
+        label = tmp_path / "kitti" / "front" / "label_2" / "000030.txt"
+        assert (
+            label.read_text().split()[0] == "Truck"
+            and ns["levels"]["kitti_difficulty"].null_count() < ns["levels"].height
+        )
+    else:
+        assert (tmp_path / "vis.mcap").stat().st_size > 0 and list(tmp_path.glob("*_sd_*_201_ego0.osi"))

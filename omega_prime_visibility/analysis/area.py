@@ -265,7 +265,7 @@ def visible_area_over_time(
     return pl.DataFrame(table, schema={k: v for k, v in schema.items() if k in table})
 
 
-def visible_regions(
+def visible_outlines(
     df: Any,
     ego_idx: int | None,
     sensors: SensorSpec = None,
@@ -273,15 +273,17 @@ def visible_regions(
     *,
     query: Query | None = None,
     **question: Any,
-) -> Iterator[tuple[int, shapely.Geometry]]:
-    """``(frame, region)`` for every frame where the ego exists: :func:`visible_area`'s region, frame by frame
-    (one reading of the recording), for pictures and viewers that draw it.
+) -> Iterator[tuple[int, list[tuple[np.ndarray, np.ndarray]]]]:
+    """``(frame, outlines)`` for every frame where the ego exists: per sensor (one without sensors) the outline of
+    the region it sees (world frame, metres, counter-clockwise, shape (k, 2)) and its viewpoint (shape (2,)); each
+    region is star-shaped about its viewpoint (its union is :func:`visible_area`'s region). One reading of the
+    recording, for pictures and viewers that draw the regions.
 
     >>> import polars as pl
     >>> objects = pl.DataFrame({"frame": [0, 0], "total_nanos": [0, 0], "idx": [0, 1], "x": [0.0, -30.0],
     ...     "y": [0.0, 0.0], "length": [4.0, 4.0], "width": [2.0, 2.0], "yaw": [0.0, 0.0]})
-    >>> [(f, g.geom_type) for f, g in visible_regions(objects, 0)]
-    [(0, 'Polygon')]
+    >>> [(f, len(views)) for f, views in visible_outlines(objects, 0)]
+    [(0, 1)]
     """
     keywords = {"sensors": sensors, **question}
     objects, statics, sensor_set, ego_idx = _prepare(df, ego_idx, static_occluder_polys, query, keywords)
@@ -291,7 +293,5 @@ def visible_regions(
         one = objects.frame_objects(k)
         rows = observer_rows(one, ego)
         if len(rows):
-            yield (
-                int(one.frame),
-                _union(_outlines(engine, one, statics, int(rows[0]), sensor_set), one.position[int(rows[0])]),
-            )
+            outlines = _outlines(engine, one, statics, int(rows[0]), sensor_set)
+            yield int(one.frame), [(outline, np.asarray(view.position)) for outline, view in outlines]

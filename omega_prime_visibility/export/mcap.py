@@ -247,13 +247,13 @@ def write_answer_mcap(
 
 
 def _regions(recording, table, by_name, statics, heights) -> dict:
-    """``{(ego, sensor): {frame: region}}`` of every view of the table (:func:`..analysis.area.visible_regions`)."""
-    from ..analysis.area import visible_regions
+    """``{(ego, sensor): {frame: outlines}}`` of every view of the table (:func:`..analysis.area.visible_outlines`)."""
+    from ..analysis.area import visible_outlines
 
     out = {}
     for ego, sensor in table.select("idx_ego", "sensor").unique().rows():
         view = None if sensor is None else [by_name[sensor][1]]
-        out[(ego, sensor)] = dict(visible_regions(recording, int(ego), view, list(statics) or None,
+        out[(ego, sensor)] = dict(visible_outlines(recording, int(ego), view, list(statics) or None,
                                                   static_occluder_heights=heights))  # fmt: skip
     return out
 

@@ -205,20 +205,41 @@ def frame_update(nanos: int, boxes: np.ndarray, idx: np.ndarray, ego: int, rows:
     return b"".join(out)
 
 
-def region_entity(nanos: int, region: shapely.Geometry, ground: float) -> bytes:
-    """The region the observer sees, as triangles on its ground (``ground`` metres, just above it), serialized as a
+_TRIANGLES = TriangleListPrimitive.DESCRIPTOR
+_CORNER = Layout(Point3.DESCRIPTOR).doubles("p", ["x", "y", "z"])
+_CORNER_KEY = key(_TRIANGLES, "points") + varint(_CORNER.size)
+_REGION_POSE = length_delimited(_TRIANGLES, "pose", Pose(orientation=Quaternion(w=1.0)).SerializeToString())
+_REGION_COLOUR = length_delimited(_TRIANGLES, "color", rgba(OKABE_ITO["sky blue"], 0.35).SerializeToString())
+
+
+def region_entity(nanos: int, outlines: Sequence[tuple[np.ndarray, np.ndarray]], ground: float) -> bytes:
+    """The regions the observer sees (each an outline star-shaped about its viewpoint, world frame, metres), as a
+    fan of triangles from the viewpoint on its ground (``ground`` metres, just above it), serialized as a
     ``SceneUpdate`` entity field (to append to :func:`frame_update`'s bytes)."""
-    points: list[Point3] = []
-    for part in shapely.get_parts(region):
-        if part.is_empty or part.geom_type != "Polygon":
+    corners_xy = []
+    area = 0.0
+    for outline, centre in outlines:
+        ring = np.asarray(outline, dtype=np.float64)
+        if len(ring) >= 2 and np.array_equal(ring[0], ring[-1]):
+            ring = ring[:-1]
+        if len(ring) < 2:
             continue
-        for tri in shapely.get_parts(shapely.constrained_delaunay_triangles(part)):
-            points += [Point3(x=p[0], y=p[1], z=ground + 0.02) for p in np.asarray(tri.exterior.coords)[:3]]
-    entity = SceneEntity(timestamp=_stamp(nanos), frame_id=FRAME_ID, id="seen region",
-                         triangles=[TriangleListPrimitive(pose=Pose(orientation=Quaternion(w=1.0)), points=points,
-                                                          color=rgba(OKABE_ITO["sky blue"], 0.35))],
-                         metadata=[KeyValuePair(key="seen area (m²)", value=f"{region.area:.6g}")])  # fmt: skip
-    return delimited(_ENTITIES_KEY, entity.SerializeToString())
+        a, b = ring, np.roll(ring, -1, axis=0)
+        fan = np.stack([np.broadcast_to(centre, a.shape), a, b], axis=1)  # (k, 3, 2)
+        corners_xy.append(fan.reshape(-1, 2))
+        area += 0.5 * float(
+            np.sum((a[:, 0] - centre[0]) * (b[:, 1] - centre[1]) - (b[:, 0] - centre[0]) * (a[:, 1] - centre[1]))
+        )
+    points = np.concatenate(corners_xy) if corners_xy else np.zeros((0, 2))
+    xyz = np.column_stack([points, np.full(len(points), ground + 0.02)])
+    encoded = _CORNER.encode({"p": xyz}) if len(xyz) else np.zeros((0, _CORNER.size), dtype=np.uint8)
+    key_bytes = np.frombuffer(_CORNER_KEY, dtype=np.uint8)
+    repeated = np.hstack([np.tile(key_bytes, (len(encoded), 1)), encoded]).tobytes()
+    shape = _REGION_POSE + repeated + _REGION_COLOUR
+    stamp = length_delimited(_ENTITY, "timestamp", _stamp(nanos).SerializeToString())
+    body = (stamp + string(_ENTITY, "frame_id", FRAME_ID) + string(_ENTITY, "id", "seen region")
+            + _pair("seen area (m²)", f"{area:.6g}") + delimited(key(_ENTITY, "triangles"), shape))  # fmt: skip
+    return delimited(_ENTITIES_KEY, body)
 
 
 def observer_frame(nanos: int, ego: int, box: np.ndarray) -> FrameTransform:
