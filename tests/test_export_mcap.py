@@ -58,7 +58,7 @@ def test_the_file_is_strict_mcap_and_every_message_decodes_with_the_official_sch
             elif name == "osi3.SensorData":
                 SensorData.FromString(message.data)
                 assert message.log_time == message.publish_time
-            elif name == "omega_prime_visibility.Rows":
+            elif name == "VisibilityRows":
                 json.loads(message.data)
     for sensor in ("front", "roof", "radar"):
         assert topics[f"/visibility/ego_0/{sensor}/scene"] == "foxglove.SceneUpdate"

@@ -8,7 +8,7 @@ where there are sensors):
 
 - ``/visibility/ego_<idx>[/<sensor>]/scene``: a ``foxglove.SceneUpdate`` per frame (:mod:`.scene`), with the region
   the observer sees as triangles on the ground (2D);
-- ``/visibility/ego_<idx>[/<sensor>]/table``: the frame's rows as JSON (schema ``omega_prime_visibility.Rows``),
+- ``/visibility/ego_<idx>[/<sensor>]/table``: the frame's rows as JSON (schema ``VisibilityRows``),
   for the plot and table panels: ``.rows[:]{idx==3}.visibility`` plots target 3's visibility over time;
 - ``/visibility/ego_<idx>[/<sensor>]/sensor_data``: an ``osi3.SensorData`` per frame (:mod:`.sensordata`), an OSI
   channel of OSI's multi-channel trace format (its schema a FileDescriptorSet with imports, channel metadata
@@ -53,7 +53,7 @@ PROTOBUF_VERSION = google.protobuf.__version__
 BOX = ("x", "y", "z", "length", "width", "height", "roll", "pitch", "yaw")
 SEEN = ("visible", "partly_visible")
 ROWS_SCHEMA = {
-    "title": "omega_prime_visibility.Rows",
+    "title": "VisibilityRows",
     "description": "One frame of a visibility table: its rows (the table's columns by name).",
     "type": "object",
     "properties": {
@@ -263,7 +263,7 @@ def _write_answer(writer, objects, table, by_name, statics, heights, traces, reg
     scene_schema = register_schema(writer, SceneUpdate)
     transform_channel = writer.register_channel("/tf", "protobuf", register_schema(writer, FrameTransform))
     sensor_schema = register_schema(writer, SensorData)
-    rows_schema = writer.register_schema("omega_prime_visibility.Rows", "jsonschema", json.dumps(ROWS_SCHEMA).encode())
+    rows_schema = writer.register_schema("VisibilityRows", "jsonschema", json.dumps(ROWS_SCHEMA).encode())
     views = table.select("idx_ego", "sensor").unique(maintain_order=True).sort("idx_ego", "sensor").rows()
     channels = {}
     osi_meta = {"net.asam.osi.trace.channel.osi_version": OSI_VERSION,
