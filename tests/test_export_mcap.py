@@ -151,6 +151,9 @@ def test_the_front_cameras_objects_are_in_its_frame(written) -> None:
         assert item.base.position.x == pytest.approx(c * dx + s * dy, abs=1e-9)
         assert item.base.position.y == pytest.approx(-s * dx + c * dy, abs=1e-9)
         assert item.base.position.z == pytest.approx(obj["z"] - (ego["z"] - ego["height"] / 2 + 1.4), abs=1e-9)
+        turned = (obj["yaw"] - ego["yaw"] + math.pi) % (2 * math.pi) - math.pi
+        assert item.base.orientation.yaw == pytest.approx(turned, abs=1e-9)
+        assert item.base.dimension.length == pytest.approx(obj["length"])
 
 
 def test_omega_prime_reads_the_written_file(written) -> None:
@@ -251,3 +254,26 @@ def test_a_2d_answer_draws_the_region_the_observer_sees(tmp_path) -> None:
         points = [(p.x, p.y) for p in region[0].triangles[0].points]
         area = sum(shapely.Polygon(points[k : k + 3]).area for k in range(0, len(points), 3))
         assert area == pytest.approx(visible_area(MERGE, 0, times[log_time]).area, rel=1e-9)
+
+
+def test_the_column_wise_metadata_is_the_rows_own_and_long_values_fall_back() -> None:
+    from foxglove_schemas_protobuf.SceneEntity_pb2 import SceneEntity
+
+    from omega_prime_visibility.export.scene import metadata_column, row_metadata
+
+    rows = pl.DataFrame(
+        {"idx": [3, 4], "visibility": [0.123456789, float("nan")], "occluder_idxs": [[1, 2], list(range(60))],
+         "status": ["partly_visible", "occluded"]}
+    )  # fmt: skip
+    names = rows.columns
+    column = rows.select(metadata_column(rows.schema, names)).to_series().to_list()
+    assert column[1] is None  # 60 idx make a value longer than one varint byte: written in Python instead
+    for k, row in enumerate(rows.to_dicts()):
+        python = row_metadata(
+            {**row, "visibility": None if row["visibility"] != row["visibility"] else row["visibility"]}
+        )
+        for data in filter(None, (python, None if column[k] is None else column[k].encode())):
+            meta = {kv.key: kv.value for kv in SceneEntity.FromString(data).metadata}
+            assert meta["idx"] == str(row["idx"]) and meta["status"] == row["status"]
+            assert meta["occluder_idxs"] == ", ".join(map(str, row["occluder_idxs"]))
+            assert meta["visibility"] == ("0.123457" if k == 0 else "")

@@ -46,7 +46,7 @@ from osi3.osi_sensordata_pb2 import SensorData
 from ..inputs.objects import VisibilityInputWarning
 from ..inputs.scene import as_lazy
 from ..inputs.sensors import Sensor
-from .scene import frame_update, observer_frame, region_entity, static_update
+from .scene import FrameRows, frame_update, metadata_column, observer_frame, region_entity, row_metadata, static_update
 from .sensordata import OSI_VERSION, osi_trace_bytes, sensor_data
 
 PROTOBUF_VERSION = google.protobuf.__version__
@@ -141,10 +141,6 @@ def _osi_record(theirs: dict[str, str] | None) -> dict[str, str]:
 
 
 _NOT_IN_ROWS = frozenset(("frame", "total_nanos", "idx_ego", "sensor"))
-
-
-def _row_dict(row: dict) -> dict:
-    return {k: (None if v != v else v) for k, v in row.items() if k not in _NOT_IN_ROWS}  # (v != v: NaN)
 
 
 def write_mcap(
@@ -287,7 +283,7 @@ def _write_answer(writer, objects, table, by_name, statics, heights, traces, reg
         tops = np.broadcast_to(np.asarray(3.0 if heights is None else heights, dtype=np.float64), (len(statics),))
         channel = writer.register_channel("/visibility/static_occluders", "protobuf", scene_schema)
         writer.add_message(channel, first, static_update(first, list(statics), tops).SerializeToString(), first)
-    parts = table.partition_by("frame", "idx_ego", "sensor", as_dict=True)
+    parts = _prepared(table).partition_by("frame", "idx_ego", "sensor", as_dict=True)
     for (frame,), frame_objects in objects.partition_by("frame", as_dict=True, maintain_order=True).items():
         nanos = int(frame_objects["total_nanos"][0])
         idx = frame_objects["idx"].to_numpy()
@@ -299,28 +295,50 @@ def _write_answer(writer, objects, table, by_name, statics, heights, traces, reg
         for (ego, sensor), (scene_id, table_id, data_id) in channels.items():
             if ego not in idx:
                 continue
-            mine = parts.get((frame, ego, sensor))
-            rows = {} if mine is None else {r["idx"]: _row_dict(r) for r in mine.to_dicts()}
+            rows, json_rows, seen_idx = _view_rows(parts.get((frame, ego, sensor)))
             scene = frame_update(nanos, boxes, idx, ego, rows)
             seen_region = regions.get((ego, sensor), {}).get(frame)
+            ego_box = boxes[int(np.flatnonzero(idx == ego)[0])]
             if seen_region is not None:
-                ego_box = boxes[int(np.flatnonzero(idx == ego)[0])]
                 scene += region_entity(nanos, seen_region, float(ego_box[2] - ego_box[5] / 2))
             writer.add_message(scene_id, nanos, scene, nanos)
-            message = {"frame": int(frame), "total_nanos": nanos, "ego": int(ego), "sensor": sensor,
-                       "rows": list(rows.values())}  # fmt: skip
-            writer.add_message(table_id, nanos, json.dumps(message).encode(), nanos)
-            seen = [(i, boxes[k]) for k, i in enumerate(idx.tolist()) if i in rows and _is_seen(rows[i])]
+            head = json.dumps({"frame": int(frame), "total_nanos": nanos, "ego": int(ego), "sensor": sensor})
+            message = head[:-1] + ', "rows": [' + ",".join(json_rows) + "]}"
+            writer.add_message(table_id, nanos, message.encode(), nanos)
+            seen = [(i, boxes[k]) for k, i in enumerate(idx.tolist()) if i in seen_idx]
             k, s = by_name.get(sensor, (0, None))
-            ego_box = boxes[int(np.flatnonzero(idx == ego)[0])]
             data = sensor_data(nanos, ego, ego_box, s, k, seen).SerializeToString()
             writer.add_message(data_id, nanos, data, nanos)
             traces[(ego, sensor)].append(data)
 
 
-def _is_seen(row: dict) -> bool:
-    """Visible or partly visible: by its sensor's ``status``, else by ``visibility > 0``."""
-    status = row.get("status")
-    if status is not None:
-        return status in SEEN
-    return (row.get("visibility") or 0.0) > 0.0
+def _prepared(table: pl.DataFrame) -> pl.DataFrame:
+    """The table with each row's entity metadata (``_meta``, :func:`.scene.metadata_column`) and JSON (``_json``)
+    built column-wise, once."""
+    shown = [c for c in table.columns if c not in _NOT_IN_ROWS]
+    schema = table.schema
+    floats = [c for c in shown if schema[c].is_float()]
+    clean = table.with_columns(pl.col(floats).fill_nan(None)) if floats else table
+    return clean.with_columns(_meta=metadata_column(schema, shown), _json=pl.struct(shown).struct.json_encode())
+
+
+def _view_rows(part: pl.DataFrame | None) -> tuple[FrameRows, list[str], set[int]]:
+    """One view's rows of one frame: what the scene draws, the rows' JSON, and the idx the sensor sees."""
+    if part is None or part.is_empty():
+        return FrameRows(np.zeros(0, dtype=np.int64), np.zeros(0), [], set()), [], set()
+    idx = part["idx"].to_numpy()
+    visibility = part["visibility"].fill_null(float("nan")).to_numpy()
+    metadata = part["_meta"].to_list()
+    if any(m is None for m in metadata):  # a value too long for the column-wise path
+        shown = [c for c in part.columns if c not in _NOT_IN_ROWS and not c.startswith("_")]
+        full = part.select(shown).to_dicts()
+        metadata = [row_metadata(full[k]) if m is None else m.encode() for k, m in enumerate(metadata)]
+    else:
+        metadata = [m.encode() for m in metadata]
+    hidden = visibility < 1.0
+    hiding = {o for lst in part["occluder_idxs"].filter(pl.Series(hidden)).to_list() for o in lst or []}
+    if "status" in part.columns:
+        seen = part["status"].cast(pl.String).is_in(list(SEEN)).to_numpy()
+    else:
+        seen = visibility > 0.0
+    return FrameRows(idx, visibility, metadata, hiding), part["_json"].to_list(), set(idx[seen].tolist())

@@ -15,8 +15,10 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
+import polars as pl
 import shapely
 from foxglove_schemas_protobuf.Color_pb2 import Color
 from foxglove_schemas_protobuf.CubePrimitive_pb2 import CubePrimitive
@@ -156,11 +158,69 @@ def _pair(name: str, value: str) -> bytes:
     return delimited(_KEYS["metadata"], delimited(_PAIR_KEY, name.encode()) + delimited(_PAIR_VALUE, value.encode()))
 
 
-def frame_update(nanos: int, boxes: np.ndarray, idx: np.ndarray, ego: int, rows: dict[int, dict]) -> bytes:
+@dataclass(frozen=True)
+class FrameRows:
+    """The table's rows of one view in one frame, as :func:`frame_update` draws them.
+
+    Attributes
+    ----------
+    idx : ndarray of int64
+        The targets.
+    visibility : ndarray of float64
+        Their visibility (NaN: none).
+    metadata : list of bytes
+        Each row's metadata fields, serialized (:func:`metadata_column`).
+    hiding : set of int
+        The idx of the bodies in front of a partly or wholly hidden target.
+    """
+
+    idx: np.ndarray
+    visibility: np.ndarray
+    metadata: list[bytes]
+    hiding: set[int]
+
+
+def _text(name: str, dtype: pl.DataType) -> pl.Expr:
+    """A column's values as the viewer shows them (numbers to six significant digits, lists joined by commas)."""
+    column = pl.col(name)
+    if isinstance(dtype, pl.Array):
+        column, dtype = column.cast(pl.List(dtype.inner)), pl.List(dtype.inner)
+    if isinstance(dtype, pl.List):
+        return column.list.eval(pl.element().cast(pl.String)).list.join(", ").fill_null("")
+    if dtype.is_float():
+        return column.fill_nan(None).round_sig_figs(6).cast(pl.String).fill_null("")
+    return column.cast(pl.String).fill_null("")
+
+
+_BYTE = [chr(k) for k in range(128)]
+
+
+def _length(text: pl.Expr) -> pl.Expr:
+    """The one-byte varint of a text's length in bytes (null from 128 on: such a row is written in Python)."""
+    return text.str.len_bytes().replace_strict(list(range(128)), _BYTE, default=None, return_dtype=pl.String)
+
+
+def metadata_column(schema: dict[str, pl.DataType], names: Sequence[str]) -> pl.Expr:
+    """Each row's metadata fields of a ``SceneEntity`` (a ``KeyValuePair`` per column of ``names``), serialized,
+    as a string of bytes below 128 (null where a length needs two varint bytes: :func:`row_metadata` then)."""
+    pairs = []
+    for name in names:
+        value = _text(name, schema[name])
+        inner = pl.concat_str([pl.lit((_PAIR_KEY + varint(len(name.encode())) + name.encode() + _PAIR_VALUE).decode()),
+                               _length(value), value])  # fmt: skip
+        pairs.append(pl.concat_str([pl.lit(_KEYS["metadata"].decode()), _length(inner), inner]))
+    return pl.concat_str(pairs) if pairs else pl.lit("")
+
+
+def row_metadata(row: dict) -> bytes:
+    """:func:`metadata_column` of one row, in Python (for the rows it cannot write)."""
+    return b"".join(_pair(k, _value(v)) for k, v in row.items())
+
+
+def frame_update(nanos: int, boxes: np.ndarray, idx: np.ndarray, ego: int, rows: FrameRows) -> bytes:
     """One frame's scene, serialized: ``boxes`` (shape (n, 9), :mod:`..threed.boxes`) of the objects ``idx`` at
-    ``nanos``, the observer ``ego``, and ``rows`` (the table's row of each target, by idx: its ``visibility``,
-    ``status``, ``occluder_idxs``, ...). The update first deletes what the previous frame drew. Its bytes are a
-    ``foxglove.SceneUpdate`` (written through :mod:`.wire`, many boxes at once)."""
+    ``nanos``, the observer ``ego``, and the view's ``rows``. The update first deletes what the previous frame
+    drew. Its bytes are a ``foxglove.SceneUpdate`` (written through :mod:`.wire`, many boxes at once)."""
     stamp = _stamp(nanos)
     deletion = SceneEntityDeletion(timestamp=stamp, type=SceneEntityDeletion.Type.ALL).SerializeToString()
     n = len(idx)
@@ -168,7 +228,9 @@ def frame_update(nanos: int, boxes: np.ndarray, idx: np.ndarray, ego: int, rows:
     if n == 0:
         return b"".join(out)
     ids = idx.tolist()
-    share = np.array([np.nan if rows.get(i, {}).get("visibility") is None else rows[i]["visibility"] for i in ids])
+    where = {i: k for k, i in enumerate(rows.idx.tolist())}
+    at = np.array([where.get(i, -1) for i in ids])
+    share = np.where(at >= 0, rows.visibility[np.maximum(at, 0)] if len(rows.idx) else np.nan, np.nan)
     colour = np.column_stack([visibility_rgb(share) / 255, np.full(n, 0.9)])
     colour[np.isnan(share)] = [0.8, 0.8, 0.8, 0.6]
     is_ego = idx == ego
@@ -180,7 +242,7 @@ def frame_update(nanos: int, boxes: np.ndarray, idx: np.ndarray, ego: int, rows:
     above = centre + np.column_stack([np.zeros((n, 2)), height / 2 + 0.6])
     upright = np.tile([0.0, 0.0, 0.0, 1.0], (n, 1))
     labels = LABEL.encode({"label_at": above, "upright": upright, "black": upright})
-    hiding = {o for r in rows.values() if (r.get("visibility") or 0.0) < 1.0 for o in r.get("occluder_idxs") or []}
+    hiding = rows.hiding
     outlines = None
     if hiding:
         points = corners(boxes)
@@ -189,14 +251,14 @@ def frame_update(nanos: int, boxes: np.ndarray, idx: np.ndarray, ego: int, rows:
     prefix = length_delimited(_ENTITY, "timestamp", stamp.SerializeToString()) + string(_ENTITY, "frame_id", FRAME_ID)
     cube_key = tag(_ENTITY, "cubes", 2) + varint(CUBE.size)
     for k, i in enumerate(ids):
-        row = rows.get(i)
+        a = int(at[k])
         if is_ego[k]:
-            text = f"{i} observer"
-        elif row is not None and row.get("visibility") is not None:
-            text = f"{i}: {row['visibility']:.0%}"
+            text, metadata = f"{i} observer", _pair("idx", str(i))
+        elif a >= 0:
+            text = f"{i}: {share[k]:.0%}" if share[k] == share[k] else f"{i}"
+            metadata = rows.metadata[a]
         else:
-            text = f"{i}"
-        metadata = _pair("idx", str(i)) + b"".join(_pair(k2, _value(v)) for k2, v in (row or {}).items() if k2 != "idx")
+            text, metadata = f"{i}", _pair("idx", str(i))
         label = delimited(_KEYS["texts"], labels[k].tobytes() + delimited(_TEXT_KEY, text.encode()))
         lines = delimited(_KEYS["lines"], outlines[k].tobytes()) if i in hiding else b""
         body = b"".join((prefix, delimited(_KEYS["id"], f"object {i}".encode()), metadata, cube_key,

@@ -28,7 +28,6 @@ import struct
 from collections.abc import Iterable
 
 import numpy as np
-from osi3.osi_common_pb2 import Identifier
 from osi3.osi_detectedobject_pb2 import DetectedItemHeader
 from osi3.osi_sensordata_pb2 import SensorData
 from osi3.osi_version_pb2 import DESCRIPTOR as VERSION_DESCRIPTOR
@@ -43,12 +42,6 @@ OSI_VERSION = f"{_VERSION.version_major}.{_VERSION.version_minor}.{_VERSION.vers
 
 FAN_POINTS = 32
 """Points on the arc of a field of view's fan in ``virtual_detection_area``."""
-
-
-def _angles(matrix: np.ndarray) -> tuple[float, float, float]:
-    """``(roll, pitch, yaw)`` of a rotation ``Rz(yaw) Ry(pitch) Rx(roll)``."""
-    pitch = -math.asin(max(-1.0, min(1.0, float(matrix[2, 0]))))
-    return math.atan2(matrix[2, 1], matrix[2, 2]), pitch, math.atan2(matrix[1, 0], matrix[0, 0])
 
 
 def sensor_pose(sensor: Sensor | None, ego_box: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -95,19 +88,28 @@ def sensor_data(
             for a in np.linspace(-sensor.fov / 2, sensor.fov / 2, FAN_POINTS):
                 vertex = polygon.vertex.add()
                 vertex.x, vertex.y = sensor.range * math.cos(a), sensor.range * math.sin(a)
-    for idx, box in seen:
-        x, y, z, length, width, height, roll, pitch, yaw = (float(v) for v in box)
+    seen = list(seen)
+    if not seen:
+        return message
+    ids = [int(i) for i, _ in seen]
+    boxes = np.array([b for _, b in seen], dtype=np.float64).reshape(-1, 9)
+    local = (boxes[:, :3] - origin) @ axes  # each centre in the sensor's frame
+    turn = np.einsum("ji,njk->nik", axes, rotations(boxes[:, 6], boxes[:, 7], boxes[:, 8]))
+    pitch = -np.arcsin(np.clip(turn[:, 2, 0], -1.0, 1.0))
+    roll, yaw = np.arctan2(turn[:, 2, 1], turn[:, 2, 2]), np.arctan2(turn[:, 1, 0], turn[:, 0, 0])
+    numbers = np.column_stack([local, roll, pitch, yaw, boxes[:, 3:6]]).tolist()
+    for idx, (x, y, z, r, p, w, length, width, height) in zip(ids, numbers, strict=True):
         item = message.moving_object.add()
-        item.header.ground_truth_id.append(Identifier(value=int(idx)))
-        item.header.tracking_id.value = int(idx)
-        item.header.existence_probability = 1.0
-        item.header.measurement_state = DetectedItemHeader.MEASUREMENT_STATE_MEASURED
-        item.header.sensor_id.append(Identifier(value=int(sensor_id)))
-        local = axes.T @ (np.array([x, y, z]) - origin)
-        item.base.position.x, item.base.position.y, item.base.position.z = (float(v) for v in local)
-        turn = axes.T @ rotations(np.array([roll]), np.array([pitch]), np.array([yaw]))[0]
-        item.base.orientation.roll, item.base.orientation.pitch, item.base.orientation.yaw = _angles(turn)
-        item.base.dimension.length, item.base.dimension.width, item.base.dimension.height = length, width, height
+        header = item.header
+        header.ground_truth_id.add().value = idx
+        header.tracking_id.value = idx
+        header.existence_probability = 1.0
+        header.measurement_state = DetectedItemHeader.MEASUREMENT_STATE_MEASURED
+        header.sensor_id.add().value = int(sensor_id)
+        base = item.base
+        base.position.x, base.position.y, base.position.z = x, y, z
+        base.orientation.roll, base.orientation.pitch, base.orientation.yaw = r, p, w
+        base.dimension.length, base.dimension.width, base.dimension.height = length, width, height
     return message
 
 
