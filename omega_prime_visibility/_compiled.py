@@ -134,10 +134,56 @@ def use_versioned_cache() -> str | None:
         probe.unlink()
     except (OSError, RuntimeError, KeyError):  # no home, a read-only file system: numba's default
         return None
+    seed_from_bundle(folder)
     os.environ["NUMBA_CACHE_DIR"] = os.environ[OWN_FOLDER] = str(folder)
     if numba is not None:
         numba.config.CACHE_DIR = str(folder)
     return str(folder)
+
+
+BUNDLE = PACKAGE / "_kernels"
+"""Where ``omega-prime-visibility compile`` leaves a copy of the compiled kernels, inside the installed package: a
+user, container or dask worker whose own cache is empty starts from it (:func:`seed_from_bundle`) instead of
+compiling, as long as the machine's CPU is the one they were compiled on (else numba compiles anew)."""
+
+
+def seed_from_bundle(folder: Path) -> bool:
+    """Fill an empty cache ``folder`` from :data:`BUNDLE`'s copy for the same sources (its name is the sources'
+    key); True if it did. A copy made while another process compiles is harmless: numba checks every entry."""
+    bundled = BUNDLE / folder.name
+    if not bundled.is_dir() or any(folder.rglob("*.nbi")):
+        return False
+    try:
+        import shutil
+
+        shutil.copytree(bundled, folder, dirs_exist_ok=True)
+    except OSError:
+        return False
+    return True
+
+
+def bundle(folder: str | os.PathLike | None = None) -> Path | None:
+    """Copy the cache folder of the current sources (default: the one in use) into :data:`BUNDLE`, replacing
+    older versions' copies; the copy's folder, or None where the package's folder cannot be written."""
+    import shutil
+
+    source = Path(folder or os.environ.get("NUMBA_CACHE_DIR") or cache_folder(remembered_sources_key()))
+    if not source.is_dir():
+        return None
+    target = BUNDLE / source.name
+    partial = BUNDLE / f".{source.name}.{os.getpid()}.partial"
+    try:
+        BUNDLE.mkdir(exist_ok=True)
+        shutil.copytree(source, partial, ignore=shutil.ignore_patterns(".writable-*"))
+        shutil.rmtree(target, ignore_errors=True)
+        os.replace(partial, target)
+        for old in BUNDLE.iterdir():  # other versions' kernels: never used again
+            if old.name != target.name:
+                shutil.rmtree(old, ignore_errors=True)
+    except OSError:
+        shutil.rmtree(partial, ignore_errors=True)
+        return None
+    return target
 
 
 def compiled_before(source: Path) -> bool:

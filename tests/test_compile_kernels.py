@@ -88,7 +88,7 @@ def test_compile_is_never_silent_for_long(monkeypatch) -> None:
     monkeypatch.setattr(compile_kernels, "HEARTBEAT_S", 0.05)
     result = CliRunner().invoke(app, ["compile", "sweep", "--jobs", "1"])
     assert result.exit_code == 0, result.output
-    lines = result.output.splitlines()
+    lines = [line for line in result.output.splitlines() if not line.startswith("a copy is kept with the package")]
     first = lines[0].startswith("compiling the kernels of sweep, 1 at a time")
     assert first or lines[0].startswith("the kernels of sweep are compiled already")  # (another test compiled it)
     assert any(line.strip().startswith("... ") and "still compiling sweep" in line for line in lines[1:-2])
@@ -96,5 +96,33 @@ def test_compile_is_never_silent_for_long(monkeypatch) -> None:
     assert lines[-1].startswith("compiled in" if first else "checked in")
     # once compiled, compile says so instead of announcing minutes of work
     again = CliRunner().invoke(app, ["compile", "sweep", "--jobs", "1"]).output.splitlines()
+    again = [line for line in again if not line.startswith("a copy is kept with the package")]
     assert again[0] == "the kernels of sweep are compiled already for this version; checking them"
     assert again[-1].startswith("checked in") and "a minute or two" not in "\n".join(again)
+
+
+def test_an_empty_user_cache_starts_from_the_packages_copy(tmp_path, monkeypatch) -> None:
+    # compile leaves a copy of the kernels with the package; a user (a container, a dask worker) whose own cache is
+    # empty gets it before numba looks, and one whose cache holds kernels keeps its own
+    from omega_prime_visibility import _compiled
+
+    monkeypatch.setattr(_compiled, "BUNDLE", tmp_path / "package" / "_kernels")
+    key = "0123456789abcdef"
+    compiled = tmp_path / "cache" / key
+    (compiled / "engines_x").mkdir(parents=True)
+    (compiled / "engines_x" / "kernels.f-12.py311.nbi").write_bytes(b"index")
+    (compiled / "engines_x" / "kernels.f-12.py311.1.nbc").write_bytes(b"code")
+    (compiled / ".writable-1").touch()
+    (tmp_path / "package" / "_kernels" / "fedcba9876543210").mkdir(parents=True)  # an older version's copy
+    kept = _compiled.bundle(compiled)
+    assert kept == tmp_path / "package" / "_kernels" / key
+    assert sorted(p.name for p in (tmp_path / "package" / "_kernels").iterdir()) == [key]  # the old one removed
+    assert not list(kept.rglob(".writable-*"))
+    fresh = tmp_path / "user" / key
+    fresh.mkdir(parents=True)
+    assert _compiled.seed_from_bundle(fresh)
+    assert (fresh / "engines_x" / "kernels.f-12.py311.1.nbc").read_bytes() == b"code"
+    (fresh / "engines_x" / "kernels.f-12.py311.1.nbc").write_bytes(b"mine")
+    assert not _compiled.seed_from_bundle(fresh)  # it holds kernels: left as it is
+    assert (fresh / "engines_x" / "kernels.f-12.py311.1.nbc").read_bytes() == b"mine"
+    assert not _compiled.seed_from_bundle(tmp_path / "user" / "ffffffffffffffff")  # no copy for these sources
