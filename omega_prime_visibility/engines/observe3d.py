@@ -8,6 +8,7 @@ from dataclasses import fields
 import numpy as np
 
 from ..inputs.statics import StaticOccluders
+from ..threed.bodies import ConvexBodies, prisms_from_footprints
 from ..threed.boxes import contains, eye_point, view_limits
 from ..threed.statics import BASE, DEFAULT_HEIGHT
 from . import Observation, Reason, Viewpoint
@@ -40,6 +41,32 @@ def static_heights(statics: StaticOccluders) -> tuple[np.ndarray, np.ndarray]:
     tops = np.full(n, DEFAULT_HEIGHT) if solids is None else np.asarray(solids.heights, dtype=np.float64)
     bases = np.full(n, BASE) if solids is None else np.asarray(solids.bases, dtype=np.float64)
     return tops, bases
+
+
+class StaticPrisms:
+    """The static occluders raised to their heights as convex prisms (:mod:`..threed.bodies`), built once per
+    chunk, and those that block for a viewpoint: what the exact 3D engine and the counting engine share.
+
+    Attributes
+    ----------
+    tops, bases : ndarray
+        Metres: each static occluder's top and base (:func:`static_heights`).
+    prisms : ConvexBodies or None
+        Every footprint's prisms (None without static occluders).
+    """
+
+    def __init__(self, statics: StaticOccluders) -> None:
+        self.tops, self.bases = static_heights(statics)
+        geometries = list(statics.geometries)
+        self.prisms = prisms_from_footprints(geometries, self.tops, self.bases) if statics.n_sources else None
+
+    def for_view(self, view: Viewpoint, eye: np.ndarray) -> ConvexBodies | None:
+        """The prisms that block for ``view`` from ``eye`` (those of static occluders holding the eye left out:
+        :func:`statics_around_eye`)."""
+        clear = statics_around_eye(view, eye, self.tops, self.bases)
+        if self.prisms is None or not clear.any():
+            return self.prisms
+        return self.prisms.take(np.flatnonzero(~clear[self.prisms.source]))
 
 
 def statics_holding_eye(view: Viewpoint, boxes: np.ndarray, tops: np.ndarray, bases: np.ndarray) -> np.ndarray:

@@ -40,13 +40,12 @@ from ..threed.bodies import (
     bodies_from_boxes,
     concatenate,
     containing_origin,
-    prisms_from_footprints,
 )
 from ..threed.boxes import nearest_distance
 from ..threed.cube import MIN_SOLID_ANGLE, silhouettes, solid_angles, view_regions, within_range
 from ..threed.order import entered_before, nearest, nearest_bound
 from . import Observation, Viewpoint, group_pairs
-from .observe3d import eye_and_view, observation, own_body, static_heights, statics_around_eye
+from .observe3d import StaticPrisms, eye_and_view, observation, own_body
 
 RESIDUE = 1e-9
 """A visible share below this is rounding left by subtracting silhouettes with common edges (a target wholly
@@ -319,17 +318,17 @@ class SilhouetteEngine:
                 "the silhouette3d engine measures boxes and static footprints with heights; static_meshes need "
                 "the ray engine (engine='raycast3d', the 3D default when meshes are given)"
             )
-        tops, bases = static_heights(statics)
-        self.statics, self.tops, self.bases = statics, tops, bases
-        self.prisms = prisms_from_footprints(list(statics.geometries), tops, bases) if statics.n_sources else None
+        self.statics = statics
+        self.static_prisms = StaticPrisms(statics)
+        self.tops, self.bases, self.prisms = (
+            self.static_prisms.tops,
+            self.static_prisms.bases,
+            self.static_prisms.prisms,
+        )
 
     def prisms_for(self, view: Viewpoint, eye: np.ndarray) -> ConvexBodies | None:
-        """The static prisms that block for ``view`` from ``eye`` (those of static occluders holding the eye left
-        out: :func:`.observe3d.statics_around_eye`)."""
-        clear = statics_around_eye(view, eye, self.tops, self.bases)
-        if self.prisms is None or not clear.any():
-            return self.prisms
-        return self.prisms.take(np.flatnonzero(~clear[self.prisms.source]))
+        """The static prisms that block for ``view`` from ``eye`` (:meth:`.observe3d.StaticPrisms.for_view`)."""
+        return self.static_prisms.for_view(view, eye)
 
     def observe(self, objects: FrameObjects, viewpoints: Sequence[Viewpoint]) -> list[Observation]:
         """One :class:`Observation` per viewpoint; needs the frame's 3D boxes (``objects.boxes3d``)."""

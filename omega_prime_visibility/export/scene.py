@@ -13,7 +13,6 @@ viewer's panels can show them. Static occluders are their footprints extruded to
 from __future__ import annotations
 
 import itertools
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -66,19 +65,12 @@ def rgba(hex_colour: str, alpha: float = 1.0) -> Color:
 def quaternion(roll: float, pitch: float, yaw: float) -> Quaternion:
     """The rotation ``Rz(yaw) Ry(pitch) Rx(roll)`` (OSI's order, radians) as a unit quaternion.
 
-    >>> q = quaternion(0.0, 0.0, math.pi / 2)
+    >>> q = quaternion(0.0, 0.0, np.pi / 2)
     >>> round(q.z, 12), round(q.w, 12)
     (0.707106781187, 0.707106781187)
     """
-    cr, sr = math.cos(roll / 2), math.sin(roll / 2)
-    cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
-    cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
-    return Quaternion(
-        w=cr * cp * cy + sr * sp * sy,
-        x=sr * cp * cy - cr * sp * sy,
-        y=cr * sp * cy + sr * cp * sy,
-        z=cr * cp * sy - sr * sp * cy,
-    )
+    x, y, z, w = quaternions(np.array([roll]), np.array([pitch]), np.array([yaw]))[0].tolist()
+    return Quaternion(x=x, y=y, z=z, w=w)
 
 
 def _stamp(nanos: int) -> Timestamp:

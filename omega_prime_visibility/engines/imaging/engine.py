@@ -23,10 +23,10 @@ import numpy as np
 from ...inputs.cameras import Pinhole
 from ...inputs.objects import FrameObjects
 from ...inputs.statics import StaticOccluders
-from ...threed.bodies import ConvexBodies, bodies_from_boxes, concatenate, containing_origin, prisms_from_footprints
+from ...threed.bodies import ConvexBodies, bodies_from_boxes, concatenate, containing_origin
 from ...threed.boxes import eye_point, nearest_distance
 from .. import Observation, Viewpoint, group_pairs
-from ..observe3d import static_heights, statics_around_eye
+from ..observe3d import StaticPrisms
 from .camera import camera_counts, frustum_planes
 from .lidar import lidar_counts
 from .scene import SensorScene, sensor_axes, sensor_scene
@@ -53,15 +53,8 @@ class ImagingEngine:
     chunked: ClassVar[bool] = False
 
     def __init__(self, statics: StaticOccluders) -> None:
-        tops, bases = static_heights(statics)
-        self.statics, self.tops, self.bases = statics, tops, bases
-        self.prisms = prisms_from_footprints(list(statics.geometries), tops, bases) if statics.n_sources else None
-
-    def _prisms_for(self, view: Viewpoint, eye: np.ndarray) -> ConvexBodies | None:
-        clear = statics_around_eye(view, eye, self.tops, self.bases)
-        if self.prisms is None or not clear.any():
-            return self.prisms
-        return self.prisms.take(np.flatnonzero(~clear[self.prisms.source]))
+        self.statics = statics
+        self.static_prisms = StaticPrisms(statics)
 
     def observe(self, objects: FrameObjects, viewpoints: Sequence[Viewpoint]) -> list[Observation]:
         """One :class:`Observation` (with ``counts``) per camera or lidar viewpoint of this frame."""
@@ -86,7 +79,7 @@ class ImagingEngine:
             skip[view.own] = True
         rows = np.flatnonzero(~skip)
         bodies = boxes_rel.take(rows)
-        prisms = self._prisms_for(view, eye)
+        prisms = self.static_prisms.for_view(view, eye)
         if prisms is not None and len(prisms):
             rel = prisms.relative_to(eye)
             keep = ~containing_origin(rel)
@@ -97,9 +90,11 @@ class ImagingEngine:
         near = nearest_distance(boxes[rows], eye)
         return sensor_scene(bodies, np.arange(len(rows)), axes, near), rows
 
-    def _observe(self, boxes: np.ndarray, world: ConvexBodies, view: Viewpoint, labels: bool = False) -> Observation:
+    def _observe(
+        self, boxes: np.ndarray, world: ConvexBodies, view: Viewpoint, labels: bool = False, scene: tuple = ()
+    ) -> Observation:
         n = len(boxes)
-        scene, rows = self._scene(boxes, world, view)
+        scene, rows = scene or self._scene(boxes, world, view)
         is_camera = isinstance(view.optics, Pinhole)
         if is_camera:
             counts = camera_counts(scene, view.optics, view.range, labels)
@@ -140,7 +135,7 @@ class ImagingEngine:
             raise ValueError("a camera picture needs a camera among the sensors and mode='3d'")
         world = bodies_from_boxes(boxes)
         scene, rows = self._scene(boxes, world, view)
-        return self._observe(boxes, world, view, labels=True), scene, rows
+        return self._observe(boxes, world, view, labels=True, scene=(scene, rows)), scene, rows
 
 
 def _per_object(counts: dict[str, np.ndarray], rows: np.ndarray, n: int, is_camera: bool) -> dict[str, np.ndarray]:

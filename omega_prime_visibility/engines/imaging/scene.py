@@ -100,7 +100,8 @@ def sensor_scene(bodies: ConvexBodies, targets: np.ndarray, axes: np.ndarray, ne
     near_all = np.zeros(n)
     near_all[targets] = near
     offsets = np.ascontiguousarray(bodies.offsets, dtype=np.float64)
-    centre, radius = bounding_spheres(vertices, vstart)
+    centre, radius = bodies.bounding_spheres()
+    centre = np.ascontiguousarray(centre @ axes.T)  # (the sphere turned with the bodies into the sensor frame)
     overlap = np.full((len(targets), n), -1, dtype=np.int8)
     return SensorScene(
         vertices, vstart, np.ascontiguousarray(bodies.edges, dtype=np.int64), estart, normals, offsets, slot,
@@ -128,23 +129,6 @@ def _separated(vertices, vstart, normals, offsets, k, other):
         if beyond:
             return True
     return False
-
-
-@numba.njit(cache=True)
-def bounding_spheres(vertices, vstart):
-    """Centre (n, 3) and radius (n,) of a sphere around each body (centred on its mean vertex)."""
-    n = len(vstart) - 1
-    centre = np.zeros((n, 3))
-    radius = np.zeros(n)
-    for k in range(n):
-        count = vstart[k + 1] - vstart[k]
-        for i in range(vstart[k], vstart[k + 1]):
-            for c in range(3):
-                centre[k, c] += vertices[i, c] / count
-        for i in range(vstart[k], vstart[k + 1]):
-            d0, d1, d2 = vertices[i, 0] - centre[k, 0], vertices[i, 1] - centre[k, 1], vertices[i, 2] - centre[k, 2]
-            radius[k] = max(radius[k], math.sqrt(d0 * d0 + d1 * d1 + d2 * d2))
-    return centre, radius
 
 
 @numba.njit(cache=True)
