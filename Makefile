@@ -2,6 +2,9 @@
 # `make docs` builds the documentation site into site/.
 SHELL := /bin/bash
 export UV_PYTHON_DOWNLOADS := never
+# uv's build of the package leaves the kernels to `make run`'s compile, in the environment itself (a build compiles
+# them in its own environment, whose numba may not be the lock's: build_support/build_kernels.py)
+export OMEGA_PRIME_VISIBILITY_BUILD_KERNELS := 0
 UV := $(shell command -v uv 2>/dev/null || echo .tools/bin/uv)
 # uv itself: from PATH, else installed once into .tools/ with the machine's python3
 UV_DEP := $(if $(filter .tools/bin/uv,$(UV)),.tools/bin/uv,)

@@ -101,28 +101,44 @@ def test_compile_is_never_silent_for_long(monkeypatch) -> None:
     assert again[-1].startswith("checked in") and "a minute or two" not in "\n".join(again)
 
 
-def test_an_empty_user_cache_starts_from_the_packages_copy(tmp_path, monkeypatch) -> None:
-    # compile leaves a copy of the kernels with the package; a user (a container, a dask worker) whose own cache is
-    # empty gets it before numba looks, and one whose cache holds kernels keeps its own
-    from omega_prime_visibility import _compiled
+def test_compile_keeps_a_copy_of_the_current_kernels_with_the_package(tmp_path, monkeypatch) -> None:
+    # compile leaves a copy of the user's cached kernels with the package: those stamped for the current sources
+    # (with their data files and the notes of which engine paths ran), not an older version's
+    import pickle
 
-    monkeypatch.setattr(_compiled, "BUNDLE", tmp_path / "package" / "_kernels")
-    key = "0123456789abcdef"
-    compiled = tmp_path / "cache" / key
-    (compiled / "engines_x").mkdir(parents=True)
-    (compiled / "engines_x" / "kernels.f-12.py311.nbi").write_bytes(b"index")
-    (compiled / "engines_x" / "kernels.f-12.py311.1.nbc").write_bytes(b"code")
-    (compiled / ".writable-1").touch()
-    (tmp_path / "package" / "_kernels" / "fedcba9876543210").mkdir(parents=True)  # an older version's copy
-    kept = _compiled.bundle(compiled)
-    assert kept == tmp_path / "package" / "_kernels" / key
-    assert sorted(p.name for p in (tmp_path / "package" / "_kernels").iterdir()) == [key]  # the old one removed
-    assert not list(kept.rglob(".writable-*"))
-    fresh = tmp_path / "user" / key
-    fresh.mkdir(parents=True)
-    assert _compiled.seed_from_bundle(fresh)
-    assert (fresh / "engines_x" / "kernels.f-12.py311.1.nbc").read_bytes() == b"code"
-    (fresh / "engines_x" / "kernels.f-12.py311.1.nbc").write_bytes(b"mine")
-    assert not _compiled.seed_from_bundle(fresh)  # it holds kernels: left as it is
-    assert (fresh / "engines_x" / "kernels.f-12.py311.1.nbc").read_bytes() == b"mine"
-    assert not _compiled.seed_from_bundle(tmp_path / "user" / "ffffffffffffffff")  # no copy for these sources
+    import numba
+
+    from omega_prime_visibility import _compiled
+    from omega_prime_visibility._compiled import copies
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    monkeypatch.setattr(_compiled.sources, "BUNDLE", tmp_path / "package" / "_kernels")
+    monkeypatch.setattr(numba.config, "CACHE_DIR", "")
+    cache = _compiled.kernels_cache()
+    stamps = _compiled.remembered_sources()[1]
+
+    def index(folder, name, stamp, data):
+        (cache / folder).mkdir(parents=True, exist_ok=True)
+        with open(cache / folder / name, "wb") as f:
+            pickle.dump(numba.__version__, f)
+            f.write(pickle.dumps((stamp, {("sig",): data})))
+        (cache / folder / data).write_bytes(b"code")
+
+    index("geometry", "kernels.f-12.py311.nbi", stamps["geometry/kernels.py"], "kernels.f-12.py311.1.nbc")
+    index("engines/sweep", "heap_sweep.g-3.py311.nbi", "0123456789abcdef", "heap_sweep.g-3.py311.1.nbc")  # stale
+    key = _compiled.remembered_sources_key()
+    (cache / f".ran-{key}-sweep").touch()
+    (cache / ".ran-fedcba9876543210-sweep").touch()  # another version's note
+    (tmp_path / "package" / "_kernels" / "old").mkdir(parents=True)  # what the copy held before: replaced
+    kept = copies.bundle()
+    assert kept == tmp_path / "package" / "_kernels"
+    files = sorted(p.relative_to(kept).as_posix() for p in kept.rglob("*") if p.is_file())
+    assert files == [f".ran-{key}-sweep", "geometry/kernels.f-12.py311.1.nbc", "geometry/kernels.f-12.py311.nbi"]
+    assert _compiled.has_run("sweep") and not _compiled.has_run("visilibity")
+    # a user whose cache is empty copies the current one back, never the stale one
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "other-user"))
+    user = _compiled.kernels_cache() / "geometry"
+    assert copies.copy_current(kept / "geometry", user, "geometry") == 1
+    assert (user / "kernels.f-12.py311.1.nbc").read_bytes() == b"code"
+    assert copies.copy_current(kept / "geometry", user, "geometry") == 0  # current already: kept as it is
+    assert _compiled.has_run("sweep")  # (the package's copy ran it) and stays silent

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import subprocess
@@ -10,18 +11,32 @@ from pathlib import Path
 
 import pytest
 
-from omega_prime_visibility._compiled import PACKAGE, remembered_sources_key, sources_key
+from omega_prime_visibility._compiled import (
+    PACKAGE,
+    remembered_sources,
+    remembered_sources_key,
+    source_stamps,
+    sources_key,
+)
 
 PROBE = (
-    "import numba, omega_prime_visibility as o; from omega_prime_visibility.geometry.kernels import wrap_positive;"
-    " wrap_positive(-1.0); print(numba.config.CACHE_DIR); print(o._compiled.CACHE_FOLDER)"
+    "import os, pathlib, omega_prime_visibility as o;"
+    " o._compiled.sources.BUNDLE = pathlib.Path(os.environ.get('PROBE_BUNDLE') or o._compiled.BUNDLE);"
+    " from omega_prime_visibility.geometry.kernels import wrap_positive;"
+    " wrap_positive(-1.0); s = wrap_positive.stats;"
+    " print(s.cache_path); print(sum(s.cache_hits.values())); print(sum(s.cache_misses.values()))"
 )
 
 
-def run_probe(**env: str) -> list[str]:
-    clean = {k: v for k, v in os.environ.items() if k not in ("NUMBA_CACHE_DIR", "XDG_CACHE_HOME")}
+def run_probe(cwd: Path | None = None, bundle: str = "/nonexistent", **env: str) -> list[str]:
+    """Call one kernel in a fresh process: numba's cache folder for it, its cache hits and misses. The package's
+    copy of the kernels is ``bundle`` ("" for the package's own)."""
+    clean = {k: v for k, v in os.environ.items() if k not in ("NUMBA_CACHE_DIR", "XDG_CACHE_HOME", "PYTHONPATH")}
+    clean["PROBE_BUNDLE"] = bundle
+    if cwd is not None:
+        clean["PYTHONPATH"] = str(cwd)
     out = subprocess.run(
-        [sys.executable, "-c", PROBE], env={**clean, **env}, capture_output=True, text=True, check=True
+        [sys.executable, "-c", PROBE], env={**clean, **env}, capture_output=True, text=True, check=True, cwd=cwd
     )
     return out.stdout.split()
 
@@ -49,22 +64,49 @@ def test_the_key_changes_with_any_source_and_only_then(tmp_path: Path) -> None:
 def test_the_key_is_remembered_by_the_sources_sizes_and_times(tmp_path: Path, monkeypatch) -> None:
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
     copy = tmp_path / "pkg"
-    shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__"))
-    key = sources_key(copy)
-    assert remembered_sources_key(copy) == key  # computed, then remembered
-    memos = list((tmp_path / "cache" / "omega-prime-visibility" / "source-keys").iterdir())
-    assert [m.read_text() for m in memos] == [key]
-    memos[0].write_text("0123456789abcdef")  # what was remembered is what is used ...
+    shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__", "_kernels"))
+    key, stamps = sources_key(copy), source_stamps(copy)
+    assert remembered_sources(copy) == (key, stamps)  # computed, then remembered
+    memos = list((tmp_path / "cache" / "omega-prime-visibility" / "sources").iterdir())
+    assert [json.loads(m.read_text()) for m in memos] == [{"key": key, "stamps": stamps}]
+    memos[0].write_text(json.dumps({"key": "0123456789abcdef", "stamps": {}}))  # what was remembered is used ...
     assert remembered_sources_key(copy) == "0123456789abcdef"
     memos[0].write_text("garbage")  # ... unless it is no key
     assert remembered_sources_key(copy) == key
     # an edited kernel module (a git pull): a new size or time, so the key is computed anew
     kernels = copy / "geometry" / "kernels.py"
     kernels.write_text(kernels.read_text() + "\n# changed\n")
-    assert remembered_sources_key(copy) == sources_key(copy) != key
+    assert remembered_sources(copy) == (sources_key(copy), source_stamps(copy))
+    assert remembered_sources_key(copy) != key
     # nowhere to remember it: still the right key
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "pkg" / "__init__.py" / "cannot"))
     assert remembered_sources_key(copy) == sources_key(copy)
+
+
+def test_an_edit_stamps_anew_the_kernels_that_reach_it_and_only_those(tmp_path: Path) -> None:
+    copy = tmp_path / "pkg"
+    shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__", "_kernels"))
+    stamps = source_stamps(copy)
+    assert stamps == source_stamps(PACKAGE) and all(len(v) == 16 for v in stamps.values())
+    # the sweep's interval kernel: its own module and the sweep's callers change, the reader and 3D do not
+    edited = copy / "engines" / "sweep" / "heap_sweep.py"
+    edited.write_text(edited.read_text() + "\n# changed\n")
+    after = source_stamps(copy)
+    changed = {name for name in stamps if after[name] != stamps[name]}
+    assert {"engines/sweep/heap_sweep.py", "engines/sweep/observe.py"} <= changed
+    assert not changed & {"inputs/osi_wire.py", "geometry/kernels.py", "threed/boxes.py", "engines/imaging/lines.py"}
+    # a shared building block: every module calling it changes, modules that never reach it keep their stamps
+    shared = copy / "geometry" / "kernels.py"
+    shared.write_text(shared.read_text() + "\n# changed\n")
+    again = source_stamps(copy)
+    changed = {name for name in after if again[name] != after[name]}
+    assert {"geometry/kernels.py", "engines/sweep/heap_sweep.py", "engines/visilibity/attribution.py"} <= changed
+    assert "inputs/osi_wire.py" not in changed
+    # reached only through another module (heap_sweep imports geometry.occlusion, which imports candidates)
+    assert "candidates" not in (copy / "engines" / "sweep" / "heap_sweep.py").read_text()
+    indirect = copy / "geometry" / "candidates.py"
+    indirect.write_text(indirect.read_text() + "\n# changed\n")
+    assert source_stamps(copy)["engines/sweep/heap_sweep.py"] != again["engines/sweep/heap_sweep.py"]
 
 
 def test_editing_a_front_end_does_not_recompile_the_kernels(tmp_path: Path) -> None:
@@ -78,11 +120,12 @@ def test_editing_a_front_end_does_not_recompile_the_kernels(tmp_path: Path) -> N
     assert sources_key(copy) == key
 
 
-def test_kernels_are_cached_under_a_folder_keyed_by_the_sources(tmp_path: Path) -> None:
-    cache_dir, folder = run_probe(XDG_CACHE_HOME=str(tmp_path))
-    expected = tmp_path / "omega-prime-visibility" / "numba" / sources_key()
-    assert cache_dir == folder == str(expected)
-    assert list(expected.rglob("*.nbi")), "the kernel called was not cached there"
+def test_kernels_are_cached_in_the_folder_of_their_module(tmp_path: Path) -> None:
+    folder, hits, misses = run_probe(XDG_CACHE_HOME=str(tmp_path))
+    expected = tmp_path / "omega-prime-visibility" / "kernels" / "geometry"
+    assert (folder, hits, misses) == (str(expected), "0", "1")
+    assert list(expected.glob("kernels.wrap_positive-*.nbi")), "the kernel called was not cached there"
+    assert run_probe(XDG_CACHE_HOME=str(tmp_path)) == [str(expected), "1", "0"]  # the next process loads it
 
 
 def test_importing_the_package_is_quick_and_sets_the_cache_before_numba_loads(tmp_path: Path) -> None:
@@ -90,21 +133,57 @@ def test_importing_the_package_is_quick_and_sets_the_cache_before_numba_loads(tm
     # later, numba caches in the package's folder all the same
     probe = (
         "import sys, omega_prime_visibility as o; print('numba' in sys.modules, 'polars' in sys.modules);"
-        " from omega_prime_visibility.geometry.kernels import wrap_positive; import numba; wrap_positive(-1.0);"
-        " print(numba.config.CACHE_DIR); print(o._compiled.CACHE_FOLDER)"
+        " from omega_prime_visibility.geometry.kernels import wrap_positive; wrap_positive(-1.0);"
+        " print(wrap_positive.stats.cache_path)"
     )
     clean = {k: v for k, v in os.environ.items() if k not in ("NUMBA_CACHE_DIR", "XDG_CACHE_HOME")}
     out = subprocess.run([sys.executable, "-c", probe], env={**clean, "XDG_CACHE_HOME": str(tmp_path)},
                          capture_output=True, text=True, check=True).stdout.split()  # fmt: skip
-    expected = tmp_path / "omega-prime-visibility" / "numba" / sources_key()
-    assert out == ["False", "False", str(expected), str(expected)]
-    assert list(expected.rglob("*.nbi"))
+    assert out == ["False", "False", str(tmp_path / "omega-prime-visibility" / "kernels" / "geometry")]
+    # numba loaded before the package: the locator is put in place at once
+    probe = (
+        "import numba; import omega_prime_visibility; from omega_prime_visibility.geometry.kernels import"
+        " wrap_positive; wrap_positive(-1.0); print(wrap_positive.stats.cache_path)"
+    )
+    out = subprocess.run([sys.executable, "-c", probe], env={**clean, "XDG_CACHE_HOME": str(tmp_path / "b")},
+                         capture_output=True, text=True, check=True).stdout.split()  # fmt: skip
+    assert out == [str(tmp_path / "b" / "omega-prime-visibility" / "kernels" / "geometry")]
 
 
 def test_a_cache_folder_the_user_chose_is_left_alone(tmp_path: Path) -> None:
-    cache_dir, folder = run_probe(NUMBA_CACHE_DIR=str(tmp_path / "mine"))
-    assert cache_dir == str(tmp_path / "mine") and folder == "None"
-    assert list((tmp_path / "mine").rglob("*.nbi"))
+    folder, _, misses = run_probe(NUMBA_CACHE_DIR=str(tmp_path / "mine"), XDG_CACHE_HOME=str(tmp_path / "xdg"))
+    assert folder.startswith(str(tmp_path / "mine")) and misses == "1"
+    assert (
+        list((tmp_path / "mine").rglob("*.nbi"))
+        and not (tmp_path / "xdg" / "omega-prime-visibility" / "kernels").exists()
+    )
+
+
+def test_kernels_compiled_elsewhere_load_here_unless_their_sources_differ(tmp_path: Path) -> None:
+    # compiled in another copy of the package (as when it is built), kept as its copy (_kernels), then used by a
+    # process of this copy whose own cache is empty: loaded, not compiled
+    from omega_prime_visibility._compiled import copies
+
+    built = tmp_path / "build"
+    shutil.copytree(PACKAGE, built / PACKAGE.name, ignore=shutil.ignore_patterns("__pycache__", "_kernels"))
+    assert run_probe(cwd=built, bundle="", XDG_CACHE_HOME=str(tmp_path / "builder"))[1:] == ["0", "1"]
+    compiled = tmp_path / "builder" / "omega-prime-visibility" / "kernels"
+    installed = tmp_path / "site"
+    shutil.copytree(built, installed)  # the installed package: elsewhere on disk
+    copied = copies.copy_current(compiled / "geometry", installed / PACKAGE.name / "_kernels" / "geometry",
+                                        "geometry")  # fmt: skip
+    assert copied >= 1
+    folder, hits, misses = run_probe(cwd=installed, bundle="", XDG_CACHE_HOME=str(tmp_path / "user"))
+    assert (hits, misses) == ("1", "0") and folder == str(
+        tmp_path / "user" / "omega-prime-visibility" / "kernels" / "geometry"
+    )
+    # the package's copy for other sources (a module it reaches edited since): not taken, compiled anew
+    shared = installed / PACKAGE.name / "geometry" / "kernels.py"
+    shared.write_text(shared.read_text() + "\n# changed\n")
+    assert run_probe(cwd=installed, bundle="", XDG_CACHE_HOME=str(tmp_path / "user2"))[1:] == ["0", "1"]
+    # the user's cache of other sources, where the package's copy is current: the copy replaces it
+    shared.write_text(shared.read_text().removesuffix("\n# changed\n"))
+    assert run_probe(cwd=installed, bundle="", XDG_CACHE_HOME=str(tmp_path / "user2"))[1:] == ["1", "0"]
 
 
 def test_compiled_before_looks_where_numba_caches(tmp_path: Path, monkeypatch) -> None:
@@ -136,7 +215,8 @@ def test_a_first_run_says_it_compiles_and_a_later_one_does_not(monkeypatch, caps
     from omega_prime_visibility import Sensor, _compiled, get_visibility_df
 
     # a fresh cache folder's markers (the kernels themselves stay where they are)
-    monkeypatch.setattr(_compiled, "marker", lambda key: tmp_path / f".ran-{key}")
+    monkeypatch.setattr(_compiled.progress, "marker", lambda key: tmp_path / f".ran-{key}")
+    monkeypatch.setattr(_compiled.sources, "BUNDLE", tmp_path / "no-copy")  # nor the package's copy of them
     table = boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 2, 0)])
     for cold in (True, False):
         get_visibility_df(table, 0, engine="sweep")
@@ -171,7 +251,7 @@ def test_a_first_call_is_never_silent_while_it_compiles(monkeypatch, capsys) -> 
 
     from omega_prime_visibility import _compiled
 
-    monkeypatch.setattr(_compiled, "HEARTBEAT_S", 0.05)
+    monkeypatch.setattr(_compiled.progress, "HEARTBEAT_S", 0.05)
     beat = _compiled.Heartbeat("the sweep engine's kernels").start()
     time.sleep(0.3)
     beat.stop()

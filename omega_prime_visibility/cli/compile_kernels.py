@@ -1,8 +1,8 @@
 """``compile``: compile the engines' kernels now, once per version of the package, so later calls start at once.
 
-``make run`` calls it; on a fresh cluster node, run it once before a batch. A copy of the kernels is kept inside the
-installed package (:data:`.._compiled.BUNDLE`, where it can be written): a container image or a shared install that
-ran it once gives every user and worker whose own cache is empty kernels ready to load (on the same CPU).
+``make run`` calls it; building the package (pip) runs it too. A copy of the kernels is kept inside the installed
+package (:data:`.._compiled.BUNDLE`, where it can be written): a container image or a shared install that ran it
+once gives every user and worker whose own cache lacks them kernels ready to load (on the same CPU).
 
 Each engine is run on a small made-up scene through every path a real call takes (a polygon column with overlapping
 and touching outlines, a wall, every object as observer, the typical sensor set, the visible area, a camera and a
@@ -23,6 +23,7 @@ import polars as pl
 import typer
 
 from .. import _compiled
+from .._compiled.copies import bundle
 from ..engines.registry import ENGINES, ENGINES_3D
 from .app import app
 from .common import fail
@@ -80,7 +81,7 @@ def compile_engine(name: str) -> float:
     from ..analysis.area import visible_area_over_time
     from ..api import get_visibility_df
 
-    _compiled.ANNOUNCE = False  # the command says what it compiles
+    _compiled.progress.ANNOUNCE = False  # the command says what it compiles
     started = time.perf_counter()
     if name == READER:
         from ..inputs.reader import warm_up
@@ -153,7 +154,7 @@ def compile_kernels(
     if jobs is not None and jobs < 1:
         raise fail(f"--jobs takes a number of processes, at least 1, not {jobs}")
     jobs = jobs or min(2, len(os.sched_getaffinity(0)))
-    ready = [n for n in names if (m := _compiled.marker(f"compile-{n}")) is not None and m.exists()]
+    ready = [n for n in names if _compiled.has_run(f"compile-{n}")]
     todo = [n for n in names if n not in ready]
     if not todo:
         typer.echo(f"the kernels of {', '.join(names)} are compiled already for this version; checking them")
@@ -182,9 +183,9 @@ def compile_kernels(
     typer.echo(
         f"{'compiled' if todo else 'checked'} in {time.perf_counter() - started:.0f} s; later calls start at once"
     )
-    kept = _compiled.bundle()
+    kept = bundle()
     if kept is not None:  # a fresh user cache (a container, a dask worker, another user) starts from it
-        typer.echo(f"a copy is kept with the package ({kept.parent}): an empty user cache starts from it")
+        typer.echo(f"a copy is kept with the package ({kept}): an empty user cache starts from it")
     compile_bytecode()
 
 

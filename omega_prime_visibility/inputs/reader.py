@@ -277,7 +277,7 @@ def decode_table(messages: list[bytes], projected: bool = True) -> tuple[pl.Data
     buf = np.frombuffer(b"".join(messages), dtype=np.uint8)
     numbers = osi_wire.field_numbers()
     beat = None
-    if _compiled.ANNOUNCE and (done := _compiled.marker(READER)) is not None and not done.exists():
+    if _compiled.progress.ANNOUNCE and _compiled.has_run(READER) is False:
         print(f"omega-prime-visibility: compiling {WHAT}, once per version of the package", file=sys.stderr)
         beat = _compiled.Heartbeat(WHAT).start()
     try:
