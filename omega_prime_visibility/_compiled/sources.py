@@ -24,10 +24,21 @@ CACHE_MODULES = "_compiled"
 compiles nothing."""
 
 
+def python_sources(root: Path = PACKAGE) -> list[Path]:
+    """The ``.py`` files under ``root``, sorted, leaving out caches and kernel copies (``__pycache__``, ``_kernels``,
+    hidden folders), whose folders other processes may be writing or removing meanwhile."""
+    found = []
+    for folder, subfolders, files in os.walk(root):  # (a folder gone meanwhile is skipped)
+        subfolders[:] = [d for d in subfolders if not d.startswith((".", "__pycache__", "_kernels"))]
+        found.extend(Path(folder) / name for name in files if name.endswith(".py"))
+    return sorted(found)
+
+
 def import_graph(root: Path = PACKAGE) -> tuple[dict[str, Path], dict[str, set[str]]]:
     """The package's modules under ``root`` (dotted names relative to it, ``""`` for the package itself) and, for
     each, the package's modules it imports (imports inside functions included)."""
-    modules = {path.relative_to(root).with_suffix("").as_posix().replace("/", "."): path for path in root.rglob("*.py")}
+    names = {path: path.relative_to(root).with_suffix("").as_posix().replace("/", ".") for path in python_sources(root)}
+    modules = {name: path for path, name in names.items()}
     modules = {name.removesuffix("__init__").rstrip("."): path for name, path in modules.items()}
 
     def imported(name: str) -> set[str]:
@@ -128,12 +139,26 @@ module's kernels starts from it instead of compiling, as long as the machine's C
 (else numba compiles anew)."""
 
 
+_THIS_PROCESS: dict[Path, tuple[str, dict[str, str]]] = {}
+"""The package's own (:data:`PACKAGE`) key and stamps, once looked up: numba asks for every kernel it defines."""
+
+
 def remembered_sources(root: Path = PACKAGE) -> tuple[str, dict[str, str]]:
     """:func:`sources_key` and :func:`source_stamps`, remembered by the names, sizes and modification times of every
     source under ``root``: a few milliseconds per process instead of parsing them all (any edit, checkout or upgrade
-    changes a time or a size, and so computes them anew). Where nothing can be remembered, they are computed."""
+    changes a time or a size, and so computes them anew), and for the package itself once per process. Where
+    nothing can be remembered, they are computed."""
+    if root == PACKAGE and PACKAGE in _THIS_PROCESS:
+        return _THIS_PROCESS[PACKAGE]
+    found = _remembered(root)
+    if root == PACKAGE:
+        _THIS_PROCESS[PACKAGE] = found
+    return found
+
+
+def _remembered(root: Path) -> tuple[str, dict[str, str]]:
     stats = hashlib.sha256()
-    for path in sorted(root.rglob("*.py")):
+    for path in python_sources(root):
         info = path.stat()
         stats.update(f"{path.relative_to(root).as_posix()}\0{info.st_size}\0{info.st_mtime_ns}\0".encode())
     memo = cache_base() / "sources" / stats.hexdigest()[:32]
