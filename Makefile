@@ -52,6 +52,7 @@ bench: .venv/.installed
 	$(UV) run --no-sync python benchmarks/bench_reader.py
 	$(UV) run --no-sync python benchmarks/bench_imaging.py
 	$(UV) run --no-sync python benchmarks/bench_export.py
+	$(UV) run --no-sync python benchmarks/bench_highd.py
 
 bench-batch: .venv/.installed
 	$(UV) run --no-sync python benchmarks/bench_batch.py
