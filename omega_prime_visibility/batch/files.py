@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import glob
 import os
+import shutil
 import warnings
 from collections import defaultdict
 from pathlib import Path
@@ -163,7 +164,10 @@ def remove_leftovers(result: Path) -> int:
     removed = 0
     stem = glob.escape(result.name.removesuffix(".parquet"))
     for temp in result.parent.glob(f".{stem}.*.tmp") if result.parent.is_dir() else ():
-        temp.unlink(missing_ok=True)
+        if temp.is_dir():  # a streamed result's parts
+            shutil.rmtree(temp, ignore_errors=True)
+        else:
+            temp.unlink(missing_ok=True)
         removed += 1
     return removed
 
