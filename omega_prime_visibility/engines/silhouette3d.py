@@ -32,7 +32,6 @@ from typing import ClassVar
 import numpy as np
 import shapely
 
-from ..geometry.occlusion import RELATIVE_TOLERANCE
 from ..inputs.objects import FrameObjects
 from ..inputs.statics import StaticOccluders
 from ..threed.bodies import (
@@ -42,8 +41,9 @@ from ..threed.bodies import (
     containing_origin,
 )
 from ..threed.boxes import nearest_distance
-from ..threed.cube import MIN_SOLID_ANGLE, silhouettes, solid_angles, view_regions, within_range
-from ..threed.order import entered_before, nearest, nearest_bound
+from ..threed.cube import silhouettes, solid_angles, view_regions, within_range
+from ..threed.faces import BodyLayout, compiled_face, polygon_face
+from ..threed.order import nearest, nearest_bound
 from . import Observation, Viewpoint, group_pairs
 from .observe3d import StaticPrisms, eye_and_view, observation, own_body
 
@@ -55,16 +55,15 @@ WHOLE_VIEW = (0.0, math.pi, -math.pi / 2, math.pi / 2)
 """``(heading, half horizontal fov, lowest, highest elevation)`` of an eye that looks all around."""
 
 
-def _clipped(shapes: np.ndarray, windows: np.ndarray) -> np.ndarray:
-    """``shapes ∩ windows`` element-wise, where a window None is everything (contained shapes are not clipped)."""
-    out = shapes.copy()
-    some = ~shapely.is_missing(windows) & ~shapely.is_missing(shapes)
-    if some.any():
-        inside = shapely.contains(windows[some], shapes[some])
-        at = np.flatnonzero(some)[~inside]
-        if len(at):
-            out[at] = shapely.intersection(shapes[at], windows[at])
-    return out
+def _windows(region, ranged: dict, beyond: np.ndarray, f: int) -> np.ndarray:
+    """Per target its window on face ``f`` (:mod:`..threed.faces`): the view's ``region``, cut by its part within
+    range where ``ranged`` holds it (per face), empty where it lies ``beyond`` the range."""
+    windows = np.full(len(beyond), region, dtype=object)
+    for t, faces in ranged.items():
+        r = faces[f]
+        windows[t] = shapely.Polygon() if r is None else r if region is None else r.intersection(region)
+    windows[beyond] = shapely.Polygon()
+    return windows
 
 
 def convex_visibility(
@@ -121,81 +120,31 @@ def convex_visibility(
     cut = ~beyond & (farthest[measured] > max_range)
     ranged = {int(t): within_range(bodies, int(measured[t]), max_range) for t in np.flatnonzero(cut)}
     regions = view_regions(*view)
-    targets_only = bodies.take(measured)
+    layout = BodyLayout.of(bodies) if parts is None else None
+    targets_only = None
     for f in range(6):
         region = regions[f]
         if region is not None and (region.is_empty or region.area == 0.0):  # nothing in view: the extent only
+            targets_only = bodies.take(measured) if targets_only is None else targets_only
             extent += solid_angles(silhouettes(targets_only, f))
             continue
-        sil = silhouettes(bodies, f)
-        seen_t = np.flatnonzero(~shapely.is_missing(sil[measured]))
-        if not len(seen_t):
-            continue
-        shapes = sil[measured[seen_t]]
-        extent[seen_t] += solid_angles(shapes)
-        windows = np.full(len(seen_t), region, dtype=object)
-        for k, t in enumerate(seen_t):
-            if t in ranged:
-                r = ranged[int(t)][f]
-                windows[k] = shapely.Polygon() if r is None else r if region is None else r.intersection(region)
-            elif beyond[t]:
-                windows[k] = shapely.Polygon()
-        in_fov[seen_t] += solid_angles(_clipped(shapes, np.full(len(seen_t), region, dtype=object)))
-        in_view[seen_t] += solid_angles(_clipped(shapes, windows))
-        present = np.flatnonzero(~shapely.is_missing(sil))
-        tree = shapely.STRtree(sil[present])
-        live = np.flatnonzero(~beyond[seen_t])
-        ti, bj = tree.query(shapes[live], predicate="intersects")
-        ti, bj = live[ti], present[bj]
-        other = bj != measured[seen_t[ti]]
-        ti, bj = ti[other], bj[other]
-        if len(ti):
-            ti, bj, front = _blockers(bodies, measured[seen_t], shapes, sil, ti, bj, f, lower, farthest)
-            overlap = np.full(len(ti), None, dtype=object)
-            clip = ~shapely.is_missing(windows[ti])
-            overlap[clip] = shapely.intersection(shapes[ti[clip]], front[clip])
-            listed = ~clip
-            listed[clip] = solid_angles(_clipped(overlap[clip], windows[ti[clip]])) > MIN_SOLID_ANGLE
-            pair_target.append(seen_t[ti[listed]])
-            pair_body.append(bj[listed])
-        pieces = shapes.copy()
-        if len(ti):
-            order = np.argsort(ti, kind="stable")
-            ti, front = ti[order], front[order]
-            starts = np.flatnonzero(np.r_[True, ti[1:] != ti[:-1]])
-            groups = np.split(front, starts[1:])
-            blockers = np.array([shapely.union_all(g) for g in groups], dtype=object)
-            hit = ti[starts]
-            pieces[hit] = shapely.difference(shapes[hit], blockers)
-        seen_parts = _clipped(pieces, windows)
-        visible[seen_t] += solid_angles(seen_parts)
-        if parts is not None:
-            for k in np.flatnonzero(~shapely.is_empty(seen_parts)):
-                parts.append((int(seen_t[k]), f, seen_parts[k]))
+        windows = _windows(region, ranged, beyond, f)
+        face = None
+        if layout is not None:
+            face = compiled_face(f, bodies, layout, measured, region, windows, lower, farthest)
+        if face is None:
+            face = polygon_face(f, bodies, measured, region, windows, lower, farthest, beyond, parts)
+        extent += face.extent
+        in_fov += face.in_fov
+        in_view += face.in_view
+        visible += face.visible
+        pair_target.append(face.pair_target)
+        pair_body.append(face.pair_body)
     visible = np.minimum(visible, in_view)
     visible[visible <= RESIDUE * extent] = 0.0  # what the differences of equal edges leave: rounding, not a gap
     pt = np.concatenate(pair_target) if pair_target else np.zeros(0, np.int64)
     pb = np.concatenate(pair_body) if pair_body else np.zeros(0, np.int64)
     return visible, extent, in_view, in_fov, pt.astype(np.int64), pb.astype(np.int64)
-
-
-def _blockers(bodies, targets, shapes, sil, ti, bj, f, lower, farthest):
-    """Of the pairs (``shapes[ti]``, body ``bj``) whose silhouettes intersect, those whose interiors meet and where
-    body ``bj`` is in front of the target ``targets[ti]`` along some direction, with the directions where it is (on
-    face ``f``): its whole silhouette where it lies wholly nearer (its farthest point before the target's nearest),
-    else the region of :func:`..threed.order.entered_before` (exact also for bodies that overlap)."""
-    meet = shapely.relate_pattern(shapes[ti], sil[bj], "T********")
-    ti, bj = ti[meet], bj[meet]
-    target = targets[ti]
-    ahead = farthest[bj] < lower[target] * (1.0 - RELATIVE_TOLERANCE)  # (nearer by the tie rule's margin)
-    unsure = ~ahead & ~(farthest[target] < lower[bj])
-    front = np.full(len(ti), None, dtype=object)
-    front[ahead] = sil[bj[ahead]]
-    for k in np.flatnonzero(unsure):
-        front[k] = shapely.intersection(sil[bj[k]], entered_before(bodies, int(bj[k]), int(target[k]), f))
-    keep = ahead.copy()
-    keep[unsure] = solid_angles(shapely.intersection(shapes[ti[unsure]], front[unsure])) > MIN_SOLID_ANGLE
-    return ti[keep], bj[keep], front[keep]
 
 
 def box_visibility(

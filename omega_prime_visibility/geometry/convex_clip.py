@@ -9,7 +9,10 @@ range circle by a closed formula per edge).
 - :func:`clip_line`: a convex polygon on one side of a line;
 - :func:`polygon_area` and :func:`disc_area`: area, and area inside the circle of a radius about the origin;
 - :func:`convex_hull`: Andrew's monotone chain, counter-clockwise;
-- :func:`subtract`: convex pieces minus one convex polygon.
+- :func:`subtract`: convex pieces minus one convex polygon;
+- :func:`clip_half_plane`, :func:`clip_convex`: a convex polygon on one side of ``m0 + m1 x + m2 y >= 0``, and
+  within another convex polygon;
+- :func:`drop_repeats`: a ring without the vertices that repeat the one before up to rounding.
 
 Each returns a count, or -1 where a buffer would overflow (the caller then takes the general path).
 """
@@ -21,6 +24,9 @@ import math
 import numba
 
 from .kernels import copy_rows
+
+SHORT_EDGE = 1e-13
+"""Length (relative to ``1 +`` the largest coordinate) under which an edge of a subtracted shape has no direction."""
 
 
 @numba.njit(cache=True)
@@ -134,7 +140,8 @@ def _turn(o, a, b):
 def subtract(pieces, counts, n_pieces, shape, k, out, out_counts, scratch):
     """The convex ``pieces[:n_pieces]`` (each ``pieces[p, :counts[p]]``) minus the convex ``shape[:k]``, as
     disjoint convex pieces into ``out``/``out_counts``; their number, or -1 on overflow. Pieces whose bounding
-    boxes miss the shape's are passed on whole."""
+    boxes miss the shape's are passed on whole; edges of the shape shorter than :data:`SHORT_EDGE` (relative to
+    its coordinates) are passed over (a repeated vertex)."""
     if k < 3:
         for p in range(n_pieces):
             copy_rows(out[p], 0, pieces[p, : counts[p]])
@@ -142,6 +149,7 @@ def subtract(pieces, counts, n_pieces, shape, k, out, out_counts, scratch):
         return n_pieces
     sx0, sy0 = shape[:k, 0].min(), shape[:k, 1].min()
     sx1, sy1 = shape[:k, 0].max(), shape[:k, 1].max()
+    scale = 1.0 + max(abs(sx0), abs(sy0), abs(sx1), abs(sy1))
     rest, other = scratch[0], scratch[1]
     made = 0
     for p in range(n_pieces):
@@ -159,6 +167,8 @@ def subtract(pieces, counts, n_pieces, shape, k, out, out_counts, scratch):
         n_rest = c
         for i in range(k):
             j = (i + 1) % k
+            if abs(shape[j, 0] - shape[i, 0]) + abs(shape[j, 1] - shape[i, 1]) <= SHORT_EDGE * scale:
+                continue  # no direction to cut along: its two sides would both keep the whole piece
             if made >= len(out):
                 return -1
             m = clip_line(rest, n_rest, shape[i, 0], shape[i, 1], shape[j, 0], shape[j, 1], False, out[made])
@@ -175,3 +185,64 @@ def subtract(pieces, counts, n_pieces, shape, k, out, out_counts, scratch):
                 break
         rest, other = scratch[0], scratch[1]
     return made
+
+
+@numba.njit(cache=True)
+def clip_half_plane(src, n, m0, m1, m2, dst):
+    """``src[:n]`` (convex) clipped to ``m0 + m1 u + m2 v >= 0`` into ``dst``; the new count (0 when fewer than
+    3 vertices are left), -1 when ``dst`` is too small."""
+    if n == 0:
+        return 0
+    k = 0
+    pg = m0 + m1 * src[n - 1, 0] + m2 * src[n - 1, 1]
+    px, py = src[n - 1, 0], src[n - 1, 1]
+    for i in range(n):
+        qx, qy = src[i, 0], src[i, 1]
+        qg = m0 + m1 * qx + m2 * qy
+        if (pg >= 0.0) != (qg >= 0.0):
+            if k >= len(dst):
+                return -1
+            t = pg / (pg - qg)
+            dst[k, 0], dst[k, 1] = px + (qx - px) * t, py + (qy - py) * t
+            k += 1
+        if qg >= 0.0:
+            if k >= len(dst):
+                return -1
+            dst[k, 0], dst[k, 1] = qx, qy
+            k += 1
+        px, py, pg = qx, qy, qg
+    return k if k >= 3 else 0
+
+
+@numba.njit(cache=True)
+def clip_convex(src, n, shape, k, dst, scratch):
+    """``src[:n] ∩ shape[:k]`` (both convex, ``shape`` counter-clockwise) into ``dst``; its count, -1 on overflow."""
+    copy_rows(dst, 0, src[:n])
+    m = n
+    for i in range(k):
+        j = (i + 1) % k
+        m = clip_line(dst, m, shape[i, 0], shape[i, 1], shape[j, 0], shape[j, 1], True, scratch)
+        if m <= 0:
+            return m
+        copy_rows(dst, 0, scratch[:m])
+    return m
+
+
+@numba.njit(cache=True)
+def drop_repeats(poly, n, repeat=1e-12):
+    """Remove, in place, the vertices of ``poly[:n]`` within ``repeat`` of the one before (clipping leaves them;
+    an edge that short has no direction to cut along); the new count (0 below 3).
+
+    >>> ring = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1e-15], [0.0, 1.0], [0.0, 0.0]])
+    >>> drop_repeats(ring, 5)
+    3
+    """
+    k = 0
+    for i in range(n):
+        if k and abs(poly[i, 0] - poly[k - 1, 0]) + abs(poly[i, 1] - poly[k - 1, 1]) <= repeat:
+            continue
+        poly[k, 0], poly[k, 1] = poly[i, 0], poly[i, 1]
+        k += 1
+    while k > 1 and abs(poly[k - 1, 0] - poly[0, 0]) + abs(poly[k - 1, 1] - poly[0, 1]) <= repeat:
+        k -= 1
+    return k if k >= 3 else 0
