@@ -233,6 +233,7 @@ def drop_repeats(poly, n, repeat=1e-12):
     """Remove, in place, the vertices of ``poly[:n]`` within ``repeat`` of the one before (clipping leaves them;
     an edge that short has no direction to cut along); the new count (0 below 3).
 
+    >>> import numpy as np
     >>> ring = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1e-15], [0.0, 1.0], [0.0, 0.0]])
     >>> drop_repeats(ring, 5)
     3
