@@ -34,7 +34,6 @@ from urban import building_heights, urban_scene
 from omega_prime_visibility import Query, VisibilityInputWarning, get_visibility_df
 from omega_prime_visibility.engines.visilibity import VisiLibityEngine, conversion
 
-
 TARGET_3D_US = 30.0  # issue 52: 3D in town at 2D's pace, per (frame, target)
 
 

@@ -66,6 +66,28 @@ def unhidden_by_top(pieces, top, other, lo, hi):
     return lo + h_hi, hi
 
 
+CLEARLY_NEARER = 1.0 - 1e-6
+"""A piece whose farthest point is nearer than this times another's line lies wholly nearer than it by far more than
+the occlusion test's relative tolerance (1e-9) and rounding: it hides all of the other, which ties with it nowhere."""
+
+
+@numba.njit(cache=True, error_model="numpy")
+def piece_reach(pieces):
+    """Per piece, the distance (metres) of its farthest point (an end: a segment is farthest at an end; inf where
+    not a number) and of its line from the observer (the foot of the perpendicular: no point of it is nearer)."""
+    k = len(pieces)
+    farthest = np.empty(k)
+    line_near = np.empty(k)
+    for p in range(k):
+        ex, ey, num = pieces[p, EX], pieces[p, EY], pieces[p, NUM]
+        at_lo = num / (pieces[p, ULX] * ey - pieces[p, ULY] * ex)
+        at_hi = num / (pieces[p, UHX] * ey - pieces[p, UHY] * ex)
+        far = max(at_lo, at_hi)
+        farthest[p] = far if far >= 0.0 and at_lo >= 0.0 and at_hi >= 0.0 else np.inf  # (NaN compares False)
+        line_near[p] = abs(num) / np.sqrt(ex * ex + ey * ey)
+    return farthest, line_near
+
+
 @numba.njit(cache=True)
 def nearest_intervals(pieces, with_ties=False):
     """The sweep: consecutive bearing intervals between events and the nearest piece over each.
@@ -106,6 +128,7 @@ def nearest_intervals(pieces, with_ties=False):
     heap = np.empty(k, dtype=np.int64)
     position = np.full(k, -1, dtype=np.int64)
     stack = np.empty(k if with_ties else 0, dtype=np.int64)
+    farthest, line_near = piece_reach(pieces) if with_ties else (pieces[:0, 0], pieces[:0, 0])
     size = 0
     i = 0  # next start event, in by_lo
     j = 0  # next end event, in by_hi
@@ -171,8 +194,8 @@ def nearest_intervals(pieces, with_ties=False):
                     n_stack -= 1
                     slot = stack[n_stack]
                     for child in (2 * slot + 1, 2 * slot + 2):
-                        if child >= size:
-                            continue
+                        if child >= size or farthest[heap[0]] < line_near[heap[child]] * CLEARLY_NEARER:
+                            continue  # (the top lies wholly nearer: it hides all of the child, which ties nowhere)
                         a, b = unhidden_by_top(pieces, heap[0], heap[child], theta, following)
                         if b - a >= MIN_PIECE:
                             ties[n_ties] = heap[child]
