@@ -66,6 +66,7 @@ def both_paths(boxes, eye, statics, limits, max_range):
     compiled = boxes_among(boxes, eye, None, limits, max_range, statics)
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(silhouette3d, "compiled_face", lambda *args: None)
+        patch.setattr(silhouette3d, "compiled_silhouettes", lambda *args: None)
         polygons = boxes_among(boxes, eye, None, limits, max_range, statics)
     return compiled, polygons
 

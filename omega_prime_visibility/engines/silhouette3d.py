@@ -42,7 +42,7 @@ from ..threed.bodies import (
 )
 from ..threed.boxes import nearest_distance
 from ..threed.cube import silhouettes, solid_angles, view_regions, within_range
-from ..threed.faces import BodyLayout, compiled_face, polygon_face
+from ..threed.faces import BodyLayout, compiled_face, compiled_silhouettes, polygon_face
 from ..threed.order import nearest, nearest_bound
 from . import Observation, Viewpoint, group_pairs
 from .observe3d import StaticPrisms, eye_and_view, observation, own_body
@@ -125,6 +125,10 @@ def convex_visibility(
     for f in range(6):
         region = regions[f]
         if region is not None and (region.is_empty or region.area == 0.0):  # nothing in view: the extent only
+            drawn = None if layout is None else compiled_silhouettes(f, bodies, layout)
+            if drawn is not None:
+                extent += drawn[2][measured]
+                continue
             targets_only = bodies.take(measured) if targets_only is None else targets_only
             extent += solid_angles(silhouettes(targets_only, f))
             continue

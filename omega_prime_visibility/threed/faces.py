@@ -70,6 +70,20 @@ def _polygons(xy: np.ndarray, starts: np.ndarray) -> np.ndarray:
     return shapely.polygons(shapely.linearrings(xy, indices=np.repeat(np.arange(len(starts) - 1), np.diff(starts))))
 
 
+def compiled_silhouettes(
+    f: int, bodies: ConvexBodies, layout: BodyLayout
+) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """Every body's silhouette on face ``f`` through the compiled kernel: outlines (n, MAX_VERTICES, 2), vertex
+    counts (n,) (0: not seen through the face) and solid angles (n,), steradians; None where one overflows."""
+    n = len(bodies)
+    outlines = np.empty((n, MAX_VERTICES, 2))
+    counts = np.zeros(n, np.int64)
+    angles = np.zeros(n)
+    fitted = face_silhouettes(bodies.vertices, layout.vertex_start, bodies.edges, layout.edge_start, bodies.normals,
+                              bodies.offsets, FACES[f], outlines, counts, angles)  # fmt: skip
+    return (outlines, counts, angles) if fitted else None
+
+
 def compiled_face(
     f: int,
     bodies: ConvexBodies,
@@ -81,15 +95,12 @@ def compiled_face(
     farthest: np.ndarray,
 ) -> FaceMeasure | None:
     """Face ``f``'s measure through the compiled kernels; None where a buffer overflows."""
-    n, m = len(bodies), len(measured)
-    outlines = np.empty((n, MAX_VERTICES, 2))
-    counts = np.zeros(n, np.int64)
-    angles = np.zeros(n)
+    m = len(measured)
     face = FACES[f]
-    fitted = face_silhouettes(bodies.vertices, layout.vertex_start, bodies.edges, layout.edge_start, bodies.normals,
-                              bodies.offsets, face, outlines, counts, angles)  # fmt: skip
-    if not fitted:
+    drawn = compiled_silhouettes(f, bodies, layout)
+    if drawn is None:
         return None
+    outlines, counts, angles = drawn
     seen = counts[measured] >= 3
     extent = np.where(seen, angles[measured], 0.0)
     whole = shapely.is_missing(windows)
