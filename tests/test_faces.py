@@ -17,7 +17,7 @@ from omega_prime_visibility.engines import silhouette3d
 from omega_prime_visibility.engines.silhouette3d import boxes_among
 from omega_prime_visibility.threed import faces
 from omega_prime_visibility.threed.bodies import bodies_from_boxes, concatenate, prisms_from_footprints
-from omega_prime_visibility.threed.boxes import view_limits
+from omega_prime_visibility.threed.boxes import frames, ray_entries, view_limits
 from omega_prime_visibility.threed.cube import FACES, silhouettes
 from omega_prime_visibility.threed.face_pieces import (
     entered_before,
@@ -111,6 +111,48 @@ def test_the_town_frame_where_a_repeated_vertex_made_a_blocker_hide_nothing() ->
     assert_same(compiled, polygons)
     visible, extent = compiled[0][0], compiled[1][0]
     assert 0.5 * extent < visible < 0.9 * extent and sorted(zip(*compiled[4], strict=True)) == [(0, 1)]
+
+
+@pytest.mark.parametrize(
+    ("box", "view", "max_range"),
+    [
+        ([35.411765421259403, 0.0, 0.80353156453798547, 6.4969663652133098, 1.1797837838582652,
+          1.6070631290759709, 0, 0, -0.38916146815315189], (0.0, math.radians(200)), 35.0),
+        ([-3.9729759368357884, -25.381328293501493, 0.6807313092873725, 9.880720111134206, 2.693532227510921,
+          1.7294823329603024, 0, 0, 3.1362892193634204], (0.0, 2 * math.pi), 25.74606813815008),
+    ],
+)  # fmt: skip
+def test_a_box_cut_by_the_range_keeps_its_part_within_range(box, view, max_range) -> None:
+    # the part within range is drawn from the box's own faces: its edges lie 1e-16 from the silhouette's, and GEOS
+    # intersected the two into points for the compiled path's orientation (half or all of the angle in view lost);
+    # the answer is checked against rays too
+    limits = view_limits(view[0], view[1], 0.0, math.pi)
+    eye = np.array([0.0, 0.0, 1.25])
+    compiled, polygons = both_paths(np.array([box]), eye, None, limits, max_range)
+    assert_same(compiled, polygons)
+    visible, extent, in_view = compiled[0][0], compiled[1][0], compiled[2][0]
+    rng = np.random.default_rng(1)
+    directions = rng.normal(size=(400_000, 3))
+    directions /= np.linalg.norm(directions, axis=1)[:, None]
+    centre, rot, half = frames(np.array([box]))
+    hits = ray_entries(eye, directions, centre, rot, half, np.zeros(len(directions), np.int64))
+    azimuth = np.arctan2(directions[:, 1], directions[:, 0])
+    in_fov = np.abs((azimuth - view[0] + math.pi) % (2 * math.pi) - math.pi) <= view[1] / 2
+    expected = 4 * math.pi * np.mean(np.isfinite(hits) & (hits <= max_range) & in_fov)
+    sigma = 4 * math.pi * math.sqrt(expected / (4 * math.pi) / len(directions))
+    assert in_view == pytest.approx(expected, abs=5 * sigma) and visible == pytest.approx(in_view, rel=1e-9)
+    assert 0 < in_view <= extent
+
+
+@pytest.mark.parametrize("overlap", [1e-11, 1e-12, 3e-13])
+def test_a_blocker_hiding_a_sliver_is_listed_by_both_paths_alike(overlap) -> None:
+    # a wholly nearer box whose silhouette overlaps the target's by a sliver: listed only when it hides more than
+    # MIN_SOLID_ANGLE, on faces with a window and without one
+    target = [20.0, 1.0, 0.5, 2, 2, 1, 0, 0, 0]
+    blocker = [10.0, overlap * 9.5 - 1.0, 0.5, 1, 2, 1, 0, 0, 0]
+    limits = view_limits(0.0, 2 * math.pi, 0.0, math.pi)
+    compiled, polygons = both_paths(np.array([target, blocker]), np.array([0.0, 0.0, 0.5]), None, limits, math.inf)
+    assert_same(compiled, polygons)
 
 
 def test_silhouettes_equal_the_polygon_path_on_every_face() -> None:

@@ -119,6 +119,8 @@ def convex_visibility(
     beyond = near > max_range
     cut = ~beyond & (farthest[measured] > max_range)
     ranged = {int(t): within_range(bodies, int(measured[t]), max_range) for t in np.flatnonzero(cut)}
+    within = np.zeros(m, dtype=bool)  # windows within the silhouette: the part within range
+    within[list(ranged)] = True
     regions = view_regions(*view)
     layout = BodyLayout.of(bodies) if parts is None else None
     targets_only = None
@@ -135,9 +137,9 @@ def convex_visibility(
         windows = _windows(region, ranged, beyond, f)
         face = None
         if layout is not None:
-            face = compiled_face(f, bodies, layout, measured, region, windows, lower, farthest)
+            face = compiled_face(f, bodies, layout, measured, region, windows, lower, farthest, within)
         if face is None:
-            face = polygon_face(f, bodies, measured, region, windows, lower, farthest, beyond, parts)
+            face = polygon_face(f, bodies, measured, region, windows, lower, farthest, beyond, within, parts)
         extent += face.extent
         in_fov += face.in_fov
         in_view += face.in_view

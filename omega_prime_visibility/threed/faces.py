@@ -64,10 +64,14 @@ def clipped(shapes: np.ndarray, windows: np.ndarray) -> np.ndarray:
 
 
 def _polygons(xy: np.ndarray, starts: np.ndarray) -> np.ndarray:
-    """Shapely polygons of the rings ``xy[starts[k]:starts[k + 1]]``."""
+    """Shapely polygons of the counter-clockwise rings ``xy[starts[k]:starts[k + 1]]``, turned clockwise as
+    shapely's own hulls are: GEOS intersects two nearly coincident polygons (a silhouette and its part within
+    range, edges 1e-16 apart) into points for some orientations, and the polygon path's is the one it gets right."""
     if len(starts) < 2:
         return np.zeros(0, dtype=object)
-    return shapely.polygons(shapely.linearrings(xy, indices=np.repeat(np.arange(len(starts) - 1), np.diff(starts))))
+    ring = np.repeat(np.arange(len(starts) - 1), np.diff(starts))
+    backwards = starts[ring] + starts[ring + 1] - 1 - np.arange(len(ring))
+    return shapely.polygons(shapely.linearrings(xy[backwards], indices=ring))
 
 
 def compiled_silhouettes(
@@ -93,8 +97,11 @@ def compiled_face(
     windows: np.ndarray,
     lower: np.ndarray,
     farthest: np.ndarray,
+    within: np.ndarray,
 ) -> FaceMeasure | None:
-    """Face ``f``'s measure through the compiled kernels; None where a buffer overflows."""
+    """Face ``f``'s measure through the compiled kernels; None where a buffer overflows. ``within`` (bool per
+    target): its window lies within its silhouette (its part within range), so that its angle in view is the
+    window's."""
     m = len(measured)
     face = FACES[f]
     drawn = compiled_silhouettes(f, bodies, layout)
@@ -121,7 +128,10 @@ def compiled_face(
     inside[cut] = shapely.contains(windows[cut], shapes[cut])
     wanted = cut & ~inside
     in_view = np.where(empty, 0.0, extent)
-    in_view[wanted] = solid_angles(shapely.intersection(shapes[wanted], windows[wanted]))
+    by_window = wanted & within
+    in_view[by_window] = solid_angles(windows[by_window])
+    by_overlay = wanted & ~within
+    in_view[by_overlay] = solid_angles(shapely.intersection(shapes[by_overlay], windows[by_overlay]))
     live = seen & ~empty
     result = face_pieces(outlines, counts, measured, live, wanted, bodies.normals, bodies.offsets, lower, farthest,
                          face)  # fmt: skip
@@ -151,10 +161,12 @@ def polygon_face(
     lower: np.ndarray,
     farthest: np.ndarray,
     beyond: np.ndarray,
+    within: np.ndarray,
     parts: list | None = None,
 ) -> FaceMeasure:
-    """Face ``f``'s measure with shapely polygons; ``parts`` receives ``(target, f, polygon)`` for every visible
-    piece."""
+    """Face ``f``'s measure with shapely polygons; ``within`` as for :func:`compiled_face` (such a target's window
+    stands for its silhouette: intersecting the two, 1e-16 apart along their common edges, is what GEOS may get
+    wrong); ``parts`` receives ``(target, f, polygon)`` for every visible piece."""
     m = len(measured)
     extent, in_fov, in_view, visible = (np.zeros(m) for _ in range(4))
     no_pairs = np.zeros(0, np.int64)
@@ -166,7 +178,12 @@ def polygon_face(
     extent[seen_t] = solid_angles(shapes)
     windows = windows[seen_t]
     in_fov[seen_t] = solid_angles(clipped(shapes, np.full(len(seen_t), region, dtype=object)))
-    in_view[seen_t] = solid_angles(clipped(shapes, windows))
+    inner = within[seen_t]
+    drawn = shapes.copy()  # what may be seen: the silhouette, or the window lying within it
+    drawn[inner] = windows[inner]
+    windows = windows.copy()
+    windows[inner] = None
+    in_view[seen_t] = solid_angles(clipped(drawn, windows))
     present = np.flatnonzero(~shapely.is_missing(sil))
     tree = shapely.STRtree(sil[present])
     live = np.flatnonzero(~beyond[seen_t])
@@ -175,14 +192,11 @@ def polygon_face(
     other = bj != measured[seen_t[ti]]
     ti, bj = ti[other], bj[other]
     pair_target, pair_body = no_pairs, no_pairs
-    pieces = shapes.copy()
+    pieces = drawn.copy()
     if len(ti):
         ti, bj, front = _blockers(bodies, measured[seen_t], shapes, sil, ti, bj, f, lower, farthest)
-        overlap = np.full(len(ti), None, dtype=object)
-        clip = ~shapely.is_missing(windows[ti])
-        overlap[clip] = shapely.intersection(shapes[ti[clip]], front[clip])
-        listed = ~clip
-        listed[clip] = solid_angles(clipped(overlap[clip], windows[ti[clip]])) > MIN_SOLID_ANGLE
+        overlap = shapely.intersection(drawn[ti], front)  # what the body hides, listed above MIN_SOLID_ANGLE
+        listed = solid_angles(clipped(overlap, windows[ti])) > MIN_SOLID_ANGLE
         pair_target, pair_body = seen_t[ti[listed]], bj[listed]
     if len(ti):
         order = np.argsort(ti, kind="stable")
@@ -191,7 +205,7 @@ def polygon_face(
         groups = np.split(front, starts[1:])
         blockers = np.array([shapely.union_all(g) for g in groups], dtype=object)
         hit = ti[starts]
-        pieces[hit] = shapely.difference(shapes[hit], blockers)
+        pieces[hit] = shapely.difference(drawn[hit], blockers)
     seen_parts = clipped(pieces, windows)
     visible[seen_t] = solid_angles(seen_parts)
     if parts is not None:
