@@ -255,7 +255,7 @@ def long_recording(engine: str, frames: int, workers: int) -> None:
     main_cpu = done.user + done.system - cpu.user - cpu.system
     workers_cpu = done.children_user + done.children_system - cpu.children_user - cpu.children_system
     print(
-        f"{frames} frames x 50 objects, every object as observer: {secs:.1f} s for {rows} rows (target ≤ 20 s, issue 52), "
+        f"{frames} frames x 50 objects, every object as observer: {secs:.1f} s for {rows} rows (target ≤ 20 s), "
         f"parquet dataset {size:.0f} MiB; CPU: workers {workers_cpu:.0f} s, main process {main_cpu:.1f} s; "
         f"peak memory of main + workers {memory.pss:.2f} GiB PSS ({memory.rss:.2f} GiB summed RSS, counting the "
         "pages the workers share with the main process in each) (target ≤ 2 GiB)"
