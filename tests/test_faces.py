@@ -195,3 +195,28 @@ def test_a_face_whose_buffers_overflow_is_handed_to_the_polygon_path(monkeypatch
     monkeypatch.setattr(faces, "MAX_VERTICES", 3)  # no silhouette fits: every face overflows
     compiled, polygons = both_paths(boxes, eye, statics, limits, math.inf)
     assert_same(compiled, polygons)
+
+
+def test_a_real_trace_every_observer_with_sensors_both_paths_alike(shared_data) -> None:
+    # esmini's pedestrian crossing in front of a car: every road user as observer through the typical sensor set
+    # (fields of view and ranges that cut boxes), the compiled path against the polygon path row by row
+    import polars as pl
+
+    from omega_prime_visibility import get_visibility_df
+    from omega_prime_visibility.inputs.io import read_recording
+
+    recording = read_recording(shared_data / "pedestrian.osi")
+
+    def table() -> pl.DataFrame:
+        return get_visibility_df(recording, "all", mode="3d", sensors="typical", progress=False, workers=1)
+
+    compiled = table()
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(silhouette3d, "compiled_face", lambda *args: None)
+        patch.setattr(silhouette3d, "compiled_silhouettes", lambda *args: None)
+        polygons = table()
+    assert compiled.height == polygons.height > 1000
+    numbers = [c for c, dtype in compiled.schema.items() if dtype.is_float()]  # the shares: equal up to rounding
+    for column in numbers:
+        np.testing.assert_allclose(compiled[column].to_numpy(), polygons[column].to_numpy(), atol=1e-12)
+    assert "visibility" in numbers and compiled.drop(numbers).equals(polygons.drop(numbers))  # lists, flags: same
