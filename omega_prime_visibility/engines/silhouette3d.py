@@ -139,7 +139,7 @@ def convex_visibility(
         if layout is not None:
             face = compiled_face(f, bodies, layout, measured, region, windows, lower, farthest, within)
         if face is None:
-            face = polygon_face(f, bodies, measured, region, windows, lower, farthest, beyond, within, parts)
+            face = polygon_face(f, bodies, measured, region, windows, lower, farthest, within, parts)
         extent += face.extent
         in_fov += face.in_fov
         in_view += face.in_view

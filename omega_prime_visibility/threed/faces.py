@@ -117,7 +117,7 @@ def compiled_face(
     if needed.any():
         rows = np.flatnonzero(needed)
         sizes = counts[measured[rows]]
-        xy = np.concatenate([outlines[measured[r], :s] for r, s in zip(rows, sizes, strict=True)])
+        xy = outlines[measured[rows]][np.arange(MAX_VERTICES) < sizes[:, None]]  # the rings, one after the other
         shapes[rows] = _polygons(xy, np.r_[0, np.cumsum(sizes)])
     in_fov = extent.copy()
     if region is not None:
@@ -160,7 +160,6 @@ def polygon_face(
     windows: np.ndarray,
     lower: np.ndarray,
     farthest: np.ndarray,
-    beyond: np.ndarray,
     within: np.ndarray,
     parts: list | None = None,
 ) -> FaceMeasure:
@@ -186,7 +185,7 @@ def polygon_face(
     in_view[seen_t] = solid_angles(clipped(drawn, windows))
     present = np.flatnonzero(~shapely.is_missing(sil))
     tree = shapely.STRtree(sil[present])
-    live = np.flatnonzero(~beyond[seen_t])
+    live = np.flatnonzero(~shapely.is_empty(windows))  # (nothing is seen through an empty window)
     ti, bj = tree.query(shapes[live], predicate="intersects")
     ti, bj = live[ti], present[bj]
     other = bj != measured[seen_t[ti]]
