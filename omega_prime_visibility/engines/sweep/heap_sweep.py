@@ -67,25 +67,50 @@ def unhidden_by_top(pieces, top, other, lo, hi):
 
 
 CLEARLY_NEARER = 1.0 - 1e-6
-"""A piece whose farthest point is nearer than this times another's line lies wholly nearer than it by far more than
-the occlusion test's relative tolerance (1e-9) and rounding: it hides all of the other, which ties with it nowhere."""
+"""A piece whose farthest point is nearer than this times another's nearest point lies wholly nearer than it by far
+more than the occlusion test's relative tolerance (1e-9) and rounding: it hides all of the other, which ties with it
+nowhere."""
 
 
 @numba.njit(cache=True, error_model="numpy")
 def piece_reach(pieces):
-    """Per piece, the distance (metres) of its farthest point (an end: a segment is farthest at an end; inf where
-    not a number) and of its line from the observer (the foot of the perpendicular: no point of it is nearer)."""
+    """Per piece, the distance (metres) of its farthest point and of its nearest point from the observer.
+
+    A piece is a segment between the points its edge's line meets at the bearings ``LO`` and ``HI``: it is
+    farthest at an end (inf where an end is not a number or lies behind the observer) and nearest at the foot of the
+    perpendicular from the observer where that falls between the ends, else at an end; never nearer than its line.
+
+    >>> import math, numpy as np
+    >>> def piece(p, q):  # the piece table's row of the whole edge p -> q (columns of .pieces)
+    ...     (px, py), (qx, qy) = p, q
+    ...     lo, hi = math.atan2(py, px), math.atan2(qy, qx)
+    ...     return [lo, hi, math.cos(lo), math.sin(lo), math.cos(hi), math.sin(hi), qx - px, qy - py,
+    ...             px * (qy - py) - py * (qx - px)]
+    >>> farthest, nearest = piece_reach(np.array([piece((3, -4), (3, 4)), piece((10, 1), (10, 2))]))
+    >>> farthest.round(9).tolist(), nearest.round(9).tolist()  # (the second's line passes 10 m away)
+    ([5.0, 10.198039027], [3.0, 10.049875621])
+    """
     k = len(pieces)
     farthest = np.empty(k)
-    line_near = np.empty(k)
+    nearest = np.empty(k)
     for p in range(k):
         ex, ey, num = pieces[p, EX], pieces[p, EY], pieces[p, NUM]
         at_lo = num / (pieces[p, ULX] * ey - pieces[p, ULY] * ex)
         at_hi = num / (pieces[p, UHX] * ey - pieces[p, UHY] * ex)
         far = max(at_lo, at_hi)
-        farthest[p] = far if far >= 0.0 and at_lo >= 0.0 and at_hi >= 0.0 else np.inf  # (NaN compares False)
-        line_near[p] = abs(num) / np.sqrt(ex * ex + ey * ey)
-    return farthest, line_near
+        line = abs(num) / np.sqrt(ex * ex + ey * ey)
+        if far >= 0.0 and at_lo >= 0.0 and at_hi >= 0.0 and far < np.inf:  # (NaN compares False)
+            farthest[p] = far
+            # the segment from the end at LO (x0, y0) to the end at HI: where along it the foot falls, clamped
+            x0, y0 = at_lo * pieces[p, ULX], at_lo * pieces[p, ULY]
+            dx, dy = at_hi * pieces[p, UHX] - x0, at_hi * pieces[p, UHY] - y0
+            length2 = dx * dx + dy * dy
+            t = min(max(-(x0 * dx + y0 * dy) / length2, 0.0), 1.0) if length2 > 0.0 else 0.0
+            nearest[p] = max(line, np.sqrt((x0 + t * dx) ** 2 + (y0 + t * dy) ** 2))
+        else:
+            farthest[p] = np.inf
+            nearest[p] = line
+    return farthest, nearest
 
 
 @numba.njit(cache=True)
@@ -128,7 +153,7 @@ def nearest_intervals(pieces, with_ties=False):
     heap = np.empty(k, dtype=np.int64)
     position = np.full(k, -1, dtype=np.int64)
     stack = np.empty(k if with_ties else 0, dtype=np.int64)
-    farthest, line_near = piece_reach(pieces) if with_ties else (pieces[:0, 0], pieces[:0, 0])
+    farthest, nearest = piece_reach(pieces) if with_ties else (pieces[:0, 0], pieces[:0, 0])
     size = 0
     i = 0  # next start event, in by_lo
     j = 0  # next end event, in by_hi
@@ -194,7 +219,7 @@ def nearest_intervals(pieces, with_ties=False):
                     n_stack -= 1
                     slot = stack[n_stack]
                     for child in (2 * slot + 1, 2 * slot + 2):
-                        if child >= size or farthest[heap[0]] < line_near[heap[child]] * CLEARLY_NEARER:
+                        if child >= size or farthest[heap[0]] < nearest[heap[child]] * CLEARLY_NEARER:
                             continue  # (the top lies wholly nearer: it hides all of the child, which ties nowhere)
                         a, b = unhidden_by_top(pieces, heap[0], heap[child], theta, following)
                         if b - a >= MIN_PIECE:

@@ -100,6 +100,7 @@ def _candidate_intervals(objects, kept, record_edge, records):
                 k += 1
             query_lo[n_queries], query_hi[n_queries], query_target[n_queries] = lo, hi, i
             n_queries += 1
+    n_object_items = k
     for r in range(n_rec):
         e = record_edge[r]
         if kept.body[e] >= n:
@@ -108,7 +109,9 @@ def _candidate_intervals(objects, kept, record_edge, records):
             k += 1
     order = argsort_stable(item_lo[:k])
     items = (item_lo[order], item_hi[order], item_body[order], item_near[order], item_far[order])
-    query_order = argsort_stable(query_lo[:n_queries])
+    # without static edges the items are the queries less the passive ones: all of them when as many, in the same
+    # order, and one sort serves both
+    query_order = order if k == n_queries and k == n_object_items else argsort_stable(query_lo[:n_queries])
     queries = (query_lo[query_order], query_hi[query_order], query_target[query_order])
     return items, queries
 
