@@ -10,11 +10,7 @@ hand-written copy changes no result in the last bit.
   loops instead);
 - growable buffers: :func:`reserve`, :func:`push_pair`;
 - index building: :func:`prefix_sum`, :func:`group_by_key` (a stable counting sort with its CSR offsets),
-  :func:`counting_sort`, :func:`ring_index`, :func:`next_vertex_index`, :func:`insertion_sort` (a few values in
-  place);
-- sorting: :func:`argsort_stable`, :func:`sorted_values`, :func:`unique_values` (written once here instead of
-  numba's ``np.argsort``/``np.sort``/``np.unique``, whose quicksort and mergesort are compiled anew for every
-  kind, dtype and layout: several seconds of a first call);
+  :func:`counting_sort`, :func:`ring_index`, :func:`next_vertex_index` (the sorts: :mod:`.sorting`);
 - distances: :func:`nearest_offset` (point to segment), :func:`segment_distance2` (origin to segment),
   :func:`ray_line_distance` (origin along a ray to a line);
 - orientation: :func:`orient`, :func:`cross_properly` (two segments);
@@ -190,25 +186,6 @@ def next_vertex_index(offsets):
     return following
 
 
-@numba.njit(cache=True, inline="always")
-def insertion_sort(values, n):
-    """Sort ``values[:n]`` ascending in place, by insertion (fast for the few values of a pair test; inlined, so a
-    loop calling it pays no reference counting). Equal values keep their order; without NaN the result is the
-    order ``np.sort`` gives, but for ``-0.0`` and ``+0.0``, which it may order either way.
-
-    >>> values = np.array([3.0, 1.0, 2.0, 9.0])
-    >>> insertion_sort(values, 3); values.tolist()
-    [1.0, 2.0, 3.0, 9.0]
-    """
-    for a in range(1, n):
-        value = values[a]
-        b = a - 1
-        while b >= 0 and values[b] > value:
-            values[b + 1] = values[b]
-            b -= 1
-        values[b + 1] = value
-
-
 # -- distances -------------------------------------------------------------------------------------------------
 
 
@@ -292,93 +269,3 @@ def cross_properly(ax, ay, bx, by, cx, cy, dx, dy):
     d3 = orient(cx, cy, dx, dy, ax, ay)
     d4 = orient(cx, cy, dx, dy, bx, by)
     return (d3 > 0.0 and d4 < 0.0) or (d3 < 0.0 and d4 > 0.0)
-
-
-# -- sorting ---------------------------------------------------------------------------------------------------
-
-INSERTION_RUN = 16  # runs of this many items are sorted by insertion before merging
-
-
-@numba.njit(cache=True, inline="always")
-def _after(a, b):
-    """Whether key ``a`` sorts after key ``b`` (NaN after every number, as numpy sorts)."""
-    return a > b or (a != a and b == b)
-
-
-@numba.njit(cache=True)
-def argsort_stable(keys):
-    """Positions that sort ``keys`` ascending, equal keys in their order: ``np.argsort(keys, kind="stable")``.
-
-    Parameters
-    ----------
-    keys : ndarray, shape (n,)
-        Numbers (float64 or int64, C-contiguous: pass ``column.copy()`` for a column of a table); NaN sorts last.
-
-    Returns
-    -------
-    ndarray, shape (n,), int64
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> argsort_stable(np.array([2.0, np.nan, 1.0, 2.0, -0.5])).tolist()
-    [4, 2, 0, 3, 1]
-    """
-    n = len(keys)
-    order = np.arange(n)
-    for lo in range(0, n, INSERTION_RUN):  # runs sorted by insertion ...
-        for a in range(lo + 1, min(lo + INSERTION_RUN, n)):
-            x = order[a]
-            b = a - 1
-            while b >= lo and _after(keys[order[b]], keys[x]):
-                order[b + 1] = order[b]
-                b -= 1
-            order[b + 1] = x
-    if n <= INSERTION_RUN:
-        return order
-    other = np.empty(n, dtype=np.int64)
-    width = INSERTION_RUN
-    while width < n:  # ... then merged bottom-up, between two buffers
-        for lo in range(0, n, 2 * width):
-            mid, hi = min(lo + width, n), min(lo + 2 * width, n)
-            i, j = lo, mid
-            for out in range(lo, hi):
-                if j >= hi or (i < mid and not _after(keys[order[i]], keys[order[j]])):
-                    other[out] = order[i]
-                    i += 1
-                else:
-                    other[out] = order[j]
-                    j += 1
-        order, other = other, order
-        width *= 2
-    return order
-
-
-@numba.njit(cache=True)
-def sorted_values(values):
-    """A sorted copy of ``values`` (as :func:`argsort_stable` takes them): ``np.sort(values)``.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> sorted_values(np.array([3.0, -1.0, 2.0])).tolist()
-    [-1.0, 2.0, 3.0]
-    """
-    return values[argsort_stable(values)]
-
-
-@numba.njit(cache=True)
-def unique_values(values):
-    """The distinct ``values``, ascending: ``np.unique(values)``.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> unique_values(np.array([5, 1, 5, 3, 1])).tolist()
-    [1, 3, 5]
-    """
-    ordered = sorted_values(values)
-    keep = np.ones(len(ordered), dtype=np.bool_)
-    for i in range(1, len(ordered)):
-        keep[i] = ordered[i] != ordered[i - 1]
-    return ordered[keep]

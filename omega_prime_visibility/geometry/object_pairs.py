@@ -9,8 +9,9 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .kernels import insertion_sort, wrap_positive
+from .kernels import wrap_positive
 from .occlusion import MIN_PIECE, RELATIVE_TOLERANCE, _edge_line_distance, _nearest_edge
+from .sorting import insertion_sort
 
 
 @numba.njit(cache=True, inline="always")

@@ -16,11 +16,8 @@ import numba
 import numpy as np
 
 from .candidates import MIN_PIECE, candidate_pairs
-from .kernels import (
-    ray_line_distance,
-    sorted_values,
-    wrap_positive,
-)
+from .kernels import ray_line_distance, wrap_positive
+from .sorting import sorted_values
 
 RELATIVE_TOLERANCE = 1e-9  # J must be nearer by this fraction of T's distance to count as in front
 # sine of the angle between two edges' lines under which the relative tolerance lets them tie along the bearings

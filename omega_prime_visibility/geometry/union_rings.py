@@ -31,7 +31,7 @@ import numba
 import numpy as np
 import shapely
 
-from .kernels import argsort_stable
+from .sorting import argsort_stable
 from .star_union import union_pieces
 
 MATCH = 1e3

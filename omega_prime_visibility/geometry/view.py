@@ -23,7 +23,8 @@ import math
 import numba
 import numpy as np
 
-from .kernels import TWO_PI, argsort_stable, reserve, segment_distance2, sorted_values, wrap_positive
+from .kernels import TWO_PI, reserve, segment_distance2, wrap_positive
+from .sorting import argsort_stable, sorted_values
 
 SNAP = 1e-12
 """Radians: in-view intervals this close to the ends of a target's extent are taken to reach them."""

@@ -28,7 +28,7 @@ import numba
 import numpy as np
 
 from ..engines import ChunkViewpoints, Viewpoint
-from ..geometry.kernels import argsort_stable
+from ..geometry.sorting import argsort_stable
 from ..geometry.spans import angular_spans, may_be_in_front, spans_share
 from ..inputs.objects import FrameObjects, ObjectTable
 from .schema import LIST_COLUMNS, Columns

@@ -14,15 +14,14 @@ import numpy as np
 
 from ...geometry.kernels import (
     MIN_CAPACITY,
-    argsort_stable,
     copy_into,
     cross_properly,
     next_vertex_index,
     prefix_sum,
     push_pair,
     reserve,
-    unique_values,
 )
+from ...geometry.sorting import argsort_stable, unique_values
 
 GRID_CELLS = 256  # cells along the longer side of the static edges' grid
 

@@ -14,8 +14,9 @@ import numba
 import numpy as np
 
 from ...geometry.candidates import CANDIDATE_EPS
-from ...geometry.kernels import TWO_PI, copy_rows, insertion_sort, wrap_positive
+from ...geometry.kernels import TWO_PI, copy_rows, wrap_positive
 from ...geometry.object_pairs import objects_occluded, pieces_occlude
+from ...geometry.sorting import insertion_sort
 from .pieces import R_HI, R_LO
 
 

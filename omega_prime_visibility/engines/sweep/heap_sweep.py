@@ -15,8 +15,9 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...geometry.kernels import argsort_stable, reserve
+from ...geometry.kernels import reserve
 from ...geometry.occlusion import MIN_PIECE, hidden_span
+from ...geometry.sorting import argsort_floats
 from ...geometry.view import limited_angle
 from .pieces import EX, EY, HI, LO, NUM, TWO_PI, UHX, UHY, ULX, ULY
 
@@ -113,6 +114,12 @@ def piece_reach(pieces):
     return farthest, nearest
 
 
+@numba.njit(cache=True, inline="always")
+def _ends_first(pieces, a, b):
+    """Whether piece ``a`` ends before piece ``b``: at a smaller ``HI``, or at the same with a lower number."""
+    return pieces[a, HI] < pieces[b, HI] or (pieces[a, HI] == pieces[b, HI] and a < b)
+
+
 @numba.njit(cache=True)
 def nearest_intervals(pieces, with_ties=False):
     """The sweep: consecutive bearing intervals between events and the nearest piece over each.
@@ -148,38 +155,61 @@ def nearest_intervals(pieces, with_ties=False):
     q = 0
     if k == 0:
         return out_lo, out_hi, out_top, tie_offsets, ties
-    by_lo = argsort_stable(pieces[:, LO].copy())
-    by_hi = argsort_stable(pieces[:, HI].copy())
+    by_lo = argsort_floats(pieces[:, LO].copy())
     heap = np.empty(k, dtype=np.int64)
     position = np.full(k, -1, dtype=np.int64)
+    # the active pieces again, as a binary min-heap by (HI, piece number): the ends come out in the order that a
+    # stable sort of all ends by HI gives, without sorting the pieces that are not active
+    ends = np.empty(k, dtype=np.int64)
     stack = np.empty(k if with_ties else 0, dtype=np.int64)
     farthest, nearest = piece_reach(pieces) if with_ties else (pieces[:0, 0], pieces[:0, 0])
-    size = 0
+    size = 0  # active pieces, in both heaps
     i = 0  # next start event, in by_lo
-    j = 0  # next end event, in by_hi
-    while j < k:
-        theta = pieces[by_hi[j], HI]
-        if i < k and pieces[by_lo[i], LO] < theta:
+    while i < k or size > 0:
+        if size > 0 and not (i < k and pieces[by_lo[i], LO] < pieces[ends[0], HI]):
+            theta = pieces[ends[0], HI]
+        else:
             theta = pieces[by_lo[i], LO]
         # the events at theta, ends first, one at a time: a piece ending at slot h is replaced by the heap's last,
         # a starting piece is appended; then the piece at slot h moves up while nearer than its parent, else down
-        # while a child is nearer. (Written out here, once, rather than as sift functions: a numba function with a
-        # loop that takes arrays costs reference counting on every call.)
-        while (j < k and pieces[by_hi[j], HI] == theta) or (i < k and pieces[by_lo[i], LO] == theta):
-            if j < k and pieces[by_hi[j], HI] == theta:
-                ending = by_hi[j]
+        # while a child is nearer; likewise in the ends' heap. (Written out here, once, rather than as sift functions:
+        # a numba function with a loop that takes arrays costs reference counting on every call, inlined or not.)
+        while (size > 0 and pieces[ends[0], HI] == theta) or (i < k and pieces[by_lo[i], LO] == theta):
+            if size > 0 and pieces[ends[0], HI] == theta:
+                ending = ends[0]
+                size -= 1
+                x = ends[size]  # out of the ends' heap: its last moves down from the root while a child ends sooner
+                e = 0
+                while True:
+                    child = 2 * e + 1
+                    if child >= size:
+                        break
+                    if child + 1 < size and _ends_first(pieces, ends[child + 1], ends[child]):
+                        child += 1
+                    if not _ends_first(pieces, ends[child], x):
+                        break
+                    ends[e] = ends[child]
+                    e = child
+                ends[e] = x
                 h = position[ending]
                 position[ending] = -1
-                size -= 1
-                j += 1
                 if h == size:  # it was the last slot: nothing moves
                     continue
                 heap[h] = heap[size]
             else:
-                h = size
-                heap[h] = by_lo[i]
-                size += 1
+                x = by_lo[i]
                 i += 1
+                e = size  # into the ends' heap: up from the last slot while it ends sooner than its parent
+                while e > 0:
+                    parent = (e - 1) >> 1
+                    if not _ends_first(pieces, x, ends[parent]):
+                        break
+                    ends[e] = ends[parent]
+                    e = parent
+                ends[e] = x
+                h = size
+                heap[h] = x
+                size += 1
             x = heap[h]
             if h > 0 and nearer(pieces, x, heap[(h - 1) >> 1]):
                 while h > 0:
@@ -205,7 +235,7 @@ def nearest_intervals(pieces, with_ties=False):
             heap[h] = x
             position[x] = h
         if size > 0:
-            following = pieces[by_hi[j], HI]  # j < k: active pieces still have to end
+            following = pieces[ends[0], HI]
             if i < k and pieces[by_lo[i], LO] < following:
                 following = pieces[by_lo[i], LO]
             out_lo[q] = theta

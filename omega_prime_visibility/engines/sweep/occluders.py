@@ -23,7 +23,8 @@ import numba
 import numpy as np
 
 from ...geometry.candidates import CANDIDATE_EPS, certainly_occludes
-from ...geometry.kernels import TWO_PI, argsort_stable, counting_sort, group_by_key, prefix_sum, reserve
+from ...geometry.kernels import TWO_PI, counting_sort, group_by_key, prefix_sum, reserve
+from ...geometry.sorting import argsort_floats
 from .decide import decided_pairs
 from .pieces import R_HI, R_LO
 
@@ -107,11 +108,11 @@ def _candidate_intervals(objects, kept, record_edge, records):
             item_lo[k], item_hi[k], item_body[k] = records[r, R_LO], records[r, R_HI], kept.body[e]
             item_near[k], item_far[k] = kept.distance[e, 0], kept.distance[e, 1]
             k += 1
-    order = argsort_stable(item_lo[:k])
+    order = argsort_floats(item_lo[:k])
     items = (item_lo[order], item_hi[order], item_body[order], item_near[order], item_far[order])
     # without static edges the items are the queries less the passive ones: all of them when as many, in the same
     # order, and one sort serves both
-    query_order = order if k == n_queries and k == n_object_items else argsort_stable(query_lo[:n_queries])
+    query_order = order if k == n_queries and k == n_object_items else argsort_floats(query_lo[:n_queries])
     queries = (query_lo[query_order], query_hi[query_order], query_target[query_order])
     return items, queries
 

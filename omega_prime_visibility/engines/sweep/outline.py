@@ -14,7 +14,8 @@ import math
 import numba
 import numpy as np
 
-from ...geometry.kernels import argsort_stable, reserve_rows, wrap_positive
+from ...geometry.kernels import reserve_rows, wrap_positive
+from ...geometry.sorting import argsort_stable
 from ...geometry.view import clip_circular
 from .heap_sweep import nearest_intervals
 from .pieces import EX, EY, NUM, PI, TWO_PI

@@ -15,8 +15,9 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...geometry.kernels import argsort_stable, group_by_key
+from ...geometry.kernels import group_by_key
 from ...geometry.occlusion import MIN_PIECE
+from ...geometry.sorting import argsort_stable
 from ...geometry.view import limited_angle
 from .heap_sweep import credited_angles, nearer, nearest_intervals, unhidden_by_top
 from .pieces import EX, EY, HI, LO, NUM, TWO_PI

@@ -5,8 +5,9 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...geometry.kernels import TWO_PI, argsort_stable, reserve_rows, wrap_positive
+from ...geometry.kernels import TWO_PI, reserve_rows, wrap_positive
 from ...geometry.occlusion import MIN_PIECE, hidden_span
+from ...geometry.sorting import argsort_stable
 from ...geometry.view import limited_angle
 from .polygon_check import on_edge
 

@@ -9,7 +9,8 @@ import numba
 import numpy as np
 import shapely
 
-from ...geometry.kernels import MIN_CAPACITY, argsort_stable, push_pair
+from ...geometry.kernels import MIN_CAPACITY, push_pair
+from ...geometry.sorting import argsort_stable
 from . import _visilibity1  # VisiLibity1 1.0.10 compiled with the package (native/binding.cpp)
 
 ORIGIN_GRID = 1024.0  # metres; coordinates are taken relative to the nearest multiple (precision, caching)

@@ -26,7 +26,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ...geometry.kernels import TWO_PI, argsort_stable, ray_line_distance, reserve_rows
+from ...geometry.kernels import TWO_PI, ray_line_distance, reserve_rows
+from ...geometry.sorting import argsort_stable
 
 MIN_SPAN = 1e-12  # radians; edges subtending less point at the observer and bound nothing
 # radians; narrower shared intervals are not compared: where a body's silhouette ends, the polygon's radial edge
