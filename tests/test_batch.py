@@ -577,27 +577,33 @@ def test_printed_summary_shows_failures_first(capsys) -> None:
     ]
 
 
-def test_batch_result_and_summary_are_written_atomically(tmp_path, monkeypatch) -> None:
+@pytest.mark.parametrize(
+    ("writer", "options", "beside"),
+    [("ParquetWriter", {}, []), ("write_table", {"conflicts": True}, ["copy0.mcap.conflicts.parquet"])],
+    ids=["streamed", "whole-table"],
+)
+def test_batch_result_and_summary_are_written_atomically(tmp_path, monkeypatch, writer, options, beside) -> None:
     # A failure half-way through writing must leave the previous file under the final name with its old bytes,
-    # and nothing else in the folder (no half-written file, no temporary left over).
+    # and nothing else in the folder (no half-written file, no temporary left over): the result streamed chunk by
+    # chunk into its file, and the whole table written at once (when conflicts need it at hand)
     (a,) = copies(tmp_path / "in", 1)
     out = tmp_path / "out"
-    run_batch([a], out, ego=0, workers=1, progress=False)
+    run_batch([a], out, ego=0, workers=1, progress=False, **options)
     result, summary, objects = out / "copy0.mcap.parquet", out / SUMMARY, out / "copy0.mcap.objects.parquet"
     old_result, old_summary = result.read_bytes(), summary.read_bytes()
     half = lambda path: path.write_bytes(b"PAR1 half")  # noqa: E731
-    interrupted_writer(monkeypatch, pq, "write_table", result, old_result, half)
-    failed = run_batch([a], out, ego=0, engine="sweep", workers=1, progress=False)  # new options: recomputed
+    interrupted_writer(monkeypatch, pq, writer, result, old_result, half)
+    failed = run_batch([a], out, ego=0, engine="sweep", workers=1, progress=False, **options)  # new: recomputed
     assert failed.select("status", "error").row(0) == ("failed", "OSError: disk full")
     assert result.read_bytes() == old_result
-    assert sorted(p.name for p in out.iterdir()) == sorted([result.name, objects.name, SUMMARY])
+    assert sorted(p.name for p in out.iterdir()) == sorted([result.name, objects.name, SUMMARY, *beside])
     monkeypatch.undo()
     old_summary = summary.read_bytes()
     interrupted_writer(monkeypatch, pl.DataFrame, "write_parquet", summary, old_summary, half)
     with pytest.raises(OSError, match="disk full"):
         run_batch([a], out, ego=0, workers=1, progress=False)
     assert summary.read_bytes() == old_summary
-    assert sorted(p.name for p in out.iterdir()) == sorted([result.name, objects.name, SUMMARY])
+    assert sorted(p.name for p in out.iterdir()) == sorted([result.name, objects.name, SUMMARY, *beside])
 
 
 def test_batch_does_not_grow_a_tree_of_folders(tmp_path) -> None:

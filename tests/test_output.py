@@ -13,17 +13,21 @@ from pathlib import Path
 import numpy as np
 import polars as pl
 import pyarrow as pa
+import pyarrow.parquet as pq
 import pytest
 from conftest import REPO, boxes_table
 
-from omega_prime_visibility import get_visibility_df
+from omega_prime_visibility import Query, get_visibility_df
+from omega_prime_visibility.query import resolve
 from omega_prime_visibility.table import pipeline
+from omega_prime_visibility.table.compute import compute
 from omega_prime_visibility.table.output import (
     PartWriter,
     atomic_directory,
     atomic_write,
     check_output_path,
     is_dataset,
+    parquet_options,
 )
 
 SCENE = pl.concat([boxes_table([(0, 0, 4, 2, 0), (10, 0, 4, 4, 0), (20, 0, 4, 2, 0)], f) for f in range(6)])
@@ -180,6 +184,65 @@ def test_a_killed_run_leaves_nothing_that_reads_as_complete(tmp_path, previous: 
         assert not target.exists()
         with pytest.raises(Exception):  # noqa: B017 (polars raises one of several types)
             pl.scan_parquet(target).collect()
+
+
+@pytest.mark.parametrize("workers", [1, 2], ids=["in order into the file", "parts joined"])
+@pytest.mark.parametrize("observers", [0, "all"])
+def test_one_file_holds_the_table_and_its_metadata(tmp_path, engine_calls, workers: int, observers) -> None:
+    """``compute(output_file=)`` (batch's results): one parquet file, the table as in memory, row group by chunk
+    in order, the metadata in its schema, nothing else left in the folder; written as results are."""
+    boxes = [[(0, 0, 4, 2, 0), (10 + 0.5 * f, 0, 4, 4, 0), (20, 0, 4, 2, 0), (30, 1, 4, 2, 0.3)] for f in range(9)]
+    frames = pl.concat([boxes_table(b, f) for f, b in enumerate(boxes)])
+    question = Query(observers=observers, engine="sweep")
+    target = tmp_path / "result.parquet"
+    lazy = compute(resolve(question, frames), workers=workers, chunk_frames=2, output_file=target,
+                   metadata={b"key": b"value"})  # fmt: skip
+    expected = get_visibility_df(frames, query=question, workers=1)
+    assert lazy.collect().equals(expected) and pl.read_parquet(target).equals(expected)
+    assert [p.name for p in tmp_path.iterdir()] == ["result.parquet"]
+    stored = pq.ParquetFile(target)
+    assert stored.schema_arrow.metadata[b"key"] == b"value"
+    assert stored.metadata.num_row_groups == (5 if workers == 1 else 6)  # chunks of at most 2 frames (balanced)
+    column = {stored.metadata.row_group(0).column(i).path_in_schema: i for i in range(stored.metadata.num_columns)}
+    chunk = stored.metadata.row_group(0)
+    assert chunk.column(column["visibility"]).compression == "ZSTD"
+    assert "RLE_DICTIONARY" in chunk.column(column["occluder_idxs.list.element"]).encodings
+    assert "RLE_DICTIONARY" not in chunk.column(column["visibility"]).encodings
+    assert len(engine_calls) == (5 if workers == 1 else 0) + 1  # (the workers' chunks run elsewhere)
+
+
+def test_one_file_of_no_rows_and_a_failed_one(tmp_path, monkeypatch) -> None:
+    target = tmp_path / "result.parquet"
+    lonely = compute(resolve(Query(observers=0), boxes_table([(0, 0, 4, 2, 0)])), workers=1, output_file=target)
+    assert lonely.collect().height == 0 and "visibility" in pl.read_parquet_schema(target)
+    previous = target.read_bytes()
+    run_chunk = pipeline.run_chunk
+    calls: list[int] = []
+
+    def failing_second(*args):
+        calls.append(1)
+        if len(calls) == 2:
+            raise RuntimeError("engine failed")
+        return run_chunk(*args)
+
+    monkeypatch.setattr(pipeline, "run_chunk", failing_second)
+    for workers in (1, 2):
+        calls.clear()
+        with pytest.raises(RuntimeError, match="engine failed"):
+            compute(resolve(Query(observers=0), SCENE), workers=workers, chunk_frames=2, output_file=target)
+        assert [p.name for p in tmp_path.iterdir()] == ["result.parquet"] and target.read_bytes() == previous
+
+
+def test_parquet_options_name_every_stored_column(tmp_path) -> None:
+    # use_dictionary names the stored columns by their paths (a list's values are "name.list.element"): every one
+    # but the floating-point ones, for the widest table (sensors: labels, counts, in_view)
+    schema = get_visibility_df(SCENE, 0, sensors="typical").to_arrow().schema
+    options = parquet_options(schema)
+    path = tmp_path / "t.parquet"
+    pq.write_table(schema.empty_table(), path, **options)
+    stored = pq.ParquetFile(path).schema
+    paths = {stored.column(i).path: stored.column(i).physical_type for i in range(len(stored))}
+    assert set(options["use_dictionary"]) == {p for p, kind in paths.items() if kind not in ("DOUBLE", "FLOAT")}
 
 
 def test_failed_run_leaves_no_partial_file(tmp_path, monkeypatch) -> None:

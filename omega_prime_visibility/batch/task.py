@@ -81,16 +81,16 @@ def _one_line(message: str, limit: int = 500) -> str:
 def _compute_and_write(task: FileTask) -> tuple[int, str]:
     """Compute and write one result; its row count and whom it is seen from, in a reader's words."""
     import json
-    import shutil
-    import tempfile
     from importlib.metadata import version
 
+    import polars as pl
     import pyarrow.parquet as pq
 
-    from ..api import get_visibility_df
     from ..inputs.io import read_recording
     from ..inputs.scene import as_polars
-    from ..table.output import atomic_write
+    from ..query import resolve
+    from ..table.compute import compute
+    from ..table.output import atomic_write, parquet_options
 
     options = task.options
     map_path = options.map_for(Path(task.recording))
@@ -98,18 +98,6 @@ def _compute_and_write(task: FileTask) -> tuple[int, str]:
     question = options.question(recording, Path(task.recording).name, map_path)
     observers, words = options.observer(recording, Path(task.recording).name)
     Path(task.result).parent.mkdir(parents=True, exist_ok=True)
-    if options.conflicts or options.mcap:  # (both need the whole table at hand)
-        table = get_visibility_df(recording, query=question, workers=task.workers, progress=False)
-        parts = None
-    else:  # streamed: chunk by chunk into parts, then into the one result file (every observer: tens of millions)
-        stem = Path(task.result).name.removesuffix(".parquet")  # (named so that a resumed batch removes it)
-        parts = Path(tempfile.mkdtemp(prefix=f".{stem}.parts-", suffix=".tmp", dir=Path(task.result).parent))
-        try:
-            table = get_visibility_df(recording, query=question, workers=task.workers, progress=False,
-                                      output=parts / "rows.parquet")  # fmt: skip
-        except BaseException:
-            shutil.rmtree(parts, ignore_errors=True)
-            raise
     metadata = {
         OPTIONS_KEY: task.fingerprint.encode(),
         RECORDING_KEY: task.recording.encode(),
@@ -117,10 +105,15 @@ def _compute_and_write(task: FileTask) -> tuple[int, str]:
         b"omega_prime_visibility.version": version("omega-prime-visibility").encode(),
     }
     # first, so that a complete result always has them beside it: the objects' positions and types (what campaign
-    # statistics need, so they never read the recording again) and, when asked, the occluded conflicts
+    # statistics need, so they never read the recording again)
     with atomic_write(objects_path(task.result)) as temp:
         as_polars(recording).select("total_nanos", "idx", "x", "y", "type").write_parquet(temp)
-    if options.conflicts:
+    resolved = resolve(question, recording)
+    if not (options.conflicts or options.mcap):  # streamed into the result chunk by chunk (every observer: 40 M rows)
+        lazy = compute(resolved, workers=task.workers, progress=False, output_file=task.result, metadata=metadata)
+        return lazy.select(pl.len()).collect().item(), words
+    table = compute(resolved, workers=task.workers, progress=False)  # (both need the whole table at hand)
+    if options.conflicts:  # before the result, as the objects
         conflicts = _conflicts(recording, table, question.observers)
         with atomic_write(conflicts_path(task.result)) as temp:
             conflicts.write_parquet(temp)
@@ -130,35 +123,11 @@ def _compute_and_write(task: FileTask) -> tuple[int, str]:
         drawn = mcap_path(task.result)
         drawn.unlink(missing_ok=True)  # (a stale one, from before this result was recomputed)
         write_answer_mcap(task.recording, recording, table, drawn, question, osi_traces=False)
-    if parts is None:
-        arrow = table.to_arrow()
-        with atomic_write(task.result) as temp:
-            pq.write_table(arrow.replace_schema_metadata({**(arrow.schema.metadata or {}), **metadata}), temp)
-        return table.height, words
-    try:
-        rows = _join_parts(parts / "rows.parquet", task.result, metadata)
-    finally:
-        shutil.rmtree(parts, ignore_errors=True)
-    return rows, words
-
-
-def _join_parts(dataset: Path, result: str, metadata: dict) -> int:
-    """The parts of a streamed result written as the one file ``result`` with ``metadata``, one part at a time
-    (memory stays that of a chunk); the rows written."""
-    import pyarrow.parquet as pq
-
-    from ..table.output import atomic_write
-
-    with atomic_write(result) as temp:
-        files = sorted(dataset.glob("part-*.parquet"))
-        schema = pq.read_schema(files[0])
-        rows = 0
-        with pq.ParquetWriter(temp, schema.with_metadata({**(schema.metadata or {}), **metadata})) as writer:
-            for part in files:  # one chunk at a time: memory stays that of a chunk
-                piece = pq.read_table(part, schema=schema)
-                writer.write_table(piece.replace_schema_metadata(writer.schema.metadata))
-                rows += piece.num_rows
-    return rows
+    arrow = table.to_arrow()
+    with atomic_write(task.result) as temp:
+        schema = arrow.schema.with_metadata({**(arrow.schema.metadata or {}), **metadata})
+        pq.write_table(arrow.replace_schema_metadata(schema.metadata), temp, **parquet_options(schema))
+    return table.height, words
 
 
 def objects_path(result: str | Path) -> Path:

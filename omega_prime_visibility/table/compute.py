@@ -6,18 +6,23 @@ from __future__ import annotations
 
 import multiprocessing
 import os
-from collections.abc import Iterator
+import shutil
+import tempfile
+from collections.abc import Iterator, Mapping
 from concurrent.futures import ProcessPoolExecutor
-from contextlib import contextmanager, nullcontext
+from contextlib import contextmanager
+from dataclasses import replace
+from pathlib import Path
 
 import polars as pl
+import pyarrow as pa
 from tqdm.auto import tqdm
 
 from .._compiled import Heartbeat, announce_compilation, mark_compiled
 from ..inputs.objects import ObjectTable
 from ..query import Resolved
 from ..threed.mode import Finisher, with_can_see
-from .output import PartWriter, atomic_directory
+from .output import FileWriter, PartWriter, atomic_directory, atomic_write, join_parts
 from .pipeline import ContainmentLog, chunks, counted_columns, run
 from .schema import STATUSES, empty_table, to_polars
 from .selection import passive_in_place
@@ -30,17 +35,18 @@ CHUNK_ROWS = 250_000  # output rows a chunk aims at, at most: bounds each worker
 
 def chunk_size(objects: ObjectTable, n_egos: int, chunk_frames: int, n_sensors: int = 1) -> int:
     """Frames per chunk: ``chunk_frames`` at most, fewer when frames yield many rows (many observers), so that a
-    chunk's table stays near :data:`CHUNK_ROWS` rows (about 20 MiB of arrays in the worker).
+        chunk's table stays near :data:`CHUNK_ROWS` rows (about 20 MiB of arrays in the worker).
 
-    Examples
-    --------
-    >>> import polars as pl
-    >>> frames = pl.DataFrame({"frame": [0, 0, 1, 1], "total_nanos": [0, 0, 1, 1], "idx": [0, 1, 0, 1],
-    ...     "x": [0.0, 9, 0, 9], "y": [0.0] * 4, "length": [4.0] * 4, "width": [2.0] * 4, "yaw": [0.0] * 4})
-    >>> from omega_prime_visibility.inputs.scene import load_objects
-    >>> objects = load_objects(frames)
-    >>> chunk_size(objects, 2, 500), chunk_size(objects, 2, 500, n_sensors=200_000)
-    (500, 1)
+        Examples
+        --------
+        >>> import polars as pl
+    import pyarrow as pa
+        >>> frames = pl.DataFrame({"frame": [0, 0, 1, 1], "total_nanos": [0, 0, 1, 1], "idx": [0, 1, 0, 1],
+        ...     "x": [0.0, 9, 0, 9], "y": [0.0] * 4, "length": [4.0] * 4, "width": [2.0] * 4, "yaw": [0.0] * 4})
+        >>> from omega_prime_visibility.inputs.scene import load_objects
+        >>> objects = load_objects(frames)
+        >>> chunk_size(objects, 2, 500), chunk_size(objects, 2, 500, n_sensors=200_000)
+        (500, 1)
     """
     per_frame = len(objects.idx) / max(objects.n_frames, 1)
     rows = per_frame * min(n_egos, per_frame) * n_sensors
@@ -59,9 +65,15 @@ def compute(
     chunk_frames: int = CHUNK_FRAMES,
     progress: bool | None = None,
     output: os.PathLike | None = None,
+    output_file: os.PathLike | None = None,
+    metadata: Mapping[bytes, bytes] | None = None,
 ) -> pl.DataFrame | pl.LazyFrame:
     """The table of a resolved question (:func:`~omega_prime_visibility.query.resolve`): how to run it
-    (``workers``, ``chunk_frames``, ``progress``, a checked ``output`` path) as for :func:`get_visibility_df`."""
+    (``workers``, ``chunk_frames``, ``progress``, a checked ``output`` path) as for :func:`get_visibility_df`.
+
+    ``output_file`` streams the table into one parquet file instead of a dataset (under a temporary name, renamed
+    when complete), with ``metadata`` added to its schema's: chunk by chunk in the order they are computed when one
+    process computes them, else through a dataset beside it, joined at the end."""
     objects, egos, engine, sensor_set = scene.objects, scene.egos, scene.engine, scene.sensors
     three_d, with_ego = scene.query.three_d, scene.with_ego
     n_workers = auto_workers(objects.n_frames * len(egos)) if workers is None else int(workers)
@@ -79,16 +91,16 @@ def compute(
     containment = ContainmentLog()
     tables: list[pl.DataFrame] = []
     mode = scene.query.mode
-    with atomic_directory(output) if output is not None else nullcontext() as temp:
-        # workers write their own parts: only row counts and containment logs come back here
-        names = scene.sensor_names
-        counted = counted_columns(sensor_set)
-        labels = {} if names is None else {"sensor": names, "status": STATUSES}
-        finish = Finisher(scene.static_positions, three_d)
-        sink = None
-        if temp is not None:
-            schema = with_can_see(empty_table(with_ego, names is not None, counted), mode).to_arrow().schema
-            sink = Finisher(scene.static_positions, three_d, PartWriter(temp, schema, labels))
+    names = scene.sensor_names
+    counted = counted_columns(sensor_set)
+    finish = Finisher(scene.static_positions, three_d)
+    # workers write their own parts (or this process its file): only row counts and containment logs come back here
+    streams = output is not None or output_file is not None
+    schema = (
+        with_can_see(empty_table(with_ego, names is not None, counted), mode).to_arrow().schema if streams else None
+    )
+    labels = {} if names is None else {"sensor": names, "status": STATUSES}
+    with _streamed(finish, schema, labels, output, output_file, metadata, n_workers) as sink:
         try:
             with _executor(n_workers) as pool:
                 spread = {"executor": pool, "workers": n_workers, "sink": sink}
@@ -111,11 +123,37 @@ def compute(
             sink.write_empty()
     containment.warn(stacklevel=4, static_positions=scene.static_positions)
     mark_compiled(path_key)
-    if output is not None:
-        return pl.scan_parquet(output)
+    if streams:
+        return pl.scan_parquet(output if output is not None else output_file)
     if tables:
         return pl.concat(tables, rechunk=True)
     return with_can_see(empty_table(with_ego, names is not None, counted), mode)
+
+
+@contextmanager
+def _streamed(
+    finish: Finisher, schema: pa.Schema | None, labels: dict, output, output_file, metadata, n_workers: int
+) -> Iterator[Finisher | None]:
+    """The sink where the chunks' columns go (None: back to this process as tables), ``finish`` writing to a dataset
+    at ``output``, or to the one file ``output_file`` (see :func:`compute`); what was written is completed (renamed,
+    joined) when the block exits without error, and removed when it fails."""
+    if output is not None:
+        with atomic_directory(output) as temp:
+            yield replace(finish, inner=PartWriter(temp, schema, labels))
+    elif output_file is None:
+        yield None
+    elif n_workers <= 1:  # the chunks come in order: straight into the file
+        with atomic_write(output_file) as temp, FileWriter(temp, schema, labels, metadata) as writer:
+            yield replace(finish, inner=writer)
+    else:
+        stem = Path(output_file).name.removesuffix(".parquet")  # (named so that a resumed batch removes it)
+        parts = Path(tempfile.mkdtemp(prefix=f".{stem}.parts-", suffix=".tmp", dir=Path(output_file).parent))
+        try:
+            with atomic_write(output_file) as temp:
+                yield replace(finish, inner=PartWriter(parts, schema, labels))
+                join_parts(parts, temp, metadata)
+        finally:
+            shutil.rmtree(parts, ignore_errors=True)
 
 
 @contextmanager
