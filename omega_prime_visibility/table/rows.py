@@ -12,10 +12,68 @@ import numba
 import numpy as np
 
 from ..engines import ChunkObservation, ChunkViewpoints, Observation, Reason
-from ..geometry.kernels import copy_into
 from .schema import Columns, missing_counts, view_of, visibility_of
 
 _CONTAINS_OBSERVER = int(Reason.CONTAINS_OBSERVER)
+
+
+@numba.njit(cache=True)
+def _rows_into(
+    out, at, own, reason, visible_angle, angular_extent, occluder_offsets, occluders, static_offsets, statics, idx,
+    in_view_angle, in_fov_angle, with_view,
+):  # fmt: skip
+    """Write the rows of every object but the observer's own (row number ``own``; see :func:`observation_rows`)
+    into the arrays ``out`` from the positions ``at`` (rows, occluder entries, static entries), which move on."""
+    row_idx, visibility, occluder_counts, occluder_idxs, static_counts, static_idxs, in_view, status = out
+    row, occluder_at, static_at = at[0], at[1], at[2]
+    for i in range(len(reason)):
+        if i == own:
+            continue
+        row_idx[row] = idx[i]
+        if with_view:
+            visibility[row], in_view[row], status[row] = view_of(
+                reason[i], visible_angle[i], angular_extent[i], in_view_angle[i], in_fov_angle[i]
+            )
+        else:
+            visibility[row] = visibility_of(reason[i], visible_angle[i], angular_extent[i])
+        occluder_counts[row] = 0
+        static_counts[row] = 0
+        if reason[i] != _CONTAINS_OBSERVER:  # a transparent target lists no occluders
+            occluder_counts[row] = occluder_offsets[i + 1] - occluder_offsets[i]
+            static_counts[row] = static_offsets[i + 1] - static_offsets[i]
+        for q in range(occluder_counts[row]):
+            occluder_idxs[occluder_at + q] = idx[occluders[occluder_offsets[i] + q]]
+        for q in range(static_counts[row]):
+            static_idxs[static_at + q] = statics[static_offsets[i] + q]
+        occluder_at += occluder_counts[row]
+        static_at += static_counts[row]
+        row += 1
+    at[0], at[1], at[2] = row, occluder_at, static_at
+
+
+@numba.njit(cache=True)
+def _row_arrays(n_rows, n_occluders, n_statics, with_view):
+    """Room for ``n_rows`` rows and their occluder entries (the tuple :func:`_rows_into` writes into)."""
+    return (
+        np.empty(n_rows, dtype=np.int64),
+        np.empty(n_rows),
+        np.empty(n_rows, dtype=np.int64),
+        np.empty(n_occluders, dtype=np.int64),
+        np.empty(n_rows, dtype=np.int64),
+        np.empty(n_statics, dtype=np.int64),
+        np.empty(n_rows if with_view else 0),
+        np.empty(n_rows if with_view else 0, dtype=np.int8),
+    )
+
+
+@numba.njit(cache=True)
+def _cut(out, at, with_view):
+    """The arrays of :func:`_row_arrays` cut to what :func:`_rows_into` wrote."""
+    rows, n_occ, n_st = at[0], at[1], at[2]
+    return (
+        out[0][:rows], out[1][:rows], out[2][:rows], out[3][:n_occ], out[4][:rows], out[5][:n_st],
+        out[6][: rows if with_view else 0], out[7][: rows if with_view else 0],
+    )  # fmt: skip
 
 
 @numba.njit(cache=True)
@@ -34,45 +92,12 @@ def _rows(
     with_view,
 ):
     """Rows for every object but the observer's own (row number ``own``), see :func:`observation_rows`."""
-    n = len(reason)
-    n_rows = n - 1 if 0 <= own < n else n
-    row_idx = np.empty(n_rows, dtype=np.int64)
-    visibility = np.empty(n_rows)
-    in_view = np.empty(n_rows if with_view else 0)
-    status = np.empty(n_rows if with_view else 0, dtype=np.int8)
-    occluder_counts = np.zeros(n_rows, dtype=np.int64)
-    static_counts = np.zeros(n_rows, dtype=np.int64)
-    row = 0
-    for i in range(n):
-        if i == own:
-            continue
-        row_idx[row] = idx[i]
-        if with_view:
-            visibility[row], in_view[row], status[row] = view_of(
-                reason[i], visible_angle[i], angular_extent[i], in_view_angle[i], in_fov_angle[i]
-            )
-        else:
-            visibility[row] = visibility_of(reason[i], visible_angle[i], angular_extent[i])
-        if reason[i] != _CONTAINS_OBSERVER:  # a transparent target lists no occluders
-            occluder_counts[row] = occluder_offsets[i + 1] - occluder_offsets[i]
-            static_counts[row] = static_offsets[i + 1] - static_offsets[i]
-        row += 1
-    occluder_idxs = np.empty(occluder_counts.sum(), dtype=np.int64)
-    static_idxs = np.empty(static_counts.sum(), dtype=np.int64)
-    row = 0
-    occluder_at = 0
-    static_at = 0
-    for i in range(n):
-        if i == own:
-            continue
-        for q in range(occluder_counts[row]):
-            occluder_idxs[occluder_at + q] = idx[occluders[occluder_offsets[i] + q]]
-        for q in range(static_counts[row]):
-            static_idxs[static_at + q] = statics[static_offsets[i] + q]
-        occluder_at += occluder_counts[row]
-        static_at += static_counts[row]
-        row += 1
-    return row_idx, visibility, occluder_counts, occluder_idxs, static_counts, static_idxs, in_view, status
+    out = _row_arrays(len(reason), occluder_offsets[-1] - occluder_offsets[0], static_offsets[-1] - static_offsets[0],
+                      with_view)  # fmt: skip
+    at = np.zeros(3, dtype=np.int64)
+    _rows_into(out, at, own, reason, visible_angle, angular_extent, occluder_offsets, occluders, static_offsets,
+               statics, idx, in_view_angle, in_fov_angle, with_view)  # fmt: skip
+    return _cut(out, at, with_view)
 
 
 def observation_rows(observation: Observation, own: int, idx: np.ndarray, with_view: bool = False) -> Columns:
@@ -139,57 +164,20 @@ def _chunk_rows(
     objects of viewpoint ``o``'s frame being ``idx[first_row[o]:]``; the rows of all of them in order and their
     number per viewpoint."""
     k = len(own)
-    parts = []
     counts = np.zeros(k, dtype=np.int64)
-    n_occ = 0
-    n_st = 0
+    # room for every target's row and every listed occluder (the observers' own rows are left out as they come)
+    out = _row_arrays(targets[k] - targets[0], len(occ), len(st), with_view)
+    at = np.zeros(3, dtype=np.int64)
     for o in range(k):
         t0, t1 = targets[o], targets[o + 1]
-        part = _rows(
-            own[o],
-            reason[t0:t1],
-            visible_angle[t0:t1],
-            angular_extent[t0:t1],
-            occ_offsets[t0 : t1 + 1],
-            occ,
-            st_offsets[t0 : t1 + 1],
-            st,
-            idx[first_row[o] : first_row[o] + t1 - t0],
-            in_view_angle[t0:t1],
-            in_fov_angle[t0:t1],
-            with_view,
-        )
-        parts.append(part)
-        counts[o] = len(part[0])
-        n_occ += len(part[3])
-        n_st += len(part[5])
-    n_rows = counts.sum()
-    row_idx = np.empty(n_rows, dtype=np.int64)
-    visibility = np.empty(n_rows)
-    occ_n = np.empty(n_rows, dtype=np.int64)
-    occ_idxs = np.empty(n_occ, dtype=np.int64)
-    st_n = np.empty(n_rows, dtype=np.int64)
-    st_idxs = np.empty(n_st, dtype=np.int64)
-    in_view = np.empty(n_rows if with_view else 0)
-    status = np.empty(n_rows if with_view else 0, dtype=np.int8)
-    at = 0
-    occ_at = 0
-    st_at = 0
-    for o in range(k):
-        part_idx, part_visibility, part_occ_n, part_occ, part_st_n, part_st, part_in_view, part_status = parts[o]
-        m = len(part_idx)
-        copy_into(row_idx, at, part_idx)
-        copy_into(visibility, at, part_visibility)
-        copy_into(occ_n, at, part_occ_n)
-        copy_into(st_n, at, part_st_n)
-        copy_into(occ_idxs, occ_at, part_occ)
-        copy_into(st_idxs, st_at, part_st)
-        if with_view:
-            copy_into(in_view, at, part_in_view)
-            copy_into(status, at, part_status)
-        at += m
-        occ_at += len(part_occ)
-        st_at += len(part_st)
+        before = at[0]
+        _rows_into(
+            out, at, own[o], reason[t0:t1], visible_angle[t0:t1], angular_extent[t0:t1], occ_offsets[t0 : t1 + 1],
+            occ, st_offsets[t0 : t1 + 1], st, idx[first_row[o] : first_row[o] + t1 - t0], in_view_angle[t0:t1],
+            in_fov_angle[t0:t1], with_view,
+        )  # fmt: skip
+        counts[o] = at[0] - before
+    row_idx, visibility, occ_n, occ_idxs, st_n, st_idxs, in_view, status = _cut(out, at, with_view)
     return counts, row_idx, visibility, occ_n, occ_idxs, st_n, st_idxs, in_view, status
 
 
