@@ -9,16 +9,9 @@ plotting libraries it needs) when it is first used.
 import sys
 from collections.abc import Callable
 from importlib import import_module
-from importlib.metadata import PackageNotFoundError
-from importlib.metadata import version as _version
 from typing import Any
 
 from . import _compiled  # noqa: F401 (first: the kernels' cache follows the sources, see _compiled)
-
-try:
-    __version__ = _version("omega-prime-visibility")
-except PackageNotFoundError:  # (the sources used without installing them)
-    __version__ = "0+unknown"
 
 _WHERE = {
     "ENGINES": "engines.registry",
@@ -92,4 +85,23 @@ def _lazy_names(package: str, where: dict[str, str]) -> tuple[Callable[[str], An
     return __getattr__, __dir__
 
 
-__getattr__, __dir__ = _lazy_names(__name__, _WHERE)
+_getattr, _dir = _lazy_names(__name__, _WHERE)
+
+
+def __getattr__(name: str) -> Any:
+    """The public names of :data:`_WHERE`, and ``__version__`` (read when first asked: importlib.metadata is two
+    thirds of the package's import)."""
+    if name == "__version__":
+        from importlib.metadata import PackageNotFoundError, version
+
+        try:
+            value = version("omega-prime-visibility")
+        except PackageNotFoundError:  # (the sources used without installing them)
+            value = "0+unknown"
+        globals()["__version__"] = value
+        return value
+    return _getattr(name)
+
+
+def __dir__() -> list[str]:
+    return sorted({*_dir(), "__version__"})

@@ -8,6 +8,7 @@ import multiprocessing
 import os
 import shutil
 import tempfile
+import warnings
 from collections.abc import Iterator, Mapping
 from concurrent.futures import ProcessPoolExecutor
 from contextlib import contextmanager
@@ -16,7 +17,7 @@ from pathlib import Path
 
 import polars as pl
 import pyarrow as pa
-from tqdm.auto import tqdm
+from tqdm import TqdmExperimentalWarning
 
 from .._compiled import Heartbeat, announce_compilation, mark_compiled
 from ..inputs.objects import ObjectTable
@@ -26,6 +27,11 @@ from .output import FileWriter, PartWriter, atomic_directory, atomic_write, join
 from .pipeline import ContainmentLog, chunks, counted_columns, run
 from .schema import STATUSES, empty_table, to_polars
 from .selection import passive_in_place
+
+with warnings.catch_warnings():  # (in a notebook it says it draws there: what tqdm.auto silences too)
+    warnings.simplefilter("ignore", TqdmExperimentalWarning)
+    # tqdm.auto without its asyncio mix-in, which imports asyncio (a tenth of a short run's imports) for nothing
+    from tqdm.autonotebook import tqdm
 
 PROGRESS_MIN_FRAMES = 200
 PARALLEL_MIN_WORK = 5_000  # (frame, observer) pairs from which all cores are used by default
