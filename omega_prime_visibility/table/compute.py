@@ -41,18 +41,17 @@ CHUNK_ROWS = 250_000  # output rows a chunk aims at, at most: bounds each worker
 
 def chunk_size(objects: ObjectTable, n_egos: int, chunk_frames: int, n_sensors: int = 1) -> int:
     """Frames per chunk: ``chunk_frames`` at most, fewer when frames yield many rows (many observers), so that a
-        chunk's table stays near :data:`CHUNK_ROWS` rows (about 20 MiB of arrays in the worker).
+    chunk's table stays near :data:`CHUNK_ROWS` rows (about 20 MiB of arrays in the worker).
 
-        Examples
-        --------
-        >>> import polars as pl
-    import pyarrow as pa
-        >>> frames = pl.DataFrame({"frame": [0, 0, 1, 1], "total_nanos": [0, 0, 1, 1], "idx": [0, 1, 0, 1],
-        ...     "x": [0.0, 9, 0, 9], "y": [0.0] * 4, "length": [4.0] * 4, "width": [2.0] * 4, "yaw": [0.0] * 4})
-        >>> from omega_prime_visibility.inputs.scene import load_objects
-        >>> objects = load_objects(frames)
-        >>> chunk_size(objects, 2, 500), chunk_size(objects, 2, 500, n_sensors=200_000)
-        (500, 1)
+    Examples
+    --------
+    >>> import polars as pl
+    >>> frames = pl.DataFrame({"frame": [0, 0, 1, 1], "total_nanos": [0, 0, 1, 1], "idx": [0, 1, 0, 1],
+    ...     "x": [0.0, 9, 0, 9], "y": [0.0] * 4, "length": [4.0] * 4, "width": [2.0] * 4, "yaw": [0.0] * 4})
+    >>> from omega_prime_visibility.inputs.scene import load_objects
+    >>> objects = load_objects(frames)
+    >>> chunk_size(objects, 2, 500), chunk_size(objects, 2, 500, n_sensors=200_000)
+    (500, 1)
     """
     per_frame = len(objects.idx) / max(objects.n_frames, 1)
     rows = per_frame * min(n_egos, per_frame) * n_sensors

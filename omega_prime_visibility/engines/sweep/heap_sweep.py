@@ -242,7 +242,8 @@ def nearest_intervals(pieces, with_ties=False):
             out_hi[q] = following
             out_top[q] = heap[0]
             if with_ties and size > 1:  # the heap's slots below the top that tie with it, depth first
-                ties = reserve(ties, n_ties, n_ties + size)
+                if n_ties + size > len(ties):  # (grown rarely: a call that returns an array costs reference counting)
+                    ties = reserve(ties, n_ties, n_ties + size)
                 stack[0] = 0
                 n_stack = 1
                 while n_stack > 0:
