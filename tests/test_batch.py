@@ -606,6 +606,46 @@ def test_batch_result_and_summary_are_written_atomically(tmp_path, monkeypatch, 
     assert sorted(p.name for p in out.iterdir()) == sorted([result.name, objects.name, SUMMARY, *beside])
 
 
+def test_a_failed_recomputation_leaves_the_previous_result_with_its_own_objects(tmp_path, monkeypatch) -> None:
+    # the objects beside a result are written once its table is computed, before it takes its name: an engine that
+    # fails on the recomputation (new options, and the recording changed meanwhile: its objects moved) leaves the
+    # previous result and the objects it was computed from
+    from omega_prime_visibility.inputs import io
+    from omega_prime_visibility.inputs.scene import as_polars
+    from omega_prime_visibility.table import pipeline
+
+    (a,) = copies(tmp_path / "in", 1)
+    out = tmp_path / "out"
+    run_batch([a], out, ego=0, workers=1, progress=False)
+    result, objects = out / "copy0.mcap.parquet", out / "copy0.mcap.objects.parquet"
+    before = result.read_bytes(), objects.read_bytes()
+    read = io.read_recording
+
+    def failing(*args):
+        raise RuntimeError("engine failed")
+
+    monkeypatch.setattr(io, "read_recording", lambda *args: as_polars(read(*args)).with_columns(pl.col("x") + 1.0))
+    monkeypatch.setattr(pipeline, "run_chunk", failing)
+    for options in ({}, {"conflicts": True}):  # streamed, and the whole table at hand
+        failed = run_batch([a], out, ego=0, engine="sweep", workers=1, progress=False, **options)
+        assert failed.select("status", "error").row(0) == ("failed", "RuntimeError: engine failed")
+        assert (result.read_bytes(), objects.read_bytes()) == before
+        assert sorted(p.name for p in out.iterdir()) == sorted([result.name, objects.name, SUMMARY])
+
+
+def test_one_file_over_two_cores_is_joined_into_its_result(tmp_path) -> None:
+    # a lone file's frames go over the cores: the workers' parts are joined into the one result, none left behind
+    (a,) = copies(tmp_path / "in", 1)
+    out = tmp_path / "out"
+    summary = run_batch([a], out, ego="all", engine="sweep", workers=2, progress=False)
+    assert summary["status"].to_list() == ["done"]
+    result = out / "copy0.mcap.parquet"
+    expected = get_visibility_df(read_recording(a), "all", engine="sweep", workers=1, progress=False)
+    assert_frame_equal(pl.read_parquet(result), expected)
+    assert OPTIONS_KEY in pq.read_schema(result).metadata
+    assert sorted(p.name for p in out.iterdir()) == sorted([result.name, "copy0.mcap.objects.parquet", SUMMARY])
+
+
 def test_batch_does_not_grow_a_tree_of_folders(tmp_path) -> None:
     # a mistyped output path: its parent does not exist, nothing is created; the folder itself may be new
     assert_cli_error(batch_cli(MCAP, "-o", tmp_path / "typo" / "out"), f"the folder {tmp_path / 'typo'} does not exist")

@@ -113,3 +113,17 @@ def test_many_pieces_ending_at_one_bearing(n: int) -> None:
         (10.0 + 3 * k, 4.0, 2.0, 2.0, 0.0) for k in range(n)
     ]
     check_sweep(piece_table(boxes))
+
+
+def test_a_piece_of_no_width_changes_nothing_and_a_bearing_that_is_no_number_is_refused() -> None:
+    pieces = piece_table([(10.0, 0.0, 4.0, 2.0, 0.3), (20.0, 2.0, 4.0, 2.0, 0.0), (15.0, -3.0, 6.0, 2.0, 1.0)])
+    point = pieces[1:2].copy()
+    point[0, HI] = point[0, LO]  # it ends where it starts
+    plain = nearest_intervals(pieces, True)
+    with_point = nearest_intervals(np.concatenate([pieces, point]), True)
+    for a, b in zip(plain, with_point, strict=True):
+        assert np.array_equal(a, b)
+    broken = pieces.copy()
+    broken[0, LO] = np.nan
+    with pytest.raises(ValueError, match="not a number"):
+        nearest_intervals(broken, True)

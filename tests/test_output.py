@@ -212,6 +212,8 @@ def test_one_file_holds_the_table_and_its_metadata(tmp_path, engine_calls, worke
 
 
 def test_one_file_of_no_rows_and_a_failed_one(tmp_path, monkeypatch) -> None:
+    # output_file is the caller's (batch: a temporary name it renames when complete): an empty result still has the
+    # schema; a failing engine, with one worker or two, leaves the previous file under the final name and nothing else
     target = tmp_path / "result.parquet"
     lonely = compute(resolve(Query(observers=0), boxes_table([(0, 0, 4, 2, 0)])), workers=1, output_file=target)
     assert lonely.collect().height == 0 and "visibility" in pl.read_parquet_schema(target)
@@ -228,9 +230,11 @@ def test_one_file_of_no_rows_and_a_failed_one(tmp_path, monkeypatch) -> None:
     monkeypatch.setattr(pipeline, "run_chunk", failing_second)
     for workers in (1, 2):
         calls.clear()
-        with pytest.raises(RuntimeError, match="engine failed"):
-            compute(resolve(Query(observers=0), SCENE), workers=workers, chunk_frames=2, output_file=target)
+        with pytest.raises(RuntimeError, match="engine failed"), atomic_write(target) as temp:
+            compute(resolve(Query(observers=0), SCENE), workers=workers, chunk_frames=2, output_file=temp)
         assert [p.name for p in tmp_path.iterdir()] == ["result.parquet"] and target.read_bytes() == previous
+    with pytest.raises(ValueError, match="not both"):
+        compute(resolve(Query(observers=0), SCENE), output=tmp_path / "d.parquet", output_file=target)
 
 
 def test_parquet_options_name_every_stored_column(tmp_path) -> None:

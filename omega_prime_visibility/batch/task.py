@@ -83,11 +83,9 @@ def _compute_and_write(task: FileTask) -> tuple[int, str]:
     import json
     from importlib.metadata import version
 
-    import polars as pl
     import pyarrow.parquet as pq
 
     from ..inputs.io import read_recording
-    from ..inputs.scene import as_polars
     from ..query import resolve
     from ..table.compute import compute
     from ..table.output import atomic_write, parquet_options
@@ -104,15 +102,15 @@ def _compute_and_write(task: FileTask) -> tuple[int, str]:
         OBSERVER_KEY: json.dumps({"observers": observers, "words": words}).encode(),
         b"omega_prime_visibility.version": version("omega-prime-visibility").encode(),
     }
-    # first, so that a complete result always has them beside it: the objects' positions and types (what campaign
-    # statistics need, so they never read the recording again)
-    with atomic_write(objects_path(task.result)) as temp:
-        as_polars(recording).select("total_nanos", "idx", "x", "y", "type").write_parquet(temp)
     resolved = resolve(question, recording)
     if not (options.conflicts or options.mcap):  # streamed into the result chunk by chunk (every observer: 40 M rows)
-        lazy = compute(resolved, workers=task.workers, progress=False, output_file=task.result, metadata=metadata)
-        return lazy.select(pl.len()).collect().item(), words
+        with atomic_write(task.result) as temp:
+            compute(resolved, workers=task.workers, progress=False, output_file=temp, metadata=metadata)
+            rows = pq.read_metadata(temp).num_rows
+            _write_objects(recording, task.result)  # (before the result appears: see _write_objects)
+        return rows, words
     table = compute(resolved, workers=task.workers, progress=False)  # (both need the whole table at hand)
+    _write_objects(recording, task.result)
     if options.conflicts:  # before the result, as the objects
         conflicts = _conflicts(recording, table, question.observers)
         with atomic_write(conflicts_path(task.result)) as temp:
@@ -128,6 +126,17 @@ def _compute_and_write(task: FileTask) -> tuple[int, str]:
         schema = arrow.schema.with_metadata({**(arrow.schema.metadata or {}), **metadata})
         pq.write_table(arrow.replace_schema_metadata(schema.metadata), temp, **parquet_options(schema))
     return table.height, words
+
+
+def _write_objects(recording, result: str) -> None:
+    """The objects' positions and types beside ``result`` (what campaign statistics need, so they never read the
+    recording again): written once the table is computed and before the result takes its name, so that a complete
+    result always has its own beside it and a failed recomputation leaves the previous pair as it was."""
+    from ..inputs.scene import as_polars
+    from ..table.output import atomic_write
+
+    with atomic_write(objects_path(result)) as temp:
+        as_polars(recording).select("total_nanos", "idx", "x", "y", "type").write_parquet(temp)
 
 
 def objects_path(result: str | Path) -> Path:

@@ -23,7 +23,7 @@ from .._compiled import Heartbeat, announce_compilation, mark_compiled
 from ..inputs.objects import ObjectTable
 from ..query import Resolved
 from ..threed.mode import Finisher, with_can_see
-from .output import FileWriter, PartWriter, atomic_directory, atomic_write, join_parts
+from .output import FileWriter, PartWriter, atomic_directory, join_parts
 from .pipeline import ContainmentLog, chunks, counted_columns, run
 from .schema import STATUSES, empty_table, to_polars
 from .selection import passive_in_place
@@ -76,9 +76,11 @@ def compute(
     """The table of a resolved question (:func:`~omega_prime_visibility.query.resolve`): how to run it
     (``workers``, ``chunk_frames``, ``progress``, a checked ``output`` path) as for :func:`get_visibility_df`.
 
-    ``output_file`` streams the table into one parquet file instead of a dataset (under a temporary name, renamed
-    when complete), with ``metadata`` added to its schema's: chunk by chunk in the order they are computed when one
-    process computes them, else through a dataset beside it, joined at the end."""
+    ``output_file`` streams the table into that one parquet file instead (the caller's: a temporary name it renames
+    when complete, and removes on an error), with ``metadata`` added to its schema's: chunk by chunk in the order they
+    are computed when one process computes them, else through a dataset beside it, joined at the end."""
+    if output is not None and output_file is not None:
+        raise ValueError("compute writes a dataset (output=) or one file (output_file=), not both")
     objects, egos, engine, sensor_set = scene.objects, scene.egos, scene.engine, scene.sensors
     three_d, with_ego = scene.query.three_d, scene.with_ego
     n_workers = auto_workers(objects.n_frames * len(egos)) if workers is None else int(workers)
@@ -140,23 +142,22 @@ def _streamed(
     finish: Finisher, schema: pa.Schema | None, labels: dict, output, output_file, metadata, n_workers: int
 ) -> Iterator[Finisher | None]:
     """The sink where the chunks' columns go (None: back to this process as tables), ``finish`` writing to a dataset
-    at ``output``, or to the one file ``output_file`` (see :func:`compute`); what was written is completed (renamed,
-    joined) when the block exits without error, and removed when it fails."""
+    at ``output`` (renamed into place when the block exits without error, removed when it fails) or to the one file
+    ``output_file`` (see :func:`compute`)."""
     if output is not None:
         with atomic_directory(output) as temp:
             yield replace(finish, inner=PartWriter(temp, schema, labels))
     elif output_file is None:
         yield None
     elif n_workers <= 1:  # the chunks come in order: straight into the file
-        with atomic_write(output_file) as temp, FileWriter(temp, schema, labels, metadata) as writer:
+        with FileWriter(Path(output_file), schema, labels, metadata) as writer:
             yield replace(finish, inner=writer)
-    else:
-        stem = Path(output_file).name.removesuffix(".parquet")  # (named so that a resumed batch removes it)
-        parts = Path(tempfile.mkdtemp(prefix=f".{stem}.parts-", suffix=".tmp", dir=Path(output_file).parent))
+    else:  # the workers' parts beside it (named after it: a batch resumed after a kill removes them), then joined
+        path = Path(output_file)
+        parts = Path(tempfile.mkdtemp(prefix=f"{path.name}.parts-", suffix=".tmp", dir=path.parent))
         try:
-            with atomic_write(output_file) as temp:
-                yield replace(finish, inner=PartWriter(parts, schema, labels))
-                join_parts(parts, temp, metadata)
+            yield replace(finish, inner=PartWriter(parts, schema, labels))
+            join_parts(parts, path, metadata)
         finally:
             shutil.rmtree(parts, ignore_errors=True)
 

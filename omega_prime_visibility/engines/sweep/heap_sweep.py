@@ -170,6 +170,8 @@ def nearest_intervals(pieces, with_ties=False):
             theta = pieces[ends[0], HI]
         else:
             theta = pieces[by_lo[i], LO]
+        if theta != theta:  # (no event would ever match it: the sweep would not end)
+            raise ValueError("a piece's bearing is not a number")
         # the events at theta, ends first, one at a time: a piece ending at slot h is replaced by the heap's last,
         # a starting piece is appended; then the piece at slot h moves up while nearer than its parent, else down
         # while a child is nearer; likewise in the ends' heap. (Written out here, once, rather than as sift functions:
