@@ -578,11 +578,11 @@ def test_printed_summary_shows_failures_first(capsys) -> None:
 
 
 @pytest.mark.parametrize(
-    ("writer", "options", "beside"),
-    [("ParquetWriter", {}, []), ("write_table", {"conflicts": True}, ["copy0.mcap.conflicts.parquet"])],
+    ("options", "beside"),
+    [({}, []), ({"conflicts": True}, ["copy0.mcap.conflicts.parquet"])],
     ids=["streamed", "whole-table"],
 )
-def test_batch_result_and_summary_are_written_atomically(tmp_path, monkeypatch, writer, options, beside) -> None:
+def test_batch_result_and_summary_are_written_atomically(tmp_path, monkeypatch, options, beside) -> None:
     # A failure half-way through writing must leave the previous file under the final name with its old bytes,
     # and nothing else in the folder (no half-written file, no temporary left over): the result streamed chunk by
     # chunk into its file, and the whole table written at once (when conflicts need it at hand)
@@ -592,7 +592,7 @@ def test_batch_result_and_summary_are_written_atomically(tmp_path, monkeypatch, 
     result, summary, objects = out / "copy0.mcap.parquet", out / SUMMARY, out / "copy0.mcap.objects.parquet"
     old_result, old_summary = result.read_bytes(), summary.read_bytes()
     half = lambda path: path.write_bytes(b"PAR1 half")  # noqa: E731
-    interrupted_writer(monkeypatch, pq, writer, result, old_result, half)
+    interrupted_writer(monkeypatch, pq, "ParquetWriter", result, old_result, half)  # (results are written by it)
     failed = run_batch([a], out, ego=0, engine="sweep", workers=1, progress=False, **options)  # new: recomputed
     assert failed.select("status", "error").row(0) == ("failed", "OSError: disk full")
     assert result.read_bytes() == old_result

@@ -47,6 +47,21 @@ def engine_calls(monkeypatch) -> list[int]:
     return calls
 
 
+def fail_second_chunk(monkeypatch) -> list[int]:
+    """Make the engine fail on the second chunk computed in this process (and forked from it); the calls so far."""
+    run_chunk = pipeline.run_chunk
+    calls: list[int] = []
+
+    def failing_second(*args):
+        calls.append(1)
+        if len(calls) == 2:
+            raise RuntimeError("engine failed")
+        return run_chunk(*args)
+
+    monkeypatch.setattr(pipeline, "run_chunk", failing_second)
+    return calls
+
+
 @pytest.mark.parametrize(
     ("name", "problem"),
     [
@@ -218,16 +233,7 @@ def test_one_file_of_no_rows_and_a_failed_one(tmp_path, monkeypatch) -> None:
     lonely = compute(resolve(Query(observers=0), boxes_table([(0, 0, 4, 2, 0)])), workers=1, output_file=target)
     assert lonely.collect().height == 0 and "visibility" in pl.read_parquet_schema(target)
     previous = target.read_bytes()
-    run_chunk = pipeline.run_chunk
-    calls: list[int] = []
-
-    def failing_second(*args):
-        calls.append(1)
-        if len(calls) == 2:
-            raise RuntimeError("engine failed")
-        return run_chunk(*args)
-
-    monkeypatch.setattr(pipeline, "run_chunk", failing_second)
+    calls = fail_second_chunk(monkeypatch)
     for workers in (1, 2):
         calls.clear()
         with pytest.raises(RuntimeError, match="engine failed"), atomic_write(target) as temp:
@@ -250,19 +256,10 @@ def test_parquet_options_name_every_stored_column(tmp_path) -> None:
 
 
 def test_failed_run_leaves_no_partial_file(tmp_path, monkeypatch) -> None:
-    run_chunk = pipeline.run_chunk
-    calls: list[int] = []
-
-    def failing_second(*args):
-        calls.append(1)
-        if len(calls) == 2:
-            raise RuntimeError("engine failed")
-        return run_chunk(*args)
-
     target = tmp_path / "vis.parquet"
     get_visibility_df(SCENE, 0, workers=1, chunk_frames=4, output=target)  # the previous result: two parts
     previous = {p.name: p.read_bytes() for p in target.iterdir()}
-    monkeypatch.setattr(pipeline, "run_chunk", failing_second)
+    calls = fail_second_chunk(monkeypatch)
     with pytest.raises(RuntimeError, match="engine failed"):
         get_visibility_df(SCENE, 0, workers=1, chunk_frames=2, output=target)
     assert calls == [1, 1]  # the first chunk was written (to the temporary directory) before the failure

@@ -88,7 +88,7 @@ def _compute_and_write(task: FileTask) -> tuple[int, str]:
     from ..inputs.io import read_recording
     from ..query import resolve
     from ..table.compute import compute
-    from ..table.output import atomic_write, parquet_options
+    from ..table.output import FileWriter, atomic_write
 
     options = task.options
     map_path = options.map_for(Path(task.recording))
@@ -122,9 +122,8 @@ def _compute_and_write(task: FileTask) -> tuple[int, str]:
         drawn.unlink(missing_ok=True)  # (a stale one, from before this result was recomputed)
         write_answer_mcap(task.recording, recording, table, drawn, question, osi_traces=False)
     arrow = table.to_arrow()
-    with atomic_write(task.result) as temp:
-        schema = arrow.schema.with_metadata({**(arrow.schema.metadata or {}), **metadata})
-        pq.write_table(arrow.replace_schema_metadata(schema.metadata), temp, **parquet_options(schema))
+    with atomic_write(task.result) as temp, FileWriter(temp, arrow.schema, {}, metadata) as writer:
+        writer.write(arrow)
     return table.height, words
 
 

@@ -201,12 +201,13 @@ def lacking(buf: np.ndarray, starts: np.ndarray, ends: np.ndarray, number: int) 
 
 
 @numba.njit(cache=True)
-def read_double(buf: np.ndarray, pos: int, scratch: np.ndarray, raw: np.ndarray) -> float:
-    """The little-endian 64-bit float at ``buf[pos]`` (``scratch``: one float64, reused, and ``raw`` its 8 bytes,
-    made once by the caller: nothing is allocated per value)."""
+def read_double(buf: np.ndarray, pos: int, scratch: tuple) -> float:
+    """The little-endian 64-bit float at ``buf[pos]`` (``scratch``: one float64 and a view of its 8 bytes, made once
+    by the caller and reused: nothing is allocated per value)."""
+    value, raw = scratch
     for k in range(8):
         raw[k] = buf[pos + k]
-    return scratch[0]
+    return value[0]
 
 
 @numba.njit(cache=True)
@@ -218,12 +219,11 @@ def _fields(
     index: int,
     out: np.ndarray,
     first: int,
-    scratch: np.ndarray,
-    raw: np.ndarray,
+    scratch: tuple,
 ) -> bool:
     """Read the double fields ``numbers[index:index + k]`` of the message in ``buf[pos:end]`` into
-    ``out[first:first + k]`` (k = 3; ``scratch, raw`` as :func:`read_double` takes them); False for bytes that are
-    no message."""
+    ``out[first:first + k]`` (k = 3; ``scratch`` as :func:`read_double` takes it); False for bytes that are no
+    message."""
     while pos < end:
         number, wire, start, after = next_field(buf, pos, end)
         if after == BAD:
@@ -232,16 +232,14 @@ def _fields(
             if number == numbers[index + k]:
                 if wire != FIXED64:
                     return False
-                out[first + k] = read_double(buf, start, scratch, raw)
+                out[first + k] = read_double(buf, start, scratch)
                 break
         pos = after
     return pos == end
 
 
 @numba.njit(cache=True)
-def _base(
-    buf: np.ndarray, pos: int, end: int, numbers: np.ndarray, floats: np.ndarray, scratch: np.ndarray, raw: np.ndarray
-) -> bool:
+def _base(buf: np.ndarray, pos: int, end: int, numbers: np.ndarray, floats: np.ndarray, scratch: tuple) -> bool:
     """Read a ``BaseMoving`` message: its dimension, position, orientation, velocity and acceleration."""
     while pos < end:
         number, wire, start, after = next_field(buf, pos, end)
@@ -262,7 +260,7 @@ def _base(
         if index >= 0:
             if wire != LENGTH:
                 return False
-            if not _fields(buf, start, after, numbers, index, floats, first, scratch, raw):
+            if not _fields(buf, start, after, numbers, index, floats, first, scratch):
                 return False
         pos = after
     return pos == end
@@ -290,14 +288,7 @@ def _varints(buf: np.ndarray, pos: int, end: int, wanted: int, other: int) -> tu
 
 @numba.njit(cache=True)
 def _object(
-    buf: np.ndarray,
-    pos: int,
-    end: int,
-    numbers: np.ndarray,
-    ints: np.ndarray,
-    floats: np.ndarray,
-    scratch: np.ndarray,
-    raw: np.ndarray,
+    buf: np.ndarray, pos: int, end: int, numbers: np.ndarray, ints: np.ndarray, floats: np.ndarray, scratch: tuple
 ) -> bool:
     """Read a ``MovingObject`` message into one row: ``ints[1:5]`` (idx, type, role, subtype), ``floats``."""
     role = subtype = 0
@@ -316,7 +307,7 @@ def _object(
                 value, _unused, ok = _varints(buf, start, after, numbers[ID_VALUE], -1)
                 ints[1] = value
             elif number == numbers[MO_BASE]:
-                ok = _base(buf, start, after, numbers, floats, scratch, raw)
+                ok = _base(buf, start, after, numbers, floats, scratch)
             else:
                 subtype, role, ok = _varints(buf, start, after, numbers[VC_TYPE], numbers[VC_ROLE])
             if not ok:
@@ -367,8 +358,8 @@ def decode_objects(
     n = offsets[-1]
     ints = np.zeros((n, 5), dtype=np.int64)
     floats = np.zeros((n, 15), dtype=np.float64)
-    scratch = np.zeros(1, dtype=np.float64)
-    raw = scratch.view(np.uint8)  # (its bytes, once: a view made for every value cost a tenth of the decoding)
+    value = np.zeros(1, dtype=np.float64)
+    scratch = (value, value.view(np.uint8))  # (its bytes viewed once: a view for every value cost a tenth)
     flags = np.zeros((len(starts), 3), dtype=np.int64)
     for m in range(len(starts)):
         pos, end, row = starts[m], ends[m], offsets[m]
@@ -381,7 +372,7 @@ def decode_objects(
                 if wire != LENGTH:
                     return ints, floats, flags, m
                 if number == numbers[GT_MOVING_OBJECT]:
-                    ok = _object(buf, start, after, numbers, ints[row], floats[row], scratch, raw)
+                    ok = _object(buf, start, after, numbers, ints[row], floats[row], scratch)
                     row += 1
                 elif number == numbers[GT_TIMESTAMP]:
                     seconds, nanos, ok = _varints(buf, start, after, numbers[TS_SECONDS], numbers[TS_NANOS])

@@ -139,7 +139,13 @@ def compute(
 
 @contextmanager
 def _streamed(
-    finish: Finisher, schema: pa.Schema | None, labels: dict, output, output_file, metadata, n_workers: int
+    finish: Finisher,
+    schema: pa.Schema | None,
+    labels: dict,
+    output: os.PathLike | None,
+    output_file: os.PathLike | None,
+    metadata: Mapping[bytes, bytes] | None,
+    n_workers: int,
 ) -> Iterator[Finisher | None]:
     """The sink where the chunks' columns go (None: back to this process as tables), ``finish`` writing to a dataset
     at ``output`` (renamed into place when the block exits without error, removed when it fails) or to the one file

@@ -256,19 +256,20 @@ class FileWriter:
     schema, labels
         As for :class:`PartWriter`.
     metadata : mapping of bytes to bytes, optional
-        Key-value metadata of the file's schema.
+        Key-value metadata added to the file's schema's.
     """
 
     def __init__(self, path: Path, schema: pa.Schema, labels: Mapping[str, Sequence[str]], metadata=None) -> None:
         self.schema, self.labels = schema, labels
-        self._file = schema if not metadata else schema.with_metadata({**(schema.metadata or {}), **metadata})
+        self._file = schema.with_metadata({**(schema.metadata or {}), **(metadata or {})})
         self._writer = pq.ParquetWriter(path, self._file, **parquet_options(schema))
 
     def __call__(self, k: int, columns: Mapping | None) -> int:
         """Write the next chunk (``k`` counts them; nothing when ``columns`` is None); the number of rows written."""
-        if columns is None:
-            return 0
-        table = chunk_table(self.schema, self.labels, columns)
+        return 0 if columns is None else self.write(chunk_table(self.schema, self.labels, columns))
+
+    def write(self, table: pa.Table) -> int:
+        """Append an Arrow table of the file's schema (its own metadata aside); the number of rows written."""
         self._writer.write_table(table.replace_schema_metadata(self._file.metadata))
         return table.num_rows
 
@@ -287,15 +288,8 @@ def join_parts(dataset: Path, path: Path, metadata=None) -> int:
     a time (memory stays that of a chunk); the rows written."""
     files = sorted(dataset.glob("part-*.parquet"))
     schema = pq.read_schema(files[0])
-    if metadata:
-        schema = schema.with_metadata({**(schema.metadata or {}), **metadata})
-    rows = 0
-    with pq.ParquetWriter(path, schema, **parquet_options(schema)) as writer:
-        for part in files:
-            piece = pq.read_table(part, schema=schema)
-            writer.write_table(piece.replace_schema_metadata(schema.metadata))
-            rows += piece.num_rows
-    return rows
+    with FileWriter(path, schema, {}, metadata) as writer:
+        return sum(writer.write(pq.read_table(part, schema=schema)) for part in files)
 
 
 def _array(f: pa.Field, data, labels: Mapping[str, Sequence[str]]) -> pa.Array:
