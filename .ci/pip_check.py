@@ -5,6 +5,7 @@ compiled when the package was built. Then the benchmark step that reports: each 
 (issue 52), printed, not asserted (a shared CI machine's seconds are no verdict)."""
 
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -33,6 +34,7 @@ import matplotlib  # noqa: E402, F401  (the plot extra)
 
 bundled = here / "_kernels"
 assert any(bundled.rglob("*.nbi")), f"no kernels compiled into {bundled} when the package was built"
+assert (bundled / "ahead" / "manifest.json").is_file(), f"the default call's kernels not built ahead into {bundled}"
 
 FIRST_CALL = """
 import sys, time
@@ -50,4 +52,15 @@ for engine in ("visilibity", "sweep", "raycast3d", "silhouette3d"):
                        env=env, check=True, capture_output=True)  # fmt: skip
         figures.append(f"{engine} {time.perf_counter() - started:.1f} s")
 print(f"first call with an empty user cache (target <= 5 s each): {', '.join(figures)}")
+# the default call from the build made ahead of time: numba is never imported (the warm call's 0.5 s, issue 52)
+WARM = "import sys; from omega_prime_visibility.cli import main; sys.argv[0] = 'x'; main()"
+with tempfile.TemporaryDirectory() as cache:
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"} | {"XDG_CACHE_HOME": cache}
+    bundled_mcap = str(here.parent / "highway_merge.mcap")
+    args = [sys.executable, "-X", "importtime", "-c", WARM, "run", bundled_mcap, "--ego", "0"]
+    done = subprocess.run([*args, "-o", f"{cache}/x.parquet"], env=env, capture_output=True, text=True, check=True)
+    assert not re.search(r"\|\s+numba$", done.stderr, re.M), "the default call imported numba"
+    started = time.perf_counter()
+    subprocess.run([args[0], *args[3:], "-o", f"{cache}/y.parquet"], env=env, check=True, capture_output=True)
+    print(f"warm default call, numba never imported: {time.perf_counter() - started:.2f} s (target <= 0.5 s)")
 print(f"ok: {version}, VisiLibity1 and the kernels built, the plot extra installed, omega-prime --help runs")

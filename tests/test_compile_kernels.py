@@ -13,9 +13,11 @@ from conftest import REPO
 # In a fresh process: warm one engine up, note every kernel's compiled signatures, then make the calls users make
 # on a real recording; print the kernels that needed a signature the warm-up did not compile.
 PROBE = """
-import json, sys, warnings
-import numba, shapely
+import json, os, sys, warnings
+import shapely
 warnings.simplefilter("ignore")
+os.environ["OMEGA_PRIME_VISIBILITY_AHEAD"] = "0"  # (numba's dispatchers compile every call: none is left out)
+from omega_prime_visibility._compiled.kernel import Kernel
 from omega_prime_visibility.cli.compile_kernels import compile_engine
 from omega_prime_visibility import get_visibility_df, visible_area_over_time
 from omega_prime_visibility.inputs.io import read_recording
@@ -25,7 +27,7 @@ def signatures():
     for name, module in list(sys.modules.items()):
         if name.startswith("omega_prime_visibility"):
             for attr, value in vars(module).items():
-                if isinstance(value, numba.core.registry.CPUDispatcher):
+                if isinstance(value, Kernel) and value._dispatcher is not None:
                     found[f"{name}.{attr}"] = {str(s) for s in value.signatures}
     return found
 

@@ -12,6 +12,10 @@ else (when the package was built, in another clone) is valid here too: the packa
 numba's default (next to the sources) applies. numba itself is not imported here (importing the package stays
 quick): the package's locator is put first among numba's when numba loads its caching module
 (:mod:`.hook`, :mod:`.locator`).
+
+Every kernel is declared with :func:`.kernel.njit`, which makes numba's dispatcher only when first needed: the
+default call's kernels run from a build made ahead of time (:mod:`.ahead`, built by ``compile`` with
+:mod:`.ahead_build`) without importing numba, where that build holds them for the current sources.
 """
 
 from .hook import install_locator

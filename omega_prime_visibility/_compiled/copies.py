@@ -11,7 +11,7 @@ from pathlib import Path
 import numba
 from numba.core import config
 
-from . import sources
+from . import ahead, sources
 
 
 def index_of(path: Path) -> tuple[str, object, dict] | None:
@@ -67,8 +67,8 @@ def _copy_whole(source: Path, target: Path) -> None:
 
 def bundle() -> Path | None:
     """Copy the user's cached kernels of the current sources into :data:`.sources.BUNDLE` (in place of what it
-    held), with the notes of which engine paths ran; the copy's folder, or None where the package's folder cannot be
-    written or the user chose ``NUMBA_CACHE_DIR``."""
+    held), with the notes of which engine paths ran and the ahead-of-time build (:mod:`.ahead`); the copy's
+    folder, or None where the package's folder cannot be written or the user chose ``NUMBA_CACHE_DIR``."""
     source = sources.kernels_cache()
     if config.CACHE_DIR or not source.is_dir():
         return None
@@ -83,6 +83,9 @@ def bundle() -> Path | None:
         key = sources.remembered_sources_key()
         for done in source.glob(f".ran-{key}-*"):
             shutil.copyfile(done, partial / done.name)
+        built = source / ahead.FOLDER
+        if (ahead.read_manifest(built) or {}).get("key") == key:  # the default call's kernels, built ahead of time
+            shutil.copytree(built, partial / ahead.FOLDER)
         shutil.rmtree(target, ignore_errors=True)
         os.replace(partial, target)
     except OSError:

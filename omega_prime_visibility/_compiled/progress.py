@@ -11,16 +11,14 @@ import time
 from pathlib import Path
 
 from . import sources
-from .sources import PACKAGE, kernels_cache, remembered_sources_key
+from .sources import PACKAGE, kernels_cache, numba_cache_dir, remembered_sources_key
 
 
 def kernel_folder() -> Path | None:
     """The folder the package's kernels are cached in by this process: the user's ``NUMBA_CACHE_DIR`` when set,
     else :func:`kernels_cache` where it can be written, else None (numba's default, next to the sources)."""
-    import numba
-
-    if numba.config.CACHE_DIR:
-        return Path(numba.config.CACHE_DIR)
+    if numba_cache_dir():
+        return Path(numba_cache_dir())
     folder = kernels_cache()
     try:
         folder.mkdir(parents=True, exist_ok=True)
@@ -71,9 +69,7 @@ def has_run(path_key: str) -> bool | None:
     done = marker(path_key)
     if done is None:
         return None
-    import numba
-
-    bundled = not numba.config.CACHE_DIR and (sources.BUNDLE / marker_name(path_key)).exists()
+    bundled = not numba_cache_dir() and (sources.BUNDLE / marker_name(path_key)).exists()
     return done.exists() or bundled
 
 

@@ -15,10 +15,12 @@ import hashlib
 import json
 import os
 import re
+import sys
 from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[1]
-USES_NUMBA = re.compile(rb"^\s*(?:import numba|from numba[ .])", re.MULTILINE)
+USES_NUMBA = re.compile(rb"^\s*(?:import numba|from numba[ .]|from \.+_compiled\.kernel import )", re.MULTILINE)
+"""A module holding kernels: it imports numba or the package's kernel decorator (:mod:`.kernel`)."""
 CACHE_MODULES = "_compiled"
 """This subpackage (numba's locator for the package among it): it uses numba but holds no kernels, so editing it
 compiles nothing."""
@@ -77,7 +79,7 @@ def kernel_closures(root: Path = PACKAGE) -> dict[Path, list[Path]]:
             if (current := todo.pop()) not in reached:
                 reached.add(current)
                 todo.extend(imports[current] - reached)
-        closures[path] = sorted(modules[m] for m in reached)
+        closures[path] = sorted(modules[m] for m in reached if not m.startswith(CACHE_MODULES))
     return closures
 
 
@@ -125,6 +127,15 @@ def source_stamps(root: Path = PACKAGE) -> dict[str, str]:
 def cache_base() -> Path:
     """``~/.cache/omega-prime-visibility`` (or under ``$XDG_CACHE_HOME``)."""
     return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "omega-prime-visibility"
+
+
+def numba_cache_dir() -> str:
+    """numba's cache folder setting (``NUMBA_CACHE_DIR``), ``""`` when unset; read without importing numba where
+    numba is not loaded yet (its setting comes from the environment then)."""
+    numba = sys.modules.get("numba")
+    if numba is not None and hasattr(numba, "config"):
+        return numba.config.CACHE_DIR
+    return os.environ.get("NUMBA_CACHE_DIR", "")
 
 
 def kernels_cache() -> Path:

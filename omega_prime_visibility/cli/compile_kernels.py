@@ -23,7 +23,6 @@ import polars as pl
 import typer
 
 from .. import _compiled
-from .._compiled.copies import bundle
 from ..engines.registry import ENGINES, ENGINES_3D
 from .app import app
 from .common import fail
@@ -35,6 +34,10 @@ READER = "reader"
 """The MCAP reader's kernels (:mod:`..inputs.osi_wire`), compiled like an engine's."""
 IMAGING = "imaging"
 """The counting engine of cameras and lidars (:mod:`..engines.imaging`), compiled like the others."""
+AHEAD = "ahead"
+"""The ahead-of-time build of the default call's kernels (the reader's and the ``visilibity`` engine's, see
+:mod:`.._compiled.ahead`), made once those are compiled."""
+AHEAD_OF = (READER, "visilibity")
 HEARTBEAT_S = 5.0
 """Seconds between the lines saying that compiling goes on."""
 
@@ -120,6 +123,19 @@ def compile_engine(name: str) -> float:
     return time.perf_counter() - started
 
 
+def compile_ahead(folder: Path | str | None = None) -> float:
+    """Run the default call's paths (:data:`AHEAD_OF`) noting the kernels they call from Python, then build those
+    ahead of time into ``folder`` (default: the user's cache, see :mod:`.._compiled.ahead`); return the seconds."""
+    from .._compiled import ahead, ahead_build, kernel
+
+    started = time.perf_counter()
+    calls = kernel.record_calls()
+    for name in AHEAD_OF:
+        compile_engine(name)
+    ahead_build.build(calls, Path(folder) if folder else _compiled.kernels_cache() / ahead.FOLDER)
+    return time.perf_counter() - started
+
+
 def warm_up_mesh():
     """A small mesh (a 2 m cube beside the road of the warm-up table) for the ray engines' sampling kernels."""
     import trimesh
@@ -154,6 +170,7 @@ def compile_kernels(
     if jobs is not None and jobs < 1:
         raise fail(f"--jobs takes a number of processes, at least 1, not {jobs}")
     jobs = jobs or min(2, len(os.sched_getaffinity(0)))
+    ahead_too = all(n in names for n in AHEAD_OF)
     ready = [n for n in names if _compiled.has_run(f"compile-{n}")]
     todo = [n for n in names if n not in ready]
     if not todo:
@@ -166,16 +183,27 @@ def compile_kernels(
         )
     started = time.perf_counter()
     # each engine in a fresh process, as on a new installation; this one reports
-    with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
+    with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn"), max_tasks_per_child=1) as pool:
         futures = {pool.submit(compile_engine, name): name for name in names}
-        pending = set(futures)
+        pending, finished = set(futures), set()
         while pending:  # a line at least every HEARTBEAT_S seconds: never silent for long
             done, pending = wait(pending, timeout=HEARTBEAT_S, return_when=FIRST_COMPLETED)
+            finished |= {futures[f] for f in done}
+            if ahead_too and AHEAD not in futures.values() and all(n in finished for n in AHEAD_OF):
+                ahead_build = pool.submit(compile_ahead)  # once the default call's kernels are compiled
+                futures[ahead_build] = AHEAD
+                pending.add(ahead_build)
             for future in done:
                 try:
                     seconds = future.result()
-                except ValueError as e:
-                    raise fail(f"{futures[future]}: {e}") from None
+                except Exception as e:
+                    if futures[future] == AHEAD:  # (the kernels are compiled: a call loads them from numba's cache)
+                        reason = str(e).strip().splitlines()[-1:] or [type(e).__name__]
+                        typer.echo(f"  {AHEAD}: not built ({reason[0]}); calls load numba's cache instead")
+                        continue
+                    if isinstance(e, ValueError):
+                        raise fail(f"{futures[future]}: {e}") from None
+                    raise
                 typer.echo(f"  {futures[future]}: done in {seconds:.0f} s")
             if pending and not done:
                 busy = ", ".join(sorted(futures[f] for f in pending if f.running()))
@@ -183,6 +211,8 @@ def compile_kernels(
     typer.echo(
         f"{'compiled' if todo else 'checked'} in {time.perf_counter() - started:.0f} s; later calls start at once"
     )
+    from .._compiled.copies import bundle  # (it imports numba: here, not when the command line starts)
+
     kept = bundle()
     if kept is not None:  # a fresh user cache (a container, a dask worker, another user) starts from it
         typer.echo(f"a copy is kept with the package ({kept}): an empty user cache starts from it")

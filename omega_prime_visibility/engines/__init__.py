@@ -29,9 +29,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import ClassVar, Protocol
 
-import numba
 import numpy as np
 
+from .._compiled.kernel import njit
 from ..inputs.cameras import Pinhole
 from ..inputs.lidars import BeamPattern
 from ..inputs.objects import FrameObjects
@@ -189,7 +189,7 @@ class Observation:
         )
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def reason_of(transparent, n_occluders, n_static_occluders):
     """The :class:`Reason` code of a target from whether it contains the viewpoint and its numbers of occluders
     (the one place the codes are decided; every engine's observations go through it)."""
@@ -200,7 +200,7 @@ def reason_of(transparent, n_occluders, n_static_occluders):
     return _IN_VIEW
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _reason_codes(occluder_offsets, static_offsets, transparent):
     """One :class:`Reason` code per object from its occluder lists and whether it contains the viewpoint."""
     n = len(transparent)

@@ -7,9 +7,9 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
+from .._compiled.kernel import njit
 from ..geometry.convex_clip import clip_line, convex_hull, disc_area, polygon_area, subtract
 from ..geometry.kernels import copy_rows, reserve
 from ..geometry.shadows import ARC_POINTS
@@ -21,7 +21,7 @@ MAX_VERTICES = 64
 """Vertices of one piece at most."""
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _convex(coords, start, size, tolerance=1e-12):
     """Whether the counter-clockwise ring ``coords[start:start + size]`` is convex (no edge turns right)."""
     for i in range(size):
@@ -34,7 +34,7 @@ def _convex(coords, start, size, tolerance=1e-12):
     return True
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _shadow(coords, start, size, centre, half, reach, out, points):
     """The convex shadow of the convex ring ``coords[start:start + size]`` with span ``centre ± half`` out to
     ``reach`` (as :func:`..geometry.shadows.shadows` builds it) into ``out``; its count."""
@@ -48,7 +48,7 @@ def _shadow(coords, start, size, centre, half, reach, out, points):
     return convex_hull(points, size + ARC_POINTS, out)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _measure(pieces, counts, n_pieces, radius):
     """Area of the pieces and their area inside the range circle, square metres."""
     whole, inside = 0.0, 0.0
@@ -58,7 +58,7 @@ def _measure(pieces, counts, n_pieces, radius):
     return whole, inside
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def convex_frame_areas(coords, offsets, active, centre, half, near, far, reach, radius, heading, fov, min_hidden):
     """The area measure of one viewpoint's frame (coordinates relative to the viewpoint; ``fov >= 2 pi`` looks
     all around): per target its footprint's area, the area in the field of view, in view and range, and visible

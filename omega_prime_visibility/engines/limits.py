@@ -6,9 +6,9 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-import numba
 import numpy as np
 
+from .._compiled.kernel import njit
 from ..geometry.kernels import copy_rows
 from ..geometry.occlusion import occludes_within
 from ..geometry.rings import Rings, angular_extent, next_vertex
@@ -16,7 +16,7 @@ from ..geometry.view import view_intervals
 from . import Observation, Viewpoint
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _keep_in_view(
     seg, seg_offsets, static_seg, static_offsets, ox, oy, occ_offsets, occ, st_offsets, st, start, view_offsets, lo, hi
 ):
@@ -56,7 +56,7 @@ def _keep_in_view(
     return keep_occ, keep_st
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _filtered(offsets, values, keep):
     """Ragged lists ``values`` (grouped by ``offsets``) with only the entries where ``keep`` is true."""
     out = np.zeros(len(offsets), dtype=np.int64)

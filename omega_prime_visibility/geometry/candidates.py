@@ -18,9 +18,9 @@ Public, for the engines: :func:`candidate_pairs`, :func:`certainly_occludes`, :f
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
+from .._compiled.kernel import njit
 from .kernels import TWO_PI, nearest_offset, prefix_sum, ray_line_distance, reserve, wrap_positive
 
 MIN_PIECE = 1e-12
@@ -48,7 +48,7 @@ BEARING_BINS = 256
 bearings (:func:`candidate_pairs`; in town a target's extent holds a few per cent of them)."""
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def certainly_occludes(overlap, far, is_object, near_t):
     """Whether a body's bearing interval overlapping a target's extent by ``overlap`` radians, lying within ``far``
     metres of the observer, certainly occludes a target whose nearest point is ``near_t`` metres away: an object
@@ -67,7 +67,7 @@ def certainly_occludes(overlap, far, is_object, near_t):
     return overlap > STATIC_ACCEPT_ANGLE and far < near_t * (1.0 - STATIC_ACCEPT_RELATIVE)
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def bin_range(lo, width, n_bins, spare):
     """The bins (unwrapped, ``first <= last``) covering the bearings ``[lo, lo + width]``, with ``spare`` bins to
     spare on each side; all of them once that makes a full turn. Items are binned with one to spare, so a target
@@ -86,7 +86,7 @@ def bin_range(lo, width, n_bins, spare):
     return first, last
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def bearing_bins(item_lo, item_width):
     """Items grouped by the bins their bearings cover (:func:`bin_range`, one to spare): CSR offsets over
     :data:`BEARING_BINS` bins and the items, ascending within a bin."""
@@ -108,7 +108,7 @@ def bearing_bins(item_lo, item_width):
     return offsets, members
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def nearest_within(ax, ay, bx, by, lo, width):
     """The least distance (metres) from the origin to the segment ``a b`` (metres) along the bearings
     ``[lo, lo + width]`` (radians, within the segment's own): at the foot of the perpendicular to its line where
@@ -138,7 +138,7 @@ def nearest_within(ax, ay, bx, by, lo, width):
     )
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _shared(lo, width, start_t, width_t):
     """How the bearings ``[lo, lo + width]`` meet a target's extent ``[start_t, start_t + width_t]`` (radians):
     the piece that starts in the extent, else the one the interval enters it with, as its width (-1 when they do
@@ -153,7 +153,7 @@ def _shared(lo, width, start_t, width_t):
     return -1.0, start_t, two
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _items(ox, oy, seg, seg_body, blocking, start, width, n_objects):
     """The bodies' nearest and farthest distances from ``(ox, oy)`` (metres, shape (n_bodies,): chosen by squared
     norms, measured once by hypot; a hypot per edge end cost a third of the search), and the items of the search
@@ -208,7 +208,7 @@ def _items(ox, oy, seg, seg_body, blocking, start, width, n_objects):
     return near, far, (item_lo, item_width, item_near, item_far, item_body, item_edge)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def candidate_pairs(ox, oy, seg, seg_body, blocking, targets, start, width, n_objects):
     """Pairs (body, target) where a blocking body's item (see the module docstring) overlaps the target's extent
     and comes nearer than the target's farthest point, each pair once, grouped by target in the order of

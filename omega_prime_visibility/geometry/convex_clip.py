@@ -21,15 +21,14 @@ from __future__ import annotations
 
 import math
 
-import numba
-
+from .._compiled.kernel import njit
 from .kernels import copy_rows
 
 SHORT_EDGE = 1e-13
 """Length (relative to ``1 +`` the largest coordinate) under which an edge of a subtracted shape has no direction."""
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def clip_line(src, n, ax, ay, bx, by, left, dst):
     """``src[:n]`` (convex) clipped to the left (``left``) or right of the directed line ``a -> b``, into
     ``dst``; the new count (boundary points are kept on both sides)."""
@@ -61,7 +60,7 @@ def clip_line(src, n, ax, ay, bx, by, left, dst):
     return m if m >= 3 else 0
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def polygon_area(poly, n):
     """Area (square metres) of the polygon ``poly[:n]`` (positive when counter-clockwise)."""
     total = 0.0
@@ -71,7 +70,7 @@ def polygon_area(poly, n):
     return 0.5 * total
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _segment_disc(ax, ay, bx, by, radius):
     """Signed area of the triangle (origin, a, b) inside the circle of ``radius`` about the origin."""
     dx, dy = bx - ax, by - ay
@@ -90,7 +89,7 @@ def _segment_disc(ax, ay, bx, by, radius):
     return first + 0.5 * (p1x * p2y - p1y * p2x) + last
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def disc_area(poly, n, radius):
     """Area (square metres) of the polygon ``poly[:n]`` inside the circle of ``radius`` metres about the origin
     (all of it for an infinite radius)."""
@@ -103,7 +102,7 @@ def disc_area(poly, n, radius):
     return abs(total)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def convex_hull(points, k, out):
     """Andrew's monotone chain: the convex hull of ``points[:k]`` counter-clockwise into ``out``; its count."""
     pts = points[:k].copy()
@@ -131,12 +130,12 @@ def convex_hull(points, k, out):
     return m - 1 if m > 1 else m
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _turn(o, a, b):
     return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def subtract(pieces, counts, n_pieces, shape, k, out, out_counts, scratch):
     """The convex ``pieces[:n_pieces]`` (each ``pieces[p, :counts[p]]``) minus the convex ``shape[:k]``, as
     disjoint convex pieces into ``out``/``out_counts``; their number, or -1 on overflow. Pieces whose bounding
@@ -187,7 +186,7 @@ def subtract(pieces, counts, n_pieces, shape, k, out, out_counts, scratch):
     return made
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def clip_half_plane(src, n, m0, m1, m2, dst):
     """``src[:n]`` (convex) clipped to ``m0 + m1 u + m2 v >= 0`` into ``dst``; the new count (0 when fewer than
     3 vertices are left), -1 when ``dst`` is too small."""
@@ -214,7 +213,7 @@ def clip_half_plane(src, n, m0, m1, m2, dst):
     return k if k >= 3 else 0
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def clip_convex(src, n, shape, k, dst, scratch):
     """``src[:n] ∩ shape[:k]`` (both convex, ``shape`` counter-clockwise) into ``dst``; its count, -1 on overflow."""
     copy_rows(dst, 0, src[:n])
@@ -228,7 +227,7 @@ def clip_convex(src, n, shape, k, dst, scratch):
     return m
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def drop_repeats(poly, n, repeat=1e-12):
     """Remove, in place, the vertices of ``poly[:n]`` within ``repeat`` of the one before (clipping leaves them;
     an edge that short has no direction to cut along); the new count (0 below 3).

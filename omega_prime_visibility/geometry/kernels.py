@@ -19,8 +19,9 @@ hand-written copy changes no result in the last bit.
 
 from __future__ import annotations
 
-import numba
 import numpy as np
+
+from .._compiled.kernel import njit
 
 TWO_PI = 2.0 * np.pi
 MIN_CAPACITY = 16  # smallest capacity a growable buffer is given
@@ -28,7 +29,7 @@ MIN_CAPACITY = 16  # smallest capacity a growable buffer is given
 # -- copying ---------------------------------------------------------------------------------------------------
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def copy_into(dest, at, source):
     """``dest[at:at + len(source)] = source`` for 1D arrays, as a loop (the caller makes sure it fits).
 
@@ -43,7 +44,7 @@ def copy_into(dest, at, source):
         dest[at + i] = source[i]
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def copy_rows(dest, at, source):
     """``dest[at:at + len(source)] = source`` for 2D arrays of the same number of columns, as a loop.
 
@@ -62,7 +63,7 @@ def copy_rows(dest, at, source):
 # -- growable buffers ------------------------------------------------------------------------------------------
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def reserve(buffer, size, needed):
     """``buffer`` if it holds ``needed`` items, else a larger copy of its first ``size`` items.
 
@@ -87,7 +88,7 @@ def reserve(buffer, size, needed):
     return grown
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def reserve_rows(buffer, size, needed):
     """:func:`reserve` for a 2D buffer of shape (capacity, columns): rows ``[:size]`` are in use."""
     if needed <= len(buffer):
@@ -97,7 +98,7 @@ def reserve_rows(buffer, size, needed):
     return grown
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def push_pair(first, second, size, i, j):
     """Append the pair ``(i, j)`` at position ``size`` of two growable buffers.
 
@@ -118,7 +119,7 @@ def push_pair(first, second, size, i, j):
 # -- index building --------------------------------------------------------------------------------------------
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def prefix_sum(counts):
     """Turn ``counts`` (shape (k + 1,), ``counts[i + 1]`` = size of group ``i``, ``counts[0] = 0``) into CSR offsets,
     in place: group ``i`` becomes ``[counts[i], counts[i + 1])``."""
@@ -126,7 +127,7 @@ def prefix_sum(counts):
         counts[i + 1] += counts[i]
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def group_by_key(keys, n_keys, items):
     """``items`` grouped by ``keys[item]`` (a stable counting sort) and the groups' CSR offsets.
 
@@ -157,13 +158,13 @@ def group_by_key(keys, n_keys, items):
     return offsets, grouped
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def counting_sort(keys, n_keys, items):
     """``items`` (indices into ``keys``) stably reordered by ``keys[item]`` in ``range(n_keys)``, shape (p,)."""
     return group_by_key(keys, n_keys, items)[1]
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def ring_index(offsets):
     """Ring number of every vertex of ragged rings (``offsets`` shape (n + 1,)), shape (m,), int64."""
     ring = np.empty(offsets[-1], dtype=np.int64)
@@ -172,7 +173,7 @@ def ring_index(offsets):
     return ring
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def next_vertex_index(offsets):
     """Index of the following vertex of the same ring (wrapping to the ring's first), shape (m,), int64."""
     m = offsets[-1]
@@ -189,7 +190,7 @@ def next_vertex_index(offsets):
 # -- distances -------------------------------------------------------------------------------------------------
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def nearest_offset(wx, wy, ex, ey):
     """Offset from a segment's nearest point to a point, metres.
 
@@ -211,14 +212,14 @@ def nearest_offset(wx, wy, ex, ey):
     return wx - u * ex, wy - u * ey
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def segment_distance2(ax, ay, bx, by):
     """Squared distance (square metres) from the origin to the segment from ``(ax, ay)`` to ``(bx, by)``."""
     dx, dy = nearest_offset(-ax, -ay, bx - ax, by - ay)
     return dx * dx + dy * dy
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def ray_line_distance(dx, dy, ax, ay, ex, ey):
     """Signed distance from the origin along the unit direction ``(dx, dy)`` to a line, metres.
 
@@ -234,7 +235,7 @@ def ray_line_distance(dx, dy, ax, ay, ex, ey):
 # -- angles ----------------------------------------------------------------------------------------------------
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def wrap_positive(angle):
     """``angle - 2 pi floor(angle / 2 pi)``: an angle (radians) taken into ``[0, 2 pi]`` (2 pi only by rounding)."""
     return angle - TWO_PI * np.floor(angle / TWO_PI)
@@ -243,13 +244,13 @@ def wrap_positive(angle):
 # -- orientation -----------------------------------------------------------------------------------------------
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def orient(ax, ay, bx, by, cx, cy):
     """Twice the signed area of triangle abc, square metres: positive when c lies left of the line a -> b."""
     return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def cross_properly(ax, ay, bx, by, cx, cy, dx, dy):
     """Whether segments ab and cd cross at a single point interior to both.
 

@@ -6,15 +6,15 @@ by insertion in one work space). Shared by the engines.
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
+from .._compiled.kernel import njit
 from .kernels import wrap_positive
 from .occlusion import MIN_PIECE, RELATIVE_TOLERANCE, _edge_line_distance, _nearest_edge
 from .sorting import insertion_sort
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def pieces_occlude(seg, t_start, t_stop, j_start, j_stop, extent_start, extent_width, cuts, k, ox, oy):
     """The decision of ``occludes_one`` once its cuts are made: whether body ``J`` (``seg[j_start:j_stop]``) is hit
     before target ``T`` (``seg[t_start:t_stop]``) at an end of some piece between the sorted cuts ``cuts[:k]``
@@ -50,7 +50,7 @@ def pieces_occlude(seg, t_start, t_stop, j_start, j_stop, extent_start, extent_w
     return False
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def objects_occluded(seg, offsets, start, width, pair_target, pair_body, ox, oy):
     """``occludes_one`` for each pair of objects ``(pair_body[p], pair_target[p])`` (grouped by target), shape (p,)
     bool: the same floating-point operations on the same operands, without the work it repeats on every call.

@@ -12,9 +12,9 @@ the lines of the edges nearest at the piece's middle). No sampling is involved.
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
+from .._compiled.kernel import njit
 from .candidates import MIN_PIECE, candidate_pairs
 from .kernels import ray_line_distance, wrap_positive
 from .sorting import sorted_values
@@ -25,20 +25,20 @@ RELATIVE_TOLERANCE = 1e-9  # J must be nearer by this fraction of T's distance t
 TIE_PARALLEL = 1e-3
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _line_distance(ox, oy, dx, dy, ax, ay, bx, by):
     """Distance along the unit ray (o, d) to the line through a and b (inf when parallel or behind), metres."""
     t = ray_line_distance(dx, dy, ax - ox, ay - oy, bx - ax, by - ay)
     return t if t > 0.0 else np.inf
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _edge_line_distance(ox, oy, dx, dy, seg, j):
     """:func:`_line_distance` to the line of edge ``seg[j]`` (shape (s, 2, 2), metres)."""
     return _line_distance(ox, oy, dx, dy, seg[j, 0, 0], seg[j, 0, 1], seg[j, 1, 0], seg[j, 1, 1])
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _hides(theta, num_e, ex, ey, num_f, fx, fy, keep):
     """Whether, along the bearing ``theta``, line ``f`` is hit before line ``e``, nearer than ``keep`` times the
     latter's distance (lines as in :func:`hidden_span`)."""
@@ -49,7 +49,7 @@ def _hides(theta, num_e, ex, ey, num_f, fx, fy, keep):
     return num_f / den_f < (num_e / den_e) * keep
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def hidden_span(base, lo, hi, num_e, ex, ey, num_f, fx, fy):
     """The bearings ``base + [lo, hi]`` (radians, ``0 <= hi - lo < pi``) along which the line ``f`` hides the
     line ``e``: ``f`` is hit nearer than ``(1 - RELATIVE_TOLERANCE)`` times the distance of ``e``, the rule of
@@ -107,7 +107,7 @@ def hidden_span(base, lo, hi, num_e, ex, ey, num_f, fx, fy):
     return (lo, swap) if hides_lo else (swap, hi)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _nearest_edge(ox, oy, dx, dy, seg, start, stop):
     """Index of the segment in seg[start:stop] hit first by the ray (o, d), or -1."""
     best = np.inf
@@ -127,7 +127,7 @@ def _nearest_edge(ox, oy, dx, dy, seg, start, stop):
     return arg
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def occludes_one(ox, oy, seg, j_start, j_stop, t_start, t_stop, extent_start, extent_width):
     """Whether body ``J`` is hit strictly before target ``T`` along some direction of ``T``'s extent (exact).
 
@@ -150,7 +150,7 @@ def occludes_one(ox, oy, seg, j_start, j_stop, t_start, t_stop, extent_start, ex
     return occludes_within(ox, oy, seg, j_start, j_stop, t_start, t_stop, extent_start, whole_lo, whole_hi)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def occludes_within(ox, oy, seg, j_start, j_stop, t_start, t_stop, extent_start, allowed_lo, allowed_hi):
     """:func:`occludes_one` along the directions ``extent_start + [allowed_lo[i], allowed_hi[i]]`` only (sorted,
     disjoint intervals of bearings relative to ``T``'s extent start, radians, within its width)."""
@@ -196,7 +196,7 @@ def occludes_within(ox, oy, seg, j_start, j_stop, t_start, t_stop, extent_start,
     return False
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _occludes_pairs(ox, oy, seg, seg_offsets, occluder, target, extent_start, extent_width):
     """:func:`occludes_one` for each pair ``(occluder[p], target[p])`` of body numbers, shape (p,) bool."""
     out = np.zeros(len(occluder), dtype=np.bool_)

@@ -16,10 +16,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-import numba
 import numpy as np
 import shapely
 
+from .._compiled.kernel import njit
 from .kernels import TWO_PI, segment_distance2
 
 
@@ -143,7 +143,7 @@ def _gathered(coords: np.ndarray, first: np.ndarray, sizes: np.ndarray, counter_
     return Rings(out, offsets)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _gather_rings(coords, first, offsets, want, orient):
     """Ring ``i`` of the result is ``coords[first[i]:first[i] + k]`` (``k`` from ``offsets``), reversed where
     ``orient`` and its orientation is not ``want[i]``."""
@@ -168,7 +168,7 @@ def _gather_rings(coords, first, offsets, want, orient):
     return out
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _convex_quadrilaterals(coords, first, min_area):
     n = len(first)
     out = np.zeros(n, dtype=np.bool_)
@@ -309,7 +309,7 @@ def rings_from(geoms: Sequence[Any]) -> Rings:
     return Rings(np.ascontiguousarray(coords[keep]), offsets)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def ring_covers_point(coords, s, e, px, py, tolerance):
     """Whether the ring ``coords[s:e]`` (metres, closing vertex not repeated) contains the point ``(px, py)``
     (even-odd rule) or passes within ``tolerance`` metres of it.

@@ -10,11 +10,12 @@ quicksort and mergesort are compiled anew for every kind, dtype and layout: seve
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
+from .._compiled.kernel import njit
 
-@numba.njit(cache=True, inline="always")
+
+@njit(cache=True, inline="always")
 def insertion_sort(values, n):
     """Sort ``values[:n]`` ascending in place, by insertion (fast for the few values of a pair test; inlined, so a
     loop calling it pays no reference counting). Equal values keep their order; without NaN the result is the
@@ -36,13 +37,13 @@ def insertion_sort(values, n):
 INSERTION_RUN = 16  # runs of this many items are sorted by insertion before merging
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _after(a, b):
     """Whether key ``a`` sorts after key ``b`` (NaN after every number, as numpy sorts)."""
     return a > b or (a != a and b == b)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def argsort_stable(keys):
     """Positions that sort ``keys`` ascending, equal keys in their order: ``np.argsort(keys, kind="stable")``.
 
@@ -99,7 +100,7 @@ _SIGN = np.uint64(1) << np.uint64(63)
 _BYTE = np.uint64(255)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def argsort_floats(keys):
     """:func:`argsort_stable` of float64 keys (NaN last, ``-0.0`` equal to ``+0.0``, equal keys in their order), by
     a least-significant-byte radix sort from :data:`RADIX_MIN` keys on.
@@ -162,7 +163,7 @@ def argsort_floats(keys):
     return order
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def sorted_values(values):
     """A sorted copy of ``values`` (as :func:`argsort_stable` takes them): ``np.sort(values)``.
 
@@ -175,7 +176,7 @@ def sorted_values(values):
     return values[argsort_stable(values)]
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def unique_values(values):
     """The distinct ``values``, ascending: ``np.unique(values)``.
 

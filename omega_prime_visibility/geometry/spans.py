@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
+from .._compiled.kernel import njit
 from .kernels import segment_distance2
 from .rings import Rings
 
@@ -58,7 +58,7 @@ def angular_spans(
     return _spans(points, coords, offsets, ring_of_pair)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _spans(points, coords, offsets, ring_of_pair):
     """:func:`angular_spans` in one loop: per pair, the vertices' bearings unwrapped along the ring (each edge
     turns by less than π unless it passes the viewpoint), the ring's winding, and its near and far distances."""
@@ -93,14 +93,14 @@ def _spans(points, coords, offsets, ring_of_pair):
     return centre, half, near, far
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def spans_share(centre_a, half_a, centre_b, half_b):
     """Whether two spans share a direction (:func:`overlapping` for two scalars, widened by :data:`SLACK`)."""
     gap = abs((centre_a - centre_b + np.pi) % (2 * np.pi) - np.pi)
     return gap <= half_a + half_b + SLACK
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def may_be_in_front(centre_b, half_b, near_b, centre_t, half_t, far_t):
     """Whether body ``b`` may hide part of target ``t`` (spans and distances from :func:`angular_spans`): they
     share a direction and ``b`` begins no farther than ``t`` ends (up to a relative 1e-9)."""

@@ -24,9 +24,9 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
+from .._compiled.kernel import njit
 from .kernels import TWO_PI
 
 ON_EDGE = 1e-10
@@ -39,18 +39,18 @@ BEARING_MARGIN = 1e-9
 """Pseudo-bearing (about radians) by which the window of candidate edges is widened (extras only cost time)."""
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _cross(ax, ay, bx, by):
     return ax * by - ay * bx
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _remainder(angle, period):
     """``angle`` less the nearest multiple of ``period`` (``math.remainder``, which numba lacks)."""
     return angle - period * math.floor(angle / period + 0.5)
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _angle(x, y, center, turn):
     """Pseudo-bearing of (x, y) around ``center``, in ``[0, 4)`` from the bearing whose cosine and sine are
     ``turn``: a monotone function of the bearing (``FULL`` a whole turn, opposite directions 2 apart, slope
@@ -68,7 +68,7 @@ def _angle(x, y, center, turn):
     return a if a < FULL else 0.0
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _bearings(points, start, count, center, turn, wedge, end):
     """Pseudo-bearings (see :func:`_angle`; non-decreasing, ``count + 1`` of them: the last closes the ring) of
     one polygon's vertices around its centre; a wedge's apex gets 0 and its closing edge ``end``, the
@@ -90,7 +90,7 @@ def _bearings(points, start, count, center, turn, wedge, end):
     return theta
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _segment_distance(px, py, ax, ay, bx, by):
     dx, dy = bx - ax, by - ay
     length2 = dx * dx + dy * dy
@@ -99,7 +99,7 @@ def _segment_distance(px, py, ax, ay, bx, by):
     return math.sqrt(ex * ex + ey * ey)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _covered(mx, my, dx, dy, i, j, points, start, count, center, turn, wedge, theta, o, tol):
     """Whether polygon ``j`` covers the point (mx, my) of an edge of polygon ``i`` running along (dx, dy): inside
     it, or on one of its edges in the opposite direction, or in the same direction when ``j < i``."""
@@ -138,7 +138,7 @@ def _covered(mx, my, dx, dy, i, j, points, start, count, center, turn, wedge, th
     return not outside and side > 0.0
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _radial(points, start, count, e, center, tol):
     """Whether edge ``e`` of a polygon lies along a ray from its centre (its line within ``tol`` of it)."""
     px, py = points[start + e, 0], points[start + e, 1]
@@ -148,7 +148,7 @@ def _radial(points, start, count, e, center, tol):
     return off * off <= tol * tol * (ex * ex + ey * ey)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _add_splits(splits, n, ax, ay, bx, by, cx, cy, ex, ey, tol, canonical):
     """Append to ``splits`` (rows: parameter along a-b, x, y) the points where c-e crosses a-b or, lying along it,
     begins or ends. A crossing's point is computed along the ``canonical`` edge of the two (a-b if True), the
@@ -182,7 +182,7 @@ def _add_splits(splits, n, ax, ay, bx, by, cx, cy, ex, ey, tol, canonical):
     return n
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def star_union_area(points, starts, centers, bases, fovs):
     """Area (square metres) of the union of star-shaped polygons.
 
@@ -203,7 +203,7 @@ def star_union_area(points, starts, centers, bases, fovs):
     return union_pieces(points, starts, centers, bases, fovs, False)[0]
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def union_pieces(points, starts, centers, bases, fovs, collect):
     """The union's area and, when ``collect``, its boundary: the uncovered pieces of the polygons' edges.
 
@@ -313,7 +313,7 @@ def union_pieces(points, starts, centers, bases, fovs, collect):
     return 0.5 * twice, pieces[:count], tol
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _sort_rows(rows, n):
     """Sort ``rows[:n]`` in place by their first column (a few rows, mostly in order: no allocation)."""
     for a in range(1, n):
@@ -324,7 +324,7 @@ def _sort_rows(rows, n):
             b -= 1
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _covered_length(spans, m):
     """Total length of the union of the intervals ``spans[:m, :2]`` (sorted by start)."""
     if m == 0:
@@ -340,7 +340,7 @@ def _covered_length(spans, m):
     return total + hi - lo
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _gaps(spans, m, ax, ay, bx, by, pieces, count, tol):
     """Append to ``pieces`` (rows ``x0, y0, x1, y1``) the parts of the edge a-b outside the covered ``spans[:m]``
     (sorted by start; columns: parameters, then the ends' x, y) that are longer than ``2 tol``."""
@@ -365,7 +365,7 @@ def _gaps(spans, m, ax, ay, bx, by, pieces, count, tol):
     return pieces, count
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _search(theta, o, count, value, right):
     """``np.searchsorted(theta[o : o + count + 1], value, side)`` without the slice."""
     lo, hi = 0, count + 1
@@ -378,7 +378,7 @@ def _search(theta, o, count, value, right):
     return lo
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _candidates(a, b, theta, o, count):
     """Range ``[first, last)`` of edge numbers (modulo ``count``) of a star polygon (bearings
     ``theta[o : o + count + 1]``) whose bearings overlap those of a segment with ends at bearings ``a``, ``b``."""

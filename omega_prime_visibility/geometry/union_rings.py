@@ -27,10 +27,10 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 import shapely
 
+from .._compiled.kernel import njit
 from .sorting import argsort_stable
 from .star_union import union_pieces
 
@@ -41,7 +41,7 @@ AREA_CHECK = 1e-8
 pieces' area is off by up to about 4e-9 where two nearly parallel edges hand over, the geometry being right."""
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _left_turn(ix, iy, ox, oy):
     """Clockwise angle (radians, in ``(0, 2π]``) from the reversed incoming direction (ix, iy) to the outgoing
     one (ox, oy): the smallest is the sharpest left turn, the one that keeps the region on the left."""
@@ -49,7 +49,7 @@ def _left_turn(ix, iy, ox, oy):
     return 2.0 * math.pi - phi if phi >= 0.0 else -phi
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _successors(pieces, tol):
     """For each piece the one that follows it on the union's boundary (-1 for all when some end meets no start,
     or the choices are not one to one), and the number of the point each piece starts at when several pieces
@@ -104,7 +104,7 @@ def _successors(pieces, tol):
     return following, junction
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _chain(pieces, tol):
     """Closed rings from ``pieces`` (rows ``x0, y0, x1, y1``): their coordinates (each ring closed by repeating
     its first point), the rings' offsets into them, and False when the pieces do not chain.
@@ -152,7 +152,7 @@ def _chain(pieces, tol):
     return coords[:k], offsets[: r + 1], True
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _close(path, lo, hi, coords, k):
     """Append ``path[lo:hi]`` and its first point again to ``coords`` from row ``k``; the new row count."""
     size = hi - lo
@@ -161,7 +161,7 @@ def _close(path, lo, hi, coords, k):
     return k + size + 1
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _turn(pieces, a, b):
     """:func:`_left_turn` from piece ``a`` to piece ``b``."""
     return _left_turn(
@@ -172,7 +172,7 @@ def _turn(pieces, a, b):
     )
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _inside(coords, lo, hi, x, y):
     """Whether (x, y) lies inside the closed ring ``coords[lo:hi]`` (crossing number)."""
     inside = False
@@ -183,7 +183,7 @@ def _inside(coords, lo, hi, x, y):
     return inside
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _assemble(coords, offsets, tol):
     """Polygons from closed rings: coordinates ordered polygon by polygon (shell, then its holes), the rings'
     offsets into them, the polygons' offsets into the rings, the rings' total area (square metres) and perimeter

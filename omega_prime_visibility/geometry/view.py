@@ -20,9 +20,9 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
+from .._compiled.kernel import njit
 from .kernels import TWO_PI, reserve, segment_distance2, wrap_positive
 from .sorting import argsort_stable, sorted_values
 
@@ -30,7 +30,7 @@ SNAP = 1e-12
 """Radians: in-view intervals this close to the ends of a target's extent are taken to reach them."""
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def clip_circular(lo, hi, count, c0, cw):
     """Intersect the ``count`` intervals ``lo[:count], hi[:count]`` (relative bearings in [0, 2π]) in place with
     the circular interval ``[c0, c0 + cw]`` (``c0`` relative, any value; ``cw`` < 2π); returns the new count."""
@@ -53,7 +53,7 @@ def clip_circular(lo, hi, count, c0, cw):
     return k
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def limited_angle(t0, t1, ex, ey, num, wedge_start, fov, max_range):
     """Radians of the bearings ``[t0, t1]`` (``t1 - t0 < 2π``) inside the wedge ``[wedge_start, wedge_start + fov]``
     along which the line ``{p : p x e = num}`` (``e = (ex, ey)``; the line's points relative to the viewpoint) is
@@ -87,7 +87,7 @@ def limited_angle(t0, t1, ex, ey, num, wedge_start, fov, max_range):
     return total
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _relative(px, py, start, width):
     """Bearing of ``(px, py)`` relative to ``start``, for a point of a target whose extent is ``[0, width]``."""
     u = wrap_positive(math.atan2(py, px) - start)
@@ -96,7 +96,7 @@ def _relative(px, py, start, width):
     return u
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _inside(px, py, coords, first, last):
     """Whether ``(px, py)`` lies inside the ring ``coords[first:last]`` (crossing number; relative coordinates)."""
     inside = False
@@ -110,7 +110,7 @@ def _inside(px, py, coords, first, last):
     return inside
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _in_range_intervals(coords, first, last, start, width, max_range):
     """Bearings (relative to ``start``) along which the ring ``coords[first:last]`` (relative to the viewpoint,
     which lies outside it) is hit within ``max_range``: sorted, disjoint ``(lo, hi)`` arrays."""
@@ -167,7 +167,7 @@ def _in_range_intervals(coords, first, last, start, width, max_range):
     return _union(all_lo, all_hi, width)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _union(lo, hi, width):
     """Sorted union of intervals within ``[0, width]``; ends within :data:`SNAP` of 0 or ``width`` snap to them."""
     order = argsort_stable(lo)
@@ -191,7 +191,7 @@ def _union(lo, hi, width):
     return out_lo[:k], out_hi[:k]
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _view_intervals(coords, offsets, targets, start, width, wedge_start, fov, max_range):
     n = len(offsets) - 1
     off = np.zeros(n + 1, dtype=np.int64)

@@ -7,23 +7,23 @@ viewpoint makes a body transparent to it.
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
+from .._compiled.kernel import njit
 from ..geometry.kernels import copy_into
 from ..geometry.rings import Rings, ring_covers_point
 
 TOUCH_TOLERANCE = 1e-9  # metres: a body passing this near a viewpoint touches it (and is transparent to it)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _covers_point(px, py, coords, offsets, tolerance):
     """Whether each ragged ring (``coords`` (m, 2), ``offsets`` (n + 1,), metres) contains the point ``(px, py)``
     (even-odd rule) or passes within ``tolerance`` metres of it; shape (n,) bool."""
     return _covers_in_boxes(px, py, coords, offsets, tolerance, _ring_boxes(coords, offsets))
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _ring_boxes(coords, offsets):
     """``(x0, y0, x1, y1)`` bounding box of each ragged ring, shape (n, 4)."""
     n = len(offsets) - 1
@@ -35,7 +35,7 @@ def _ring_boxes(coords, offsets):
     return boxes
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _covers_in_boxes(px, py, coords, offsets, tolerance, boxes):
     n = len(offsets) - 1
     out = np.zeros(n, dtype=np.bool_)
@@ -47,7 +47,7 @@ def _covers_in_boxes(px, py, coords, offsets, tolerance, boxes):
     return out
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _covers_points(points, coords, offsets, tolerance):
     """:func:`_covers_point` for each of ``points`` (shape (k, 2)), shape (k, n) bool."""
     out = np.empty((len(points), len(offsets) - 1), dtype=np.bool_)
@@ -57,7 +57,7 @@ def _covers_points(points, coords, offsets, tolerance):
     return out
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _covers_points_by_frame(points, point_starts, coords, offsets, frame_starts, tolerance):
     counts = np.zeros(len(points) + 1, dtype=np.int64)
     for f in range(len(frame_starts) - 1):
@@ -120,7 +120,7 @@ def covers_points(points: np.ndarray, rings: Rings, tolerance: float = TOUCH_TOL
     return _covers_points(points, coords, offsets, float(tolerance))
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _points_in_boxes(points, boxes):
     out = np.empty((len(points), len(boxes)), dtype=np.bool_)
     for p in range(len(points)):

@@ -16,8 +16,9 @@ Building blocks: :func:`read_varint`, :func:`skip_field`, :func:`next_field`, :f
 
 from __future__ import annotations
 
-import numba
 import numpy as np
+
+from .._compiled.kernel import njit
 
 VARINT, FIXED64, LENGTH, FIXED32 = 0, 1, 2, 5
 """Protobuf's wire types used here (groups, 3 and 4, are refused)."""
@@ -77,7 +78,7 @@ def field_numbers() -> np.ndarray:
     )
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def read_varint(buf: np.ndarray, pos: int, end: int) -> tuple[int, int]:
     """The varint at ``buf[pos]`` as a 64-bit two's complement integer, and the position after it
     (:data:`BAD` when it runs past ``end``)."""
@@ -93,7 +94,7 @@ def read_varint(buf: np.ndarray, pos: int, end: int) -> tuple[int, int]:
     return 0, BAD
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def skip_field(buf: np.ndarray, pos: int, end: int, wire: int) -> int:
     """The position after a field's value of wire type ``wire`` starting at ``pos`` (:data:`BAD` if none)."""
     if wire == VARINT:
@@ -108,7 +109,7 @@ def skip_field(buf: np.ndarray, pos: int, end: int, wire: int) -> int:
     return BAD
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def next_field(buf: np.ndarray, pos: int, end: int) -> tuple[int, int, int, int]:
     """The field starting at ``buf[pos]``: its number, its wire type, where its value starts (a length-delimited
     field's payload, after its length) and the position after it (:data:`BAD` for bytes that are no field; where
@@ -156,7 +157,7 @@ MAX_FIELD_NUMBER = 2**29 - 1
 """Protobuf's largest field number; 0 is no field number either."""
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def valid_messages(buf: np.ndarray, starts: np.ndarray, ends: np.ndarray, schema: np.ndarray) -> int:
     """The first message (``buf[starts[k]:ends[k]]``) that protobuf would refuse to parse as the schema's root type
     (:func:`message_schema`), nested messages included, or -1 when all parse: a field number 0 or beyond
@@ -185,7 +186,7 @@ def valid_messages(buf: np.ndarray, starts: np.ndarray, ends: np.ndarray, schema
     return -1
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def lacking(buf: np.ndarray, starts: np.ndarray, ends: np.ndarray, number: int) -> int:
     """The first message (``buf[starts[k]:ends[k]]``, valid ones) without a top-level field ``number``, or -1."""
     for k in range(len(starts)):
@@ -200,7 +201,7 @@ def lacking(buf: np.ndarray, starts: np.ndarray, ends: np.ndarray, number: int) 
     return -1
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def read_double(buf: np.ndarray, pos: int, scratch: tuple) -> float:
     """The little-endian 64-bit float at ``buf[pos]`` (``scratch``: one float64 and a view of its 8 bytes, made once
     by the caller and reused: nothing is allocated per value)."""
@@ -210,7 +211,7 @@ def read_double(buf: np.ndarray, pos: int, scratch: tuple) -> float:
     return value[0]
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _fields(
     buf: np.ndarray,
     pos: int,
@@ -238,7 +239,7 @@ def _fields(
     return pos == end
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _base(buf: np.ndarray, pos: int, end: int, numbers: np.ndarray, floats: np.ndarray, scratch: tuple) -> bool:
     """Read a ``BaseMoving`` message: its dimension, position, orientation, velocity and acceleration."""
     while pos < end:
@@ -266,7 +267,7 @@ def _base(buf: np.ndarray, pos: int, end: int, numbers: np.ndarray, floats: np.n
     return pos == end
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _varints(buf: np.ndarray, pos: int, end: int, wanted: int, other: int) -> tuple[int, int, bool]:
     """The varint fields numbered ``wanted`` and ``other`` of the message in ``buf[pos:end]`` (0 when unset)."""
     a = b = 0
@@ -286,7 +287,7 @@ def _varints(buf: np.ndarray, pos: int, end: int, wanted: int, other: int) -> tu
     return a, b, pos == end
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _object(
     buf: np.ndarray, pos: int, end: int, numbers: np.ndarray, ints: np.ndarray, floats: np.ndarray, scratch: tuple
 ) -> bool:
@@ -318,7 +319,7 @@ def _object(
     return pos == end
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def object_counts(buf: np.ndarray, starts: np.ndarray, ends: np.ndarray, numbers: np.ndarray) -> np.ndarray:
     """The number of moving objects in each message ``buf[starts[m]:ends[m]]`` (-1 for bytes that are no
     message)."""
@@ -336,7 +337,7 @@ def object_counts(buf: np.ndarray, starts: np.ndarray, ends: np.ndarray, numbers
     return counts
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def decode_objects(
     buf: np.ndarray, starts: np.ndarray, ends: np.ndarray, numbers: np.ndarray, offsets: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:

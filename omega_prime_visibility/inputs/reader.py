@@ -16,6 +16,7 @@ frame; files without OSI ground truth; anything it cannot decode. OSI traces (``
 from __future__ import annotations
 
 import functools
+import json
 import os
 import re
 import sys
@@ -202,7 +203,6 @@ def read_mcap(path: str | os.PathLike) -> TraceRecording:
         kind = GROUND_TRUTH if topics[GROUND_TRUTH] else SENSOR_VIEW if topics[SENSOR_VIEW] else None
         if kind is None:
             raise NotOurs("no osi3.GroundTruth or osi3.SensorView channel")
-        message_class = _message_class(kind)
         payloads = [message.data for _, _, message in reader.iter_messages(topics=topics[kind])]
         odr_xml = map_name = None
         if map_topics:
@@ -213,6 +213,7 @@ def read_mcap(path: str | os.PathLike) -> TraceRecording:
     if odr_xml is not None and _geo_reference(odr_xml):
         raise NotOurs("its OpenDRIVE map has a geoReference (omega-prime projects the objects onto it)")
     if kind == SENSOR_VIEW:  # the ground truth inside each view, as omega-prime takes it
+        message_class = _message_class(kind)  # (ground truth is decoded by the package's own reader)
         views = [message_class.FromString(data) for data in payloads]
         payloads = [v.global_ground_truth.SerializeToString() for v in views if v.HasField("global_ground_truth")]
     if not payloads:
@@ -249,13 +250,6 @@ def _geo_reference(odr_xml: str) -> bool:
     return found is not None and bool(re.sub(r"<!\[CDATA\[|\]\]>", "", found.group(1)).strip())
 
 
-@functools.cache
-def _schema() -> np.ndarray:
-    from . import osi_wire
-
-    return osi_wire.message_schema()
-
-
 def decode_table(messages: list[bytes], projected: bool = True) -> tuple[pl.DataFrame, int | None]:
     """omega-prime's moving-object table of serialised ``osi3.GroundTruth`` messages, and the host vehicle the
     first one names (None if none), decoded by :mod:`.osi_wire`.
@@ -275,13 +269,13 @@ def decode_table(messages: list[bytes], projected: bool = True) -> tuple[pl.Data
     ends = np.cumsum(sizes)
     starts = ends - sizes
     buf = np.frombuffer(b"".join(messages), dtype=np.uint8)
-    numbers = osi_wire.field_numbers()
+    numbers, schema = remembered_descriptors()
     beat = None
     if _compiled.progress.ANNOUNCE and _compiled.has_run(READER) is False:
         print(f"omega-prime-visibility: compiling {WHAT}, once per version of the package", file=sys.stderr)
         beat = _compiled.Heartbeat(WHAT).start()
     try:
-        invalid = osi_wire.valid_messages(buf, starts, ends, _schema())
+        invalid = osi_wire.valid_messages(buf, starts, ends, schema)
         untimed = osi_wire.lacking(buf, starts, ends, numbers[osi_wire.GT_TIMESTAMP]) if invalid < 0 else -1
         counts = osi_wire.object_counts(buf, starts, ends, numbers)
         offsets = np.concatenate([[0], np.cumsum(np.maximum(counts, 0))]).astype(np.int64)
@@ -338,6 +332,45 @@ def _as_omega_prime(df: pl.DataFrame) -> pl.DataFrame:
         ring[:, 0, k, 0] = x + dx
         ring[:, 0, k, 1] = y + dy
     return df.with_columns(pl.Series("coords", ring, dtype=pl.Array(pl.Float64, (1, 5, 2))))
+
+
+@functools.cache
+def remembered_descriptors() -> tuple[np.ndarray, np.ndarray]:
+    """:func:`.osi_wire.field_numbers` and :func:`.osi_wire.message_schema`, read from osi-python's descriptors
+    once per version of osi-python and remembered beside the kernels' cache (importing the descriptors is 20 ms of
+    a short call).
+
+    >>> from omega_prime_visibility.inputs.osi_wire import field_numbers, message_schema
+    >>> numbers, schema = remembered_descriptors()
+    >>> bool((numbers == field_numbers()).all()), bool((schema == message_schema()).all())
+    (True, True)
+    """
+    import osi3  # type: ignore[import-not-found]  (its version only: quick)
+
+    from .osi_wire import FIELDS, field_numbers, message_schema
+
+    memo = _compiled.cache_base() / "osi-descriptors" / f"{osi3.__version__}.json"
+    try:
+        known = json.loads(memo.read_text(encoding="ascii"))
+        numbers, shape, entries = np.array(known["numbers"]), tuple(known["shape"]), np.array(known["schema"])
+        if known["fields"] == list(FIELDS) and numbers.shape == (len(FIELDS),) and numbers.dtype == np.int64:
+            schema = np.full(shape, -1, dtype=np.int64)
+            schema[entries[:, 0], entries[:, 1]] = entries[:, 2]
+            return numbers, schema
+    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError, IndexError):
+        pass
+    numbers, schema = field_numbers(), message_schema()
+    entries = np.argwhere(schema >= 0)
+    entries = np.column_stack([entries, schema[schema >= 0]]).tolist()
+    known = {"fields": list(FIELDS), "numbers": numbers.tolist(), "shape": list(schema.shape), "schema": entries}
+    try:
+        memo.parent.mkdir(parents=True, exist_ok=True)
+        partial = memo.with_name(f"{memo.name}.{os.getpid()}.partial")
+        partial.write_text(json.dumps(known), encoding="ascii")
+        os.replace(partial, memo)  # (whole or not at all)
+    except OSError:
+        pass
+    return numbers, schema
 
 
 def warm_up() -> None:

@@ -8,16 +8,16 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-import numba
 import numpy as np
 
+from .._compiled.kernel import njit
 from ..engines import ChunkObservation, ChunkViewpoints, Observation, Reason
 from .schema import Columns, missing_counts, view_of, visibility_of
 
 _CONTAINS_OBSERVER = int(Reason.CONTAINS_OBSERVER)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _rows_into(
     out, at, own, reason, visible_angle, angular_extent, occluder_offsets, occluders, static_offsets, statics, idx,
     in_view_angle, in_fov_angle, with_view,
@@ -51,7 +51,7 @@ def _rows_into(
     at[0], at[1], at[2] = row, occluder_at, static_at
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _row_arrays(n_rows, n_occluders, n_statics, with_view):
     """Room for ``n_rows`` rows and their occluder entries (the tuple :func:`_rows_into` writes into)."""
     return (
@@ -66,7 +66,7 @@ def _row_arrays(n_rows, n_occluders, n_statics, with_view):
     )
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _cut(out, at, with_view):
     """The arrays of :func:`_row_arrays` cut to what :func:`_rows_into` wrote."""
     rows, n_occ, n_st = at[0], at[1], at[2]
@@ -76,7 +76,7 @@ def _cut(out, at, with_view):
     )  # fmt: skip
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _rows(
     own,
     reason,
@@ -142,7 +142,7 @@ def observation_rows(observation: Observation, own: int, idx: np.ndarray, with_v
     return columns
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _chunk_rows(
     targets,
     own,

@@ -9,11 +9,11 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-import numba
 import numpy as np
 import polars as pl
 import pyarrow as pa
 
+from .._compiled.kernel import njit
 from ..engines import Reason
 
 STATUSES = ("visible", "partly_visible", "occluded", "out_of_fov", "out_of_range")
@@ -142,7 +142,7 @@ def empty_table(with_ego: bool = False, with_sensors: bool = False, counted: Seq
     return pl.DataFrame(schema=schema(with_ego, with_sensors, counted))
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def visibility_of(reason, visible_angle, angular_extent):
     """The policy: ``visibility`` of a target from its reason code and angles (any one measure).
 
@@ -155,7 +155,7 @@ def visibility_of(reason, visible_angle, angular_extent):
     return min(max(share, 0.0), 1.0)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def view_of(reason, visible_angle, angular_extent, in_view_angle, in_fov_angle):
     """The policy through a sensor: ``(visibility, in_view, status)`` of a target from its reason code and angles
     (see :data:`STATUSES`). ``in_view`` is the share of the extent in view ignoring occlusion; with nothing in

@@ -24,9 +24,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
-import numba
 import numpy as np
 
+from .._compiled.kernel import njit
 from ..engines import ChunkViewpoints, Viewpoint
 from ..geometry.sorting import argsort_stable
 from ..geometry.spans import angular_spans, may_be_in_front, spans_share
@@ -107,7 +107,7 @@ def expand(
     return Views(base, object_offsets, slot_row[kept], clear[inside], keep[inside], own_in_scene, passive)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _assign_groups(target_offsets, transparent, blocks, wanted, centre, half, near, far, all_main):
     """Per slot, the view that gives its row: 0 the main view, ``k >= 1`` the ``k``-th group of wanted targets
     that may not block (greedily by direction, no two members of a group sharing a direction), -1 none; and per
@@ -169,7 +169,7 @@ def _assign_groups(target_offsets, transparent, blocks, wanted, centre, half, ne
     return group, counts
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _fill_views(target_offsets, transparent, blocks, group, counts, centre, half, near, far):
     """The fields of :class:`Views` from :func:`_assign_groups`: in each view, its targets and the blocking
     bodies that may be in front of one of them (sharing a direction, not farther than all of it) are seen."""

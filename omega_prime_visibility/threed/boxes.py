@@ -22,8 +22,9 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
+
+from .._compiled.kernel import njit
 
 BOX3D_COLUMNS = ("x", "y", "z", "length", "width", "height", "roll", "pitch", "yaw")
 """Column order of a box array."""
@@ -97,7 +98,7 @@ def contains(boxes: np.ndarray, point: np.ndarray, tolerance: float = 1e-9, fram
     return (np.abs(local) <= half + tolerance).all(axis=1)
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _slab(origin, direction, centre, rot, half):
     """Entry and exit distances of the ray ``origin + t * direction`` (t >= 0) through a box; (inf, -inf): missed."""
     t0, t1 = 0.0, np.inf
@@ -122,7 +123,7 @@ def _slab(origin, direction, centre, rot, half):
     return t0, t1
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def ray_entries(origin, directions, centres, rots, halves, which):
     """Entry distance of every ray (rows of ``directions``, any length) into box ``which[i]``; inf where missed.
 

@@ -21,9 +21,9 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
+from .._compiled.kernel import njit
 from ..geometry.convex_clip import clip_convex, clip_half_plane, convex_hull, drop_repeats, subtract
 from ..geometry.kernels import copy_rows, push_pair, reserve, reserve_rows
 from ..geometry.occlusion import RELATIVE_TOLERANCE, TIE_PARALLEL
@@ -38,14 +38,14 @@ VISIBLE, HIDDEN = 0, 1
 """Kinds of the pieces :func:`face_pieces` hands back: a target's visible part, or what one occluder hides of it."""
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _edge_term(u0, v0, u1, v1):
     """Signed solid angle (steradians) of the triangle (face centre, a, b) on a face at distance 1."""
     nb, nc = math.sqrt(u0 * u0 + v0 * v0 + 1.0), math.sqrt(u1 * u1 + v1 * v1 + 1.0)
     return 2.0 * math.atan2(u0 * v1 - v0 * u1, nb * nc + nb + nc + u0 * u1 + v0 * v1 + 1.0)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def polygon_solid_angle(poly, n):
     """Solid angle (steradians) of the polygon ``poly[:n]`` in face coordinates (either orientation).
 
@@ -60,7 +60,7 @@ def polygon_solid_angle(poly, n):
     return abs(total)
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _enters(normals, offsets, b, x, y, z):
     """Whether the ray from the origin along ``(x, y, z)`` meets body ``b`` (planes ``normals . p <= offsets``)."""
     t0, t1 = 0.0, math.inf
@@ -76,7 +76,7 @@ def _enters(normals, offsets, b, x, y, z):
     return t0 <= t1
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def face_silhouettes(vertices, vertex_start, edges, edge_start, normals, offsets, face, out, counts, angles):
     """Every body's silhouette on cube face ``face`` (its rows forward, eu, ev) into ``out[b, :counts[b]]``
     (counter-clockwise, face coordinates; count 0 where it is not seen through the face) and its solid angle into
@@ -142,7 +142,7 @@ def face_silhouettes(vertices, vertex_start, edges, edge_start, normals, offsets
     return True
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _tie_factor(normals, a, pa, b, pb):
     """``1 - RELATIVE_TOLERANCE`` where face plane ``pa`` of body ``a`` and ``pb`` of ``b`` are nearly parallel
     (they tie where they nearly coincide), else 1 (:func:`.order.tie_factors`)."""
@@ -155,7 +155,7 @@ def _tie_factor(normals, a, pa, b, pb):
     return 1.0
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def entered_before(normals, offsets, blocker, target, face, silhouette, k, fronts, front_counts, scratch):
     """The directions on the face where ``blocker`` is entered before ``target`` (:func:`.order.entered_before`),
     within the blocker's ``silhouette[:k]``, as convex pieces into ``fronts``/``front_counts``; their number, -1
@@ -204,7 +204,7 @@ def entered_before(normals, offsets, blocker, target, face, silhouette, k, front
     return made
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _pieces_angle(pieces, counts, n):
     total = 0.0
     for p in range(n):
@@ -212,7 +212,7 @@ def _pieces_angle(pieces, counts, n):
     return total
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _hand_back(pieces, counts, n, owner, kind, xy, n_xy, starts, owners, kinds, n_out):
     """Append ``pieces[:n]`` to the flat output (coordinates, starts, owner and kind per piece)."""
     for p in range(n):
@@ -229,7 +229,7 @@ def _hand_back(pieces, counts, n, owner, kind, xy, n_xy, starts, owners, kinds, 
     return xy, n_xy, starts, owners, kinds, n_out
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _bounds(silhouettes, counts):
     """Bounding box ``(u0, v0, u1, v1)`` of each silhouette (rows of bodies not seen: unset)."""
     box = np.empty((len(counts), 4))
@@ -241,7 +241,7 @@ def _bounds(silhouettes, counts):
     return box
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _fronts(silhouettes, counts, normals, offsets, lower, farthest, face, body, target, fronts, front_counts,
             scratch):  # fmt: skip
     """The directions where ``body`` is entered before ``target``, as convex pieces into ``fronts``: its whole
@@ -257,7 +257,7 @@ def _fronts(silhouettes, counts, normals, offsets, lower, farthest, face, body, 
                           front_counts, scratch)  # fmt: skip
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _hidden(shape, k, fronts, front_counts, i, hid, hc, spare, spare_counts, scratch):
     """``shape[:k] ∩ fronts[i]`` minus ``fronts[:i]``: what front ``i`` adds to the hidden part, as disjoint convex
     pieces; their number (-1 on overflow), the buffers holding them and the spare ones (swapped as used)."""
@@ -274,7 +274,7 @@ def _hidden(shape, k, fronts, front_counts, i, hid, hc, spare, spare_counts, scr
     return n_hid, hid, hc, spare, spare_counts
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def face_pieces(silhouettes, counts, measured, live, wanted, normals, offsets, lower, farthest, face):
     """Each live target's visible solid angle on the face and its occluders.
 

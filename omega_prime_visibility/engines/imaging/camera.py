@@ -16,16 +16,16 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
+from ..._compiled.kernel import njit
 from ...inputs.cameras import Pinhole
 from .lines import count_line, workspace
 from .scene import SensorScene
 from .solid_angle import body_solid_angles
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _row_ranges(vertices, vstart, fy, cy, height, planes):
     """Per body the first and last pixel row it can meet (last < first: none, as for a body wholly outside one of
     the frustum's ``planes``)."""
@@ -64,7 +64,7 @@ def _row_ranges(vertices, vstart, fy, cy, height, planes):
     return first, last
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def line_candidates(first, last, n_lines):
     """CSR of the bodies each line may meet, from each body's first and last line: ``(offsets, bodies)``."""
     offsets = np.zeros(n_lines + 1, dtype=np.int64)
@@ -82,7 +82,7 @@ def line_candidates(first, last, n_lines):
     return offsets, bodies
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def new_counts(n_targets, n_bodies, lines, samples):
     """Zeroed ``(first, unoccluded, met, first_box, unoccluded_box, hidden_by, labels)`` for
     :func:`.lines.count_line`; ``labels`` is ``lines x samples`` of -1 (an empty array when ``lines`` is 0)."""
@@ -93,7 +93,7 @@ def new_counts(n_targets, n_bodies, lines, samples):
     )  # fmt: skip
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _count_rows(body, target, n_targets, fx, fy, cx, cy, width, height, planes, max_range, label):
     vertices, vstart = body[0], body[1]
     samples = (np.arange(width) + 0.5 - cx) / fx

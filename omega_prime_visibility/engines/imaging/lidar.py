@@ -14,9 +14,9 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
+from ..._compiled.kernel import njit
 from ...inputs.lidars import BeamPattern
 from .camera import line_candidates, new_counts
 from .lines import count_line, workspace
@@ -25,7 +25,7 @@ from .scene import SensorScene
 _TURN = 2 * math.pi
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _column_ranges(vertices, vstart, step, n_columns):
     """Per body the first and last azimuth column it can meet, unwrapped (``last`` may pass ``n_columns``; last <
     first: none)."""
@@ -64,7 +64,7 @@ def _column_ranges(vertices, vstart, step, n_columns):
     return first, last
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _count_columns(body, target, n_targets, samples, step, n_columns, max_range):
     vertices, vstart = body[0], body[1]
     first_col, last_col = _column_ranges(vertices, vstart, step, n_columns)

@@ -23,9 +23,9 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
+from ..._compiled.kernel import njit
 from ...geometry.occlusion import RELATIVE_TOLERANCE
 from .scene import pair_overlaps
 
@@ -36,7 +36,7 @@ edge is a hit, and rounding never drops it."""
 _HALF_PI = math.pi / 2
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def body_span(vertices, v0, v1, edges, e0, e1, a, b, norm_a, scratch, side):
     """The interval ``(t_lo, t_hi)`` of rays ``a + t b`` (``a ⟂ b``, ``|b| = 1``) that meet the convex body
     whose vertices are ``vertices[v0:v1]`` and edges ``edges[e0:e1]`` (eye at the origin, outside the body);
@@ -111,7 +111,7 @@ def body_span(vertices, v0, v1, edges, e0, e1, a, b, norm_a, scratch, side):
     return 1.0, -1.0
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def entry(normals, offsets, k, dx, dy, dz):
     """Where the ray along ``(dx, dy, dz)`` from the origin enters body ``k`` (planes ``normals . x <=
     offsets``), in units of the direction's length (0 from inside); the caller knows the ray meets it."""
@@ -125,7 +125,7 @@ def entry(normals, offsets, k, dx, dy, dz):
     return t0
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _widen(box, slot, line, j0, j1):
     """Grow the 2D box ``box[slot] = (j_min, line_min, j_max, line_max)`` by samples ``j0..j1`` of ``line``."""
     if box[slot, 0] < 0 or j0 < box[slot, 0]:
@@ -138,7 +138,7 @@ def _widen(box, slot, line, j0, j1):
         box[slot, 3] = line
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def workspace(body):
     """Room for :func:`count_line`'s work on lines among these bodies (``body`` as it takes it), made once."""
     vertices, vstart, edges = body[0], body[1], body[2]
@@ -154,7 +154,7 @@ def workspace(body):
     )  # fmt: skip
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _overlapping(body, overlap, g, k, other):
     """Whether target ``g`` (body ``k``) may overlap body ``other``, decided once per scene on first need."""
     if overlap[g, other] < 0:
@@ -163,7 +163,7 @@ def _overlapping(body, overlap, g, k, other):
     return overlap[g, other] == 1
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def hidden_ranges(normals, offsets, k, other, a, b, samples, s, e, ranges, count):
     """Append to ``ranges[count:]`` the runs of samples ``s .. e - 1`` (index pairs ``[j0, j1)``) along which
     body ``other`` is entered before body ``k`` (both met by every ray of the run); the new count.
@@ -205,7 +205,7 @@ def hidden_ranges(normals, offsets, k, other, a, b, samples, s, e, ranges, count
     return count
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _seen(out, g, line, j0, j1):
     """Samples ``j0 .. j1`` of ``line`` meet target ``g`` first: count them, grow its box, label them."""
     first, first_box, labels = out[0], out[3], out[6]
@@ -215,7 +215,7 @@ def _seen(out, g, line, j0, j1):
         labels[line, j0 : j1 + 1] = g
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _count_visible(ranges, n_ranges, s, e, g, line, out):
     """Count samples ``s .. e - 1`` outside the hidden ``ranges[:n_ranges]`` as seen first by target ``g``."""
     for i in range(1, n_ranges):  # by their starts (a handful)
@@ -234,7 +234,7 @@ def _count_visible(ranges, n_ranges, s, e, g, line, out):
         _seen(out, g, line, cursor, e - 1)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def count_line(line, a, b, samples, candidates, body, target, max_range, out, work):
     """Count the samples of one line (rays ``a + samples[j] b``) for every target among the ``candidates``
     (body numbers whose line range holds this line).

@@ -15,9 +15,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 
+from ..._compiled.kernel import njit
 from ...threed.bodies import ConvexBodies
 
 
@@ -114,7 +114,7 @@ OVERLAP_MARGIN = 1e-6
 ray that meets both."""
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _separated(vertices, vstart, normals, offsets, k, other):
     """Whether some face plane of body ``k`` has all of ``other``'s vertices on or beyond it."""
     for p in range(normals.shape[1]):
@@ -131,7 +131,7 @@ def _separated(vertices, vstart, normals, offsets, k, other):
     return False
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def pair_overlaps(vertices, vstart, normals, offsets, centre, radius, k, other):
     """Whether the insides of bodies ``k`` and ``other`` may overlap: False when their bounding spheres are apart
     or a face plane of one has all of the other's vertices on or beyond it. Conservative: a pair separated only

@@ -19,11 +19,12 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
+from ..._compiled.kernel import njit
 
-@numba.njit(cache=True, inline="always")
+
+@njit(cache=True, inline="always")
 def _triangle(ax, ay, az, bx, by, bz, cx, cy, cz):
     """Steradians of the spherical triangle with corners along ``a``, ``b``, ``c``."""
     la = math.sqrt(ax * ax + ay * ay + az * az)
@@ -35,7 +36,7 @@ def _triangle(ax, ay, az, bx, by, bz, cx, cy, cz):
     return 2.0 * math.atan2(abs(det), den)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _hull(points, n):
     """Indices of the convex hull of ``points[:n]`` (shape (k, 2)), counter-clockwise (Andrew's monotone chain)."""
     order = np.arange(n)
@@ -69,7 +70,7 @@ def _hull(points, n):
     return hull[: max(k, 0)]
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _polygon_solid_angle(poly, n, sx, sy, sz, ux, uy, uz, wx, wy, wz):
     """Steradians of the chart polygon ``poly[:n]`` (convex, points ``s + x u + y w``)."""
     if n < 3:
@@ -89,7 +90,7 @@ def _polygon_solid_angle(poly, n, sx, sy, sz, ux, uy, uz, wx, wy, wz):
     return total
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def body_solid_angles(vertices, vstart, normals, offsets, planes):
     """Per body (vertices ``vertices[vstart[k]:vstart[k + 1]]``, faces ``normals . x <= offsets``, the eye at
     the origin and outside each): the steradians of its directions, and of those with ``planes @ d >= 0`` for

@@ -18,10 +18,10 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 import shapely
 
+from ..._compiled.kernel import njit
 from ...geometry.kernels import push_pair
 from ...threed.bodies import bodies_from_boxes
 from ...threed.boxes import _slab
@@ -95,7 +95,7 @@ def patches(corners_rel: np.ndarray, centres_rel: np.ndarray, boxes_rel: np.ndar
     return np.concatenate(axes), np.concatenate(rects), np.concatenate(targets).astype(np.int64), hull_offsets, hull_uv
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def grid(rect, n):
     """Level 0: nodes ``(patch, u, v)`` of an ``n x n`` grid on every patch, and its cells as
     ``(patch, u0, u1, v0, v1)`` with their four corner nodes (``u0v0, u1v0, u0v1, u1v1``)."""
@@ -131,7 +131,7 @@ def grid(rect, n):
     return node_patch, node_uv, cell_patch, cell_box, cell_nodes
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def directions(axes, node_patch, node_uv):
     """Unit direction of every node, shape (m, 3)."""
     m = len(node_patch)
@@ -148,7 +148,7 @@ def directions(axes, node_patch, node_uv):
     return out
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _in_view(d, heading, half_fov, low, high):
     if half_fov < math.pi:
         rel = math.atan2(d[1], d[0]) - heading
@@ -159,7 +159,7 @@ def _in_view(d, heading, half_fov, low, high):
     return low <= elevation <= high
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def label(dirs, node_slot, eyes, slot_view, slot_target, view, centres, rots, halves, padded, prim, tfar, owner,
           cand_offsets, cand, cand_cone, n_boxes):  # fmt: skip
     """What every ray meets, for the slot it samples (the target's own test uses its ``padded`` half-extents).
@@ -216,7 +216,7 @@ def label(dirs, node_slot, eyes, slot_view, slot_target, view, centres, rots, ha
     return code, in_fov, in_range, pair_slot[:k], pair_occ[:k]
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _rect_solid_angle(u0, u1, v0, v1):
     f11 = math.atan(u1 * v1 / math.sqrt(1 + u1 * u1 + v1 * v1))
     f01 = math.atan(u0 * v1 / math.sqrt(1 + u0 * u0 + v1 * v1))
@@ -225,7 +225,7 @@ def _rect_solid_angle(u0, u1, v0, v1):
     return f11 - f01 - f10 + f00
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _clipped_solid_angle(box, hull, pu, pv, qu, qv):
     """Solid angle of the rectangle ``box`` (u0, u1, v0, v1) inside the convex counter-clockwise ``hull``
     (``pu, pv, qu, qv``: scratch space of at least ``4 + len(hull)`` entries)."""
@@ -262,7 +262,7 @@ def _clipped_solid_angle(box, hull, pu, pv, qu, qv):
     return abs(total)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def convex_hulls(u, v):
     """Counter-clockwise convex hulls of the rows of points ``(u[i], v[i])`` (monotone chain); CSR
     ``(offsets, coords)``."""
@@ -299,7 +299,7 @@ def convex_hulls(u, v):
     return offsets, coords[:at]
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def refine(cell_patch, cell_box, cell_nodes, code, in_fov, in_range, patch_slot, slot_target, sums, n_nodes, split,
            hull_offsets, hull_uv):  # fmt: skip
     """Split the cells whose target-hitting corners disagree (when ``split``); add the others to ``sums``.

@@ -10,9 +10,9 @@ the chunk's targets). The numbers are those of :meth:`.SweepEngine.observe` fram
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
+from ..._compiled.kernel import njit
 from ...geometry.kernels import copy_into, next_vertex_index, reserve
 from ...inputs.sensors import TWO_PI
 from .. import reason_of
@@ -21,7 +21,7 @@ from .observe import observe_one
 from .pieces import FrameEdges, StaticEdges
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def bearing_arguments(
     coords, offsets, frame_starts, view_starts, positions, st_a, st_b, grid_f, grid_i, cell_off, items, ss_a, ss_b
 ):
@@ -85,7 +85,7 @@ def bearing_arguments(
     return following, cross_offsets, cross_first[:n_cross], cross_second[:n_cross], arg_offsets, y, x
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def observe_frames(
     coords,
     offsets,

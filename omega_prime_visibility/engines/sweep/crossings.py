@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
+from ..._compiled.kernel import njit
 from ...geometry.kernels import (
     MIN_CAPACITY,
     copy_into,
@@ -29,7 +29,7 @@ GRID_CELLS = 256  # cells along the longer side of the static edges' grid
 # -- crossings ---------------------------------------------------------------------------------------------
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def build_static_grid(a, b):
     """Uniform grid over segments ab: (x0, y0, cell) floats, (nx, ny) ints, CSR cell offsets and items."""
     s = len(a)
@@ -62,7 +62,7 @@ def build_static_grid(a, b):
     return np.array([x0, y0, cell]), np.array([nx, ny], dtype=np.int64), counts, items
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _cell_range(xmin, ymin, xmax, ymax, x0, y0, cell, nx, ny):
     """Grid cells (column range ``cx0..cx1``, row range ``cy0..cy1``, inclusive) covered by a bounding box.
 
@@ -76,7 +76,7 @@ def _cell_range(xmin, ymin, xmax, ymax, x0, y0, cell, nx, ny):
     return cx0, cx1, cy0, cy1
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def statics_near(grid_f, grid_i, cell_off, items, ox, oy, radius, n_static):
     """Numbers of the static edges that may come within ``radius`` metres of ``(ox, oy)``, ascending: those
     registered in the grid cells the disk's bounding box touches (all of them when that is most of the grid or
@@ -102,7 +102,7 @@ def statics_near(grid_f, grid_i, cell_off, items, ox, oy, radius, n_static):
     return unique_values(found)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def static_crossings(a, b, group, grid_f, grid_i, cell_off, items):
     """Pairs (i < j) of static edges of different groups that cross properly."""
     x0, y0, cell = grid_f[0], grid_f[1], grid_f[2]
@@ -128,7 +128,7 @@ def static_crossings(a, b, group, grid_f, grid_i, cell_off, items):
     return first[:k].copy(), second[:k].copy()
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _object_crossings_into(coords, offsets, nxt, bbox, order, axis, state, first, second):
     """The sort-and-sweep of :func:`frame_crossings` over the objects' bounding boxes ``bbox`` (n, 4) sorted by
     their lower bound along ``axis`` (``order``), writing the crossing edge pairs to ``first, second``.
@@ -168,7 +168,7 @@ def _object_crossings_into(coords, offsets, nxt, bbox, order, axis, state, first
     return True
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _static_crossings_into(
     coords, offsets, nxt, bbox, st_a, st_b, grid_f, grid_i, cell_off, items, stamp, state, first, second
 ):  # fmt: skip
@@ -226,7 +226,7 @@ def _static_crossings_into(
     return True
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off, items, static_first, static_second):
     """Properly crossing edge pairs of different bodies in one frame.
 
@@ -278,7 +278,7 @@ def frame_crossings(coords, offsets, nxt, st_a, st_b, grid_f, grid_i, cell_off, 
     return cross_first, cross_second
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def prepare_frame(observers, coords, offsets, st_a, st_b, grid_f, grid_i, cell_off, items, static_first, static_second):
     """Frame-level work and the arctangent arguments of every observer (evaluated by numpy's ``arctan2``).
 
@@ -315,7 +315,7 @@ def prepare_frame(observers, coords, offsets, st_a, st_b, grid_f, grid_i, cell_o
     return nxt, cross_first, cross_second, y.reshape(k, 2 * m), x.reshape(k, 2 * m)
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def bearing_arguments_into(y, x, at, coords, nxt, ox, oy):
     """Write one observer's arctangent arguments (see :func:`prepare_frame`) to ``y[at:at + 2 m]`` and
     ``x[at:at + 2 m]``: for the ``m`` edges the cross and dot products of their end points, then every vertex

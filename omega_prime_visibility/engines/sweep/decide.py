@@ -10,9 +10,9 @@ Bodies are numbered objects first (``0..n-1``), then static sources (``n + sourc
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
+from ..._compiled.kernel import njit
 from ...geometry.candidates import CANDIDATE_EPS
 from ...geometry.kernels import TWO_PI, copy_rows, wrap_positive
 from ...geometry.object_pairs import objects_occluded, pieces_occlude
@@ -20,7 +20,7 @@ from ...geometry.sorting import insertion_sort
 from .pieces import R_HI, R_LO
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _occludes_static(
     objects, target, kept, record_edge, records, static_records, first, stop, statics, ox, oy, scratch, cuts
 ):
@@ -73,7 +73,7 @@ def _occludes_static(
     return _scratch_occluded(scratch, target_edges, k, t_start, t_width, cuts)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _scratch_occluded(seg, target_edges, stop, extent_start, extent_width, cuts):
     """``occludes_one(0.0, 0.0, seg, target_edges, stop, 0, target_edges, extent_start, extent_width)``: the body's
     edges ``seg[target_edges:stop]`` against the target's ``seg[:target_edges]``, observer at the origin, with the
@@ -94,7 +94,7 @@ def _scratch_occluded(seg, target_edges, stop, extent_start, extent_width, cuts)
     return pieces_occlude(seg, 0, target_edges, target_edges, stop, extent_start, extent_width, cuts, k, 0.0, 0.0)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def decided_pairs(
     objects, kept, record_edge, records, statics, ox, oy, pair_target, pair_body, pair_certain, order,
     static_offsets, static_records,

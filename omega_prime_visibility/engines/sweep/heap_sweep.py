@@ -12,9 +12,9 @@ each is the first thing hit, as :mod:`...occlusion` and the definition decide).
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
+from ..._compiled.kernel import njit
 from ...geometry.kernels import reserve
 from ...geometry.occlusion import MIN_PIECE, hidden_span
 from ...geometry.sorting import argsort_floats
@@ -24,7 +24,7 @@ from .pieces import EX, EY, HI, LO, NUM, TWO_PI, UHX, UHY, ULX, ULY
 
 # numpy's error model: a piece whose line passes through the viewpoint, shared over half a turn, has a zero
 # bisector and 0 / 0 as its distance (NaN: no order, the tie rule decides) instead of raising ZeroDivisionError
-@numba.njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def nearer(pieces, a, b):
     """Whether piece ``a`` is nearer than piece ``b`` along the bisector of the directions both cover.
 
@@ -50,7 +50,7 @@ def nearer(pieces, a, b):
     return a < b
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def unhidden_by_top(pieces, top, other, lo, hi):
     """The bearings of ``[lo, hi]`` (radians, an interval between events) along which the nearest piece ``top``
     does not hide piece ``other`` (:func:`...occlusion.hidden_span`: ``other`` lies within the occlusion test's
@@ -73,7 +73,7 @@ more than the occlusion test's relative tolerance (1e-9) and rounding: it hides 
 nowhere."""
 
 
-@numba.njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def piece_reach(pieces):
     """Per piece, the distance (metres) of its farthest point and of its nearest point from the observer.
 
@@ -114,13 +114,13 @@ def piece_reach(pieces):
     return farthest, nearest
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _ends_first(pieces, a, b):
     """Whether piece ``a`` ends before piece ``b``: at a smaller ``HI``, or at the same with a lower number."""
     return pieces[a, HI] < pieces[b, HI] or (pieces[a, HI] == pieces[b, HI] and a < b)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def nearest_intervals(pieces, with_ties=False):
     """The sweep: consecutive bearing intervals between events and the nearest piece over each.
 
@@ -266,7 +266,7 @@ def nearest_intervals(pieces, with_ties=False):
     return out_lo[:q], out_hi[:q], out_top[:q], tie_offsets[: q + 1 if with_ties else 1], ties[:n_ties]
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def visible_angles(pieces, body, n_bodies, wedge_start, fov, max_range):
     """Angle (radians) along which each body's pieces are the nearest thing hit, inside the field of view
     ``[wedge_start, wedge_start + fov]`` and within ``max_range`` metres (see :func:`...view.limited_angle`),
@@ -285,7 +285,7 @@ def visible_angles(pieces, body, n_bodies, wedge_start, fov, max_range):
     return credited_angles(pieces, body, n_bodies, wedge_start, fov, max_range, lo, hi, top, tie_offsets, ties)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def credited_angles(pieces, body, n_bodies, wedge_start, fov, max_range, lo, hi, top, tie_offsets, ties):
     """:func:`visible_angles` from the sweep's intervals (what :func:`nearest_intervals` gives with ties)."""
     limited = fov < TWO_PI or max_range < np.inf

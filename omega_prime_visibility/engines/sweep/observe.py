@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
+from ..._compiled.kernel import njit
 from ...geometry.kernels import copy_into
 from .. import reason_of
 from .crossings import statics_near
@@ -30,7 +30,7 @@ from .pieces import (
 )
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def observe_one(
     ox, oy, frame, statics, static_grid, ang, object_transparent, object_passive, static_transparent, wedge_start, fov,
     max_range,
@@ -89,7 +89,7 @@ def observe_one(
     return visible, width, occ_offsets, occ, st_offsets, st
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def observe_frame(
     observers, frame_arrays, static_arrays, static_grid, ang, transparent, passive, static_transparent, limits
 ):
@@ -154,7 +154,7 @@ def observe_frame(
     return visible, width, occ_offsets, occ_all, occ_cut, st_offsets, st_all, st_cut
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def outline_one(
     ox, oy, frame, statics, static_grid, ang, object_transparent, static_transparent, wedge_start, fov, radius, step
 ):
@@ -174,7 +174,7 @@ def outline_one(
     return visible_outline(pieces, wedge_start, fov, radius, step)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def reason_codes(occ_offsets, static_offsets, transparent):
     """The :class:`..Reason` code of every (observer, object), as :meth:`..Observation.from_parts` gives them one
     observer at a time: offsets shape (k, n + 1), ``transparent`` (k, n); shape (k, n), int8."""

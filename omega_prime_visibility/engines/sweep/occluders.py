@@ -19,9 +19,9 @@ from __future__ import annotations
 import math
 from collections import namedtuple
 
-import numba
 import numpy as np
 
+from ..._compiled.kernel import njit
 from ...geometry.candidates import CANDIDATE_EPS, certainly_occludes
 from ...geometry.kernels import TWO_PI, counting_sort, group_by_key, prefix_sum, reserve
 from ...geometry.sorting import argsort_floats
@@ -37,7 +37,7 @@ PI = math.pi
 ObjectsSeen = namedtuple("ObjectsSeen", "seg offsets transparent passive start width near far")
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _records_by_static_body(record_edge, kept_body, n, n_src):
     """Records of the kept static edges grouped by static source: offsets (n_src + 1,) and record numbers."""
     n_rec = len(record_edge)
@@ -52,7 +52,7 @@ def _records_by_static_body(record_edge, kept_body, n, n_src):
     return group_by_key(source, n_src, static_records[:k])
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _candidate_intervals(objects, kept, record_edge, records):
     """The bearing intervals of the bodies and of the targets, for the candidate sweep.
 
@@ -117,7 +117,7 @@ def _candidate_intervals(objects, kept, record_edge, records):
     return items, queries
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _candidate_pairs(items, queries, objects):
     """Candidate (target, body) pairs, in bearing order of the targets, and whether each is accepted at once.
 
@@ -146,7 +146,7 @@ def _candidate_pairs(items, queries, objects):
     return pair_target[:n_pairs], pair_body[:n_pairs], pair_certain[:n_pairs]
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _pairs_into(items, queries, near, far, n, active, state, pair_target, pair_body, pair_certain):
     """The sweep of :func:`_candidate_pairs` from where ``state`` says, writing pairs to the buffers; stops (and
     returns False, ``state`` updated) before a target whose pairs might not fit, returns True when done.
@@ -200,7 +200,7 @@ def _pairs_into(items, queries, near, far, n, active, state, pair_target, pair_b
     return True
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def occluders(objects, n_src, kept, record_edge, records, statics, ox, oy):
     """Occluders of every object seen from ``(ox, oy)`` (metres), grouped by target.
 

@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
+from ..._compiled.kernel import njit
 from ...geometry.kernels import reserve_rows, wrap_positive
 from ...geometry.sorting import argsort_stable
 from ...geometry.view import clip_circular
@@ -23,7 +23,7 @@ from .pieces import EX, EY, NUM, PI, TWO_PI
 SAME_POINT = 1e-9  # relative distance under which two consecutive outline points are one
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _arc(out, k, radius, a, b, arc_step):
     """Append the points of the arc of ``radius`` from bearing ``a`` to ``b`` (chords of at most ``arc_step``)."""
     steps = max(1, math.ceil((b - a) / arc_step))
@@ -36,7 +36,7 @@ def _arc(out, k, radius, a, b, arc_step):
     return out, k
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _line_point(out, k, ex, ey, num, t):
     out = reserve_rows(out, k, k + 1)
     c, s = math.cos(t), math.sin(t)
@@ -46,7 +46,7 @@ def _line_point(out, k, ex, ey, num, t):
     return out, k + 1
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def visible_outline(pieces, wedge_start, fov, radius, arc_step):
     """Vertices (metres, relative to the viewpoint, counter-clockwise) of the region seen.
 
@@ -138,7 +138,7 @@ def visible_outline(pieces, wedge_start, fov, radius, arc_step):
     return _without_repeats(out[:k])
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _without_repeats(points):
     """``points`` without those within ``SAME_POINT`` (relative to their distance) of the previous one kept: two
     edges meeting at a corner give it twice, and the rounded copies could otherwise turn back by 1e-15 m."""

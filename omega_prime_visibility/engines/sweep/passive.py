@@ -12,9 +12,9 @@ tolerance of it (:func:`.heap_sweep.unhidden_by_top`), as in the sweep itself.
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
+from ..._compiled.kernel import njit
 from ...geometry.kernels import group_by_key
 from ...geometry.occlusion import MIN_PIECE
 from ...geometry.sorting import argsort_stable
@@ -23,7 +23,7 @@ from .heap_sweep import credited_angles, nearer, nearest_intervals, unhidden_by_
 from .pieces import EX, EY, HI, LO, NUM, TWO_PI
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def passive_angles(pieces, body, passive, n_bodies, wedge_start, fov, max_range):
     """Radians along which each body is the first thing hit, the passive ones (``passive[body]``, objects only)
     among the blocking bodies alone, inside the field of view ``[wedge_start, wedge_start + fov]`` and within
@@ -124,7 +124,7 @@ def passive_angles(pieces, body, passive, n_bodies, wedge_start, fov, max_range)
     return visible
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _own_nearest(pieces, mine):
     """A body's own nearest piece, bearing by bearing: intervals ``lo, hi`` (radians, ascending) and the position
     in ``mine`` (its piece numbers) of the piece nearest over each; pieces that share no bearing (those of a

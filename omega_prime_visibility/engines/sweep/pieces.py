@@ -20,9 +20,9 @@ from __future__ import annotations
 import math
 from collections import namedtuple
 
-import numba
 import numpy as np
 
+from ..._compiled.kernel import njit
 from ...geometry.kernels import TWO_PI, copy_into, group_by_key, prefix_sum, segment_distance2
 
 PI = math.pi
@@ -53,7 +53,7 @@ R_LO, R_HI, R_ULX, R_ULY, R_UHX, R_UHY = range(6)
 LO, HI, ULX, ULY, UHX, UHY, EX, EY, NUM = range(9)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def shifted_object_edges(coords, following, ox, oy):
     """Object edges relative to the observer ``(ox, oy)``: shape (m, 2, 2), ``[[x0, y0], [x1, y1]]`` metres."""
     m = len(coords)
@@ -66,7 +66,7 @@ def shifted_object_edges(coords, following, ox, oy):
     return seg
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def object_extents(offsets, ang):
     """``geometry.angular_extent`` of the shifted object rings, with the same floating-point operations.
 
@@ -105,7 +105,7 @@ def object_extents(offsets, ang):
     return start, width
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def object_distances(seg, offsets, transparent):
     """Nearest and farthest distance of each object from the observer, and how far targets reach.
 
@@ -135,14 +135,14 @@ def object_distances(seg, offsets, transparent):
     return near, far, reach2 * (1.0 + 1e-9)
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _set_record(records, r, lo, hi, ulx, uly, uhx, uhy):
     """Write record ``r``: bearings ``lo < hi`` (radians) and the unit directions there."""
     records[r, R_LO], records[r, R_HI] = lo, hi
     records[r, R_ULX], records[r, R_ULY], records[r, R_UHX], records[r, R_UHY] = ulx, uly, uhx, uhy
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def front_facing_edges(seg, ang, frame, statics, object_transparent, static_transparent, ox, oy, reach2, candidates):
     """Step 1: the edges facing the observer at ``(ox, oy)``, counter-clockwise, and their bearing records.
 
@@ -250,7 +250,7 @@ def front_facing_edges(seg, ang, frame, statics, object_transparent, static_tran
     return kept, record_edge[:n_rec], records[:n_rec]
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def crossing_cuts(kept, record_edge, records, cross_first, cross_second):
     """Step 2a: where kept edges of different bodies cross, as cuts of their records.
 
@@ -311,7 +311,7 @@ def crossing_cuts(kept, record_edge, records, cross_first, cross_second):
     return cut_offsets, cuts
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _sort_rows_by_bearing(table, start, stop):
     """Stable insertion sort of rows ``start:stop`` of a (k, 3) table by column 0, in place (few rows)."""
     for a in range(start + 1, stop):
@@ -323,7 +323,7 @@ def _sort_rows_by_bearing(table, start, stop):
         table[b + 1, 0], table[b + 1, 1], table[b + 1, 2] = row0, row1, row2
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def cut_pieces(kept, record_edge, records, cut_offsets, cuts):
     """Step 2b: the records cut at their cuts (sorted by bearing in place), empty pieces dropped.
 

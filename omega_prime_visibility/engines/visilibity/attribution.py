@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
+from ..._compiled.kernel import njit
 from ...geometry.kernels import TWO_PI, reserve_rows, wrap_positive
 from ...geometry.occlusion import MIN_PIECE, hidden_span
 from ...geometry.sorting import argsort_stable
@@ -18,7 +18,7 @@ ROUNDING_OVERLAP = 1e-9
 NARROW_MARGIN = 1e-6
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def attribute_visible_angles(
     pts,
     seg,
@@ -133,7 +133,7 @@ def attribute_visible_angles(
     return visible
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def wedges_apart(px, py, qx, qy, ax, ay, bx, by):
     """Whether the bearings of the polygon edge ``p q`` (counter-clockwise, under half a turn) and of the edge ``a b``
     (relative to the observer, metres) share none, by the signs of cross products (no arctangent): neither wedge's
@@ -161,7 +161,7 @@ def wedges_apart(px, py, qx, qy, ax, ay, bx, by):
     return not (a_in or p_in)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _edges_by_bearing(pts):
     """The polygon's edges (from vertex ``i`` to ``i + 1``, relative to the observer) by bearing: each edge's
     ``bearing`` and ``span`` (radians), their ``order`` by bearing and the bearings in that order, and ``reach``:
@@ -185,7 +185,7 @@ def _edges_by_bearing(pts):
     return bearing, span, order, sorted_bearing, reach
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def _window(sorted_bearing, reach, lo, hi, first, width):
     """The positions ``a .. b - 1`` (in bearing order) of the edges starting within ``[lo, hi]`` (radians) that can
     meet an extent starting at ``first`` (shifted as the window is) of ``width``: for extents under half a turn,
@@ -197,7 +197,7 @@ def _window(sorted_bearing, reach, lo, hi, first, width):
     return a, np.searchsorted(sorted_bearing, hi, side="right")
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _unhidden(px, py, start, lo, hi, ax, ay, bx, by, seg, seg_offsets, occluders, static_occluders):
     """The pieces of the bearings ``start + [lo, hi]`` (radians, relative to the direction ``p`` of bearing
     ``start``) along which no edge of the given bodies hides the edge ``a b`` (:func:`...occlusion.hidden_span`),
@@ -237,7 +237,7 @@ def _unhidden(px, py, start, lo, hi, ax, ay, bx, by, seg, seg_offsets, occluders
     return pieces[:n_pieces]
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _credit(
     visible, t, lo, hi, credited_lo, credited_hi, n_credited, start, limited, ex, ey, num, wedge_start, fov, max_range
 ):

@@ -21,9 +21,9 @@ from __future__ import annotations
 
 from typing import Any
 
-import numba
 import numpy as np
 
+from ..._compiled.kernel import njit
 from ...geometry.candidates import candidate_pairs
 from ...geometry.kernels import copy_into, reserve
 from ...geometry.object_pairs import objects_occluded
@@ -38,7 +38,7 @@ from .plain import plain_environments
 from .polygon_check import CHECK_ABSOLUTE, CHECK_RELATIVE, ON_EDGE, polygon_fails
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def occlusion_by_view(
     coords,
     offsets,
@@ -149,7 +149,7 @@ def occlusion_by_view(
     return reason, occ_offsets, occ[:n_occ], st_offsets, st[:n_st], in_env, blocked
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _occluder_codes(body, target, occluding, n_bodies):
     """``target * n_bodies + body`` of the occluding pairs, grouped by target and ascending within (objects first,
     static sources after): the pairs come grouped by target, ascending, each once, so each group is sorted by
@@ -172,7 +172,7 @@ def _occluder_codes(body, target, occluding, n_bodies):
     return codes[:n_codes]
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def checked_visible_angles(
     coords,
     offsets,

@@ -7,9 +7,9 @@ The angular extents are :func:`...geometry.angular_extent`'s operations in its o
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
+from ..._compiled.kernel import njit
 from ...geometry.kernels import TWO_PI
 
 
@@ -23,7 +23,7 @@ def angular_extents(coords, offsets, frame_starts, view_starts, target_offsets, 
     return np.mod(np.arctan2(first_y, first_x) + lo + np.pi, TWO_PI) - np.pi, hi - lo
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def extent_arguments(coords, offsets, frame_starts, view_starts, target_offsets, origins, eyes):
     """The arctangent arguments of :func:`...geometry.angular_extent` for every viewpoint of a chunk.
 
@@ -78,7 +78,7 @@ def extent_arguments(coords, offsets, frame_starts, view_starts, target_offsets,
     return arg_offsets, y, x, first_y, first_x
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def extent_bounds(step, offsets, frame_starts, view_starts, target_offsets, arg_offsets):
     """Per target, the least and greatest unwrapped bearing of its ring relative to its first vertex (radians,
     0 included), from the turns ``step`` summed over the viewpoint's frame in order (numpy's ``cumsum``)."""
@@ -104,7 +104,7 @@ def extent_bounds(step, offsets, frame_starts, view_starts, target_offsets, arg_
     return lo, hi
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def view_segments(coords, offsets, s, e, gx, gy, st_seg, st_source, n_sources):
     """The frame's object edges then the static edges, relative to the origin ``(gx, gy)``, with their body
     numbers (objects ``0 .. n - 1``, then ``n + source``) and per-body offsets."""
@@ -134,7 +134,7 @@ def view_segments(coords, offsets, s, e, gx, gy, st_seg, st_source, n_sources):
     return seg, body, seg_offsets
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def static_blocking(static_offsets, static_inside, v, n_sources):
     """Static sources that block viewpoint ``v`` (all but those containing it)."""
     blocking = np.ones(n_sources, dtype=np.bool_)

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 import shapely
 
+from ..._compiled.kernel import njit
 from ...geometry.kernels import MIN_CAPACITY, push_pair
 from ...geometry.sorting import argsort_stable
 from . import _visilibity1  # VisiLibity1 1.0.10 compiled with the package (native/binding.cpp)
@@ -31,7 +31,7 @@ def grid_origin(points: np.ndarray) -> np.ndarray:
     return np.round(points / ORIGIN_GRID) * ORIGIN_GRID + 0.0
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def box_overlaps(lo, hi):
     """Pairs (i, j), i < j, of axis-aligned boxes ``[lo, hi]`` that overlap (sort and sweep on x)."""
     order = argsort_stable(lo[:, 0].copy())
@@ -49,7 +49,7 @@ def box_overlaps(lo, hi):
     return first[:k].copy(), second[:k].copy()
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def components(n, first, second):
     """Connected-component label of each of ``n`` nodes given undirected edges ``first[k] - second[k]``: the
     smallest node of its component (so labels sort as the components' smallest members do)."""

@@ -13,9 +13,9 @@ polygons are then the same numbers as the plain ones.
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
+from ..._compiled.kernel import njit
 from ...geometry.kernels import copy_into, copy_rows, cross_properly, nearest_offset, reserve, reserve_rows
 from ...geometry.rings import ring_covers_point
 from .conversion import box_overlaps
@@ -25,7 +25,7 @@ APART = 1e-9
 go to the general construction."""
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def rings_apart(coords, a0, a1, b0, b1, apart):
     """Whether the rings ``coords[a0:a1]`` and ``coords[b0:b1]`` (metres, closing vertex not repeated) lie more
     than ``apart`` metres apart: no two edges cross or come that near, and neither ring holds a vertex of the
@@ -60,7 +60,7 @@ def rings_apart(coords, a0, a1, b0, b1, apart):
     return not inside_b and not ring_covers_point(coords, a0, a1, coords[b0, 0], coords[b0, 1], apart)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def plain_environment(coords, offsets, s, e, gx, gy, ox, oy, in_env, parts, part_offsets, part_encloses, margin):
     """The plain environment of viewpoint ``(ox, oy)`` (metres, relative to the origin ``(gx, gy)``), if it applies.
 
@@ -141,7 +141,7 @@ def plain_environment(coords, offsets, s, e, gx, gy, ox, oy, in_env, parts, part
     return True, vertices, counts
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def plain_environments(
     views, frame_of_view, frame_starts, target_offsets, in_env, coords, offsets, origins, eyes, parts, part_offsets,
     part_encloses, margin,

@@ -23,9 +23,9 @@ bearings. :func:`polygon_fails` checks both.
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
+from ..._compiled.kernel import njit
 from ...geometry.kernels import TWO_PI, ray_line_distance, reserve_rows
 from ...geometry.sorting import argsort_stable
 
@@ -42,7 +42,7 @@ UNCOVERED = 1e-6
 ON_EDGE = 1e-6  # a polygon edge runs along a body edge within this fraction of the distance (at least 1 m)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def on_edge(theta, px, py, qx, qy, ax, ay, bx, by, tolerance):
     """Whether, along the bearing ``theta``, the polygon edge ``p q`` runs along the body edge ``a b`` (relative
     to the observer, metres): the points of the two lines on the ray lie within ``tolerance`` times the distance
@@ -55,7 +55,7 @@ def on_edge(theta, px, py, qx, qy, ax, ay, bx, by, tolerance):
     return lines_meet(dx, dy, boundary, body, ex, ey, tolerance)
 
 
-@numba.njit(cache=True, inline="always")
+@njit(cache=True, inline="always")
 def lines_meet(dx, dy, boundary, body, ex, ey, tolerance):
     """:func:`on_edge` once the distances along the unit direction ``(dx, dy)`` to the polygon edge's line
     (``boundary``) and to the body edge's (``body``, direction ``(ex, ey)``) are known, metres."""
@@ -64,7 +64,7 @@ def lines_meet(dx, dy, boundary, body, ex, ey, tolerance):
     return gap <= allowed or gap * (abs(dx * ey - dy * ex) / np.hypot(ex, ey)) <= allowed
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def polygon_fails(pts, seg, check, absolute_tolerance, relative_tolerance, on_tolerance):
     """Whether a visibility polygon's boundary is not the first thing hit along some ray: a checked body edge
     comes nearer than it, or it runs along no body (nor the box around everything) over some bearings.
@@ -156,7 +156,7 @@ def polygon_fails(pts, seg, check, absolute_tolerance, relative_tolerance, on_to
     return _uncovered(pts, start, covered[:n_covered])
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _uncovered(pts, start, covered):
     """Whether some polygon edge runs along no body edge (``covered``: rows ``(edge, lo, hi)`` of bearings where
     it does) over a stretch longer than :data:`UNCOVERED` (and wider than :data:`MIN_SHARED`), and not along a
@@ -189,7 +189,7 @@ def _uncovered(pts, start, covered):
     return False
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _stretch(pts, k, lo, hi):
     """Length (metres) of polygon edge ``k`` between the bearings ``lo`` and ``hi``; 0 when narrower than
     :data:`MIN_SHARED`."""

@@ -1,0 +1,133 @@
+"""The ahead-of-time build of the default path's kernels: found, checked against the current sources, loaded.
+
+``omega-prime-visibility compile`` (which ``make run`` and building the package run) compiles every kernel the
+default call (the MCAP reader and the ``visilibity`` engine) calls from Python into one extension module, with
+numba's ahead-of-time compiler (:mod:`.ahead_build`), for each argument type it was called with. The module needs
+neither numba nor LLVM to load, and is compiled for the processor family's baseline (x86-64 without AVX, or
+aarch64), so it runs on any machine of that family: a wheel, container image or cluster node with another CPU loads
+it too. Its manifest names the sources it was built from (:func:`.sources.sources_key`): after any edit of a kernel's
+sources, or under another numpy, it is left aside and numba's cache serves (compiling what the edit touched) until
+``compile`` runs again.
+
+Examples
+--------
+>>> built = exports_of("omega_prime_visibility.no_such_module:kernel")
+>>> built
+[]
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.machinery
+import importlib.util
+import json
+import os
+import threading
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from . import sources
+from .sources import remembered_sources_key
+
+FOLDER = "ahead"
+"""The build's folder under the package's copy of its kernels (:data:`.sources.BUNDLE`) or the user's cache."""
+MODULE = "omega_prime_visibility_ahead"
+"""The extension module's name (its file: ``omega_prime_visibility_ahead.cpython-311-x86_64-linux-gnu.so``)."""
+SWITCH = "OMEGA_PRIME_VISIBILITY_AHEAD"
+"""``OMEGA_PRIME_VISIBILITY_AHEAD=0`` leaves the build aside (every kernel from numba, as before it was built)."""
+MANIFEST = "manifest.json"
+"""What the build holds: the sources' key, numpy's major version, the extension's SHA-256 and, per kernel, its
+exports and their argument types (:func:`.kernel.value_key`)."""
+
+_LOCK = threading.Lock()
+_EXPORTS: dict[str, list[tuple[tuple, Callable]]] | None = None
+
+
+def folders() -> list[Path]:
+    """Where a build is looked for, in order: the package's copy of its kernels, then the user's cache."""
+    return [sources.BUNDLE / FOLDER, sources.kernels_cache() / FOLDER]
+
+
+def exports_of(name: str) -> list[tuple[tuple, Callable]]:
+    """The built machine code of the kernel ``name`` (``"module:qualname"``): one ``(argument types, function)``
+    pair per argument types it was built for, or none (no build, or one for other sources)."""
+    global _EXPORTS
+    if _EXPORTS is None:
+        with _LOCK:
+            if _EXPORTS is None:
+                _EXPORTS = _load()
+    return _EXPORTS.get(name, [])
+
+
+def current_build() -> Path | None:
+    """The folder of the build that fits the current sources and numpy, if any.
+
+    >>> current_build() is None or current_build().name == FOLDER
+    True
+    """
+    key = remembered_sources_key()
+    for folder in folders():
+        manifest = read_manifest(folder)
+        if manifest is not None and manifest.get("key") == key and manifest.get("numpy") == _numpy_major():
+            path = _extension(folder)
+            try:
+                if path is not None and manifest.get("sha256") == digest(path):
+                    return folder
+            except OSError:
+                pass
+    return None
+
+
+def read_manifest(folder: Path) -> dict | None:
+    """The build's manifest in ``folder``, or None where there is none or it cannot be read."""
+    try:
+        manifest = json.loads((folder / MANIFEST).read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError):
+        return None
+    return manifest if isinstance(manifest, dict) else None
+
+
+def _numpy_major() -> int:
+    return int(np.__version__.split(".")[0])
+
+
+def digest(path: Path) -> str:
+    """The SHA-256 of the file ``path`` (the manifest holds the extension's: a damaged file is never loaded)."""
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def _extension(folder: Path) -> Path | None:
+    for suffix in importlib.machinery.EXTENSION_SUFFIXES:
+        if (folder / f"{MODULE}{suffix}").is_file():
+            return folder / f"{MODULE}{suffix}"
+    return None
+
+
+def _load() -> dict[str, list[tuple[tuple, Callable]]]:
+    if os.environ.get(SWITCH, "1").strip().lower() in ("0", "no", "false"):
+        return {}
+    folder = current_build()
+    if folder is None:
+        return {}
+    manifest = read_manifest(folder)
+    try:
+        path = _extension(folder)
+        spec = importlib.util.spec_from_file_location(MODULE, path)
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        return {
+            name: [(_as_key(entry["arguments"]), getattr(module, entry["export"])) for entry in entries]
+            for name, entries in manifest["kernels"].items()
+        }
+    except (ImportError, OSError, AttributeError, KeyError, TypeError, ValueError):
+        return {}  # (a damaged build: numba serves)
+
+
+def _as_key(data) -> tuple:
+    """A key read back from JSON (lists) as :func:`.kernel.value_key` makes it (tuples)."""
+    if isinstance(data, list):
+        return tuple(_as_key(item) for item in data)
+    return data

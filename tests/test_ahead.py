@@ -1,0 +1,147 @@
+"""The ahead-of-time build (_compiled/ahead.py, _compiled/ahead_build.py): it holds the kernels and argument types
+called, gives the same bits as numba, is taken only for exactly those types and the current sources, and the
+default call on the bundled recording runs from it without importing numba."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pyarrow.parquet as pq
+import pytest
+from conftest import REPO
+
+from omega_prime_visibility._compiled import ahead, ahead_build, kernel
+from omega_prime_visibility.geometry import sorting
+
+
+@pytest.fixture(scope="module")
+def small_build(tmp_path_factory) -> Path:
+    """A build of two sorting kernels, for float64 keys and for read-only int64 keys."""
+    folder = tmp_path_factory.mktemp("build") / ahead.FOLDER
+    calls: dict = {}
+    old = kernel.CALLED
+    kernel.CALLED = calls
+    try:
+        sorting.argsort_stable(np.array([2.0, 1.0, 2.0]))
+        keys = np.array([3, 1, 2])
+        keys.flags.writeable = False
+        sorting.sorted_values(keys)
+    finally:
+        kernel.CALLED = old
+    ahead_build.build(calls, folder)
+    return folder
+
+
+@pytest.fixture
+def from_build(small_build: Path, monkeypatch):
+    """Kernels taking the small build (and nothing else) in this test."""
+    monkeypatch.setattr(ahead, "folders", lambda: [small_build])
+    monkeypatch.setattr(ahead, "_EXPORTS", None)
+    for k in (sorting.argsort_stable, sorting.sorted_values):
+        monkeypatch.setattr(k, "_built", None)
+    return small_build
+
+
+def test_the_build_holds_what_was_called(small_build: Path) -> None:
+    manifest = json.loads((small_build / ahead.MANIFEST).read_text())
+    assert manifest["key"] == ahead.remembered_sources_key()
+    names = sorted(manifest["kernels"])
+    assert names == [
+        "omega_prime_visibility.geometry.sorting:argsort_stable",
+        "omega_prime_visibility.geometry.sorting:sorted_values",
+    ]
+    readonly_ints = manifest["kernels"][names[1]][0]["arguments"]
+    assert readonly_ints == ["tuple", ["array", "<i8", 1, "C", True, True]]
+
+
+def test_built_code_gives_numbas_bits(from_build) -> None:
+    ((_, built),) = ahead.exports_of("omega_prime_visibility.geometry.sorting:argsort_stable")
+    rng = np.random.default_rng(5)
+    for keys in (rng.normal(size=1000) * 1e6, np.round(rng.normal(size=500), 1), np.array([]), np.zeros(7)):
+        assert np.array_equal(built(keys), sorting.argsort_stable.dispatcher(keys))
+        assert np.array_equal(built(keys), np.argsort(keys, kind="stable"))
+
+
+def test_the_build_is_taken_only_for_the_types_it_holds(from_build, monkeypatch) -> None:
+    taken = []
+    ((key, built),) = ahead.exports_of("omega_prime_visibility.geometry.sorting:argsort_stable")
+    monkeypatch.setattr(sorting.argsort_stable, "_built", [(key, lambda *a: taken.append(1) or built(*a))])
+    keys = np.array([0.5, -1.0, 0.25])
+    assert sorting.argsort_stable(keys).tolist() == [1, 2, 0] and taken == [1]
+    # another dtype, a strided view, read-only values: numba's own machine code, never the build's
+    for other in (keys.astype(np.float32), np.repeat(keys, 2)[::2], np.array([2, 0, 1])):
+        assert np.array_equal(sorting.argsort_stable(other), np.argsort(other, kind="stable"))
+    keys.flags.writeable = False
+    assert sorting.argsort_stable(keys).tolist() == [1, 2, 0]
+    assert taken == [1]
+
+
+def test_a_build_of_other_sources_is_left_aside(small_build: Path, tmp_path: Path, monkeypatch) -> None:
+    stale = tmp_path / ahead.FOLDER
+    stale.mkdir()
+    for path in small_build.iterdir():
+        stale.joinpath(path.name).write_bytes(path.read_bytes())
+    manifest = json.loads((stale / ahead.MANIFEST).read_text())
+    manifest["key"] = "0" * 16
+    (stale / ahead.MANIFEST).write_text(json.dumps(manifest))
+    monkeypatch.setattr(ahead, "folders", lambda: [stale])
+    monkeypatch.setattr(ahead, "_EXPORTS", None)
+    assert ahead.current_build() is None
+    assert ahead.exports_of("omega_prime_visibility.geometry.sorting:argsort_stable") == []
+
+
+def test_a_damaged_build_is_left_aside(small_build: Path, tmp_path: Path, monkeypatch) -> None:
+    damaged = tmp_path / ahead.FOLDER
+    damaged.mkdir()
+    for path in small_build.iterdir():
+        data = path.read_bytes()
+        damaged.joinpath(path.name).write_bytes(data if path.name == ahead.MANIFEST else data[: len(data) // 3])
+    monkeypatch.setattr(ahead, "folders", lambda: [damaged])
+    monkeypatch.setattr(ahead, "_EXPORTS", None)
+    assert ahead.exports_of("omega_prime_visibility.geometry.sorting:argsort_stable") == []
+    monkeypatch.setattr(sorting.argsort_stable, "_built", None)
+    assert sorting.argsort_stable(np.array([1.0, 0.0])).tolist() == [1, 0]
+
+
+def test_the_switch_leaves_the_build_aside(from_build, monkeypatch) -> None:
+    monkeypatch.setenv(ahead.SWITCH, "0")
+    assert ahead.exports_of("omega_prime_visibility.geometry.sorting:argsort_stable") == []
+
+
+CALL = """
+import sys
+from omega_prime_visibility.cli import main
+sys.argv = ["omega-prime-visibility", "run", "highway_merge.mcap", "--ego", sys.argv[1], "-o", sys.argv[2]]
+try:
+    main()
+finally:
+    print("numba imported" if "numba" in sys.modules else "numba not imported", file=sys.stderr)
+"""
+
+
+def test_the_default_call_runs_from_the_build_without_numba(tmp_path: Path) -> None:
+    cache = tmp_path / "cache"
+    folder = cache / "omega-prime-visibility" / "kernels" / ahead.FOLDER
+    build = f"from omega_prime_visibility.cli.compile_kernels import compile_ahead; compile_ahead({str(folder)!r})"
+    subprocess.run([sys.executable, "-c", build], cwd=REPO, check=True, capture_output=True, timeout=1200)
+    # a user whose cache holds only the build (no package copy): nothing of numba's is loaded, the table is numba's
+    env = os.environ | {"XDG_CACHE_HOME": str(cache)}
+    env.pop("NUMBA_CACHE_DIR", None)
+    for ego in ("0", "all"):
+        out = tmp_path / f"built-{ego}.parquet"
+        done = subprocess.run([sys.executable, "-c", CALL, ego, str(out)], cwd=REPO, env=env,
+                              capture_output=True, text=True, timeout=600)  # fmt: skip
+        assert done.returncode == 0, done.stderr[-2000:]
+        if ego == "0":
+            assert done.stderr.strip().endswith("numba not imported"), done.stderr[-2000:]
+        reference = tmp_path / f"numba-{ego}.parquet"
+        off = {ahead.SWITCH: "0", "XDG_CACHE_HOME": os.environ.get("XDG_CACHE_HOME", str(Path.home() / ".cache"))}
+        done = subprocess.run([sys.executable, "-c", CALL, ego, str(reference)], cwd=REPO, env=env | off,
+                              capture_output=True, text=True, timeout=1200)  # fmt: skip
+        assert done.returncode == 0 and done.stderr.strip().endswith("numba imported"), done.stderr[-2000:]
+        assert pq.read_table(out).equals(pq.read_table(reference))
