@@ -145,3 +145,63 @@ def test_the_default_call_runs_from_the_build_without_numba(tmp_path: Path) -> N
                               capture_output=True, text=True, timeout=1200)  # fmt: skip
         assert done.returncode == 0 and done.stderr.strip().endswith("numba imported"), done.stderr[-2000:]
         assert pq.read_table(out).equals(pq.read_table(reference))
+
+
+def test_kernels_with_options_the_build_would_drop_are_left_to_numba() -> None:
+    from omega_prime_visibility._compiled.kernel import njit
+
+    @njit(cache=False, error_model="numpy")
+    def ratio(a, b):
+        return a / b
+
+    calls: dict = {}
+    old, kernel.CALLED = kernel.CALLED, calls
+    try:
+        assert ratio(1.0, 0.0) == np.inf  # (numpy's error model: no ZeroDivisionError)
+        sorting.sorted_values(np.array([2.0, 1.0]))
+    finally:
+        kernel.CALLED = old
+    assert [k for _, _, k, _ in ahead_build.exports(calls)] == [sorting.sorted_values]
+
+
+def test_types_the_build_never_stands_for() -> None:
+    from numba.core import types
+
+    point = types.NamedUniTuple(types.float64, 2, __import__("collections").namedtuple("Point", "x y"))
+    for numba_type in (types.IntegerLiteral(3), types.BooleanLiteral(True), point, types.unicode_type):
+        assert ahead_build.type_key(numba_type) is None
+    unaligned = types.Array(types.float64, 1, "C", aligned=False)
+    assert ahead_build.type_key(unaligned) == ("array", "<f8", 1, "C", False, False)
+
+
+@pytest.mark.parametrize(
+    "change",
+    [{"format": ahead.FORMAT + 1}, {"numba": "0.1.0"}, {"numpy": 1}, {"extension": "x.cpython-27.so"}, {"sha256": ""}],
+)
+def test_a_build_for_another_numba_numpy_python_or_format_is_left_aside(
+    small_build: Path, tmp_path: Path, monkeypatch, change
+) -> None:
+    other = tmp_path / ahead.FOLDER
+    other.mkdir()
+    for path in small_build.iterdir():
+        other.joinpath(path.name).write_bytes(path.read_bytes())
+    manifest = json.loads((other / ahead.MANIFEST).read_text())
+    monkeypatch.setattr(ahead, "folders", lambda: [other])
+    assert ahead.current_build() is not None
+    (other / ahead.MANIFEST).write_text(json.dumps(manifest | change))
+    assert ahead.current_build() is None
+
+
+def test_the_package_copy_keeps_a_build_the_user_cache_lacks(small_build: Path, tmp_path: Path, monkeypatch) -> None:
+    import shutil
+
+    from omega_prime_visibility._compiled import copies, sources
+
+    package = tmp_path / "package" / "_kernels"
+    shutil.copytree(small_build, package / ahead.FOLDER)
+    monkeypatch.setattr(sources, "BUNDLE", package)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    monkeypatch.setattr(copies.config, "CACHE_DIR", "")
+    sources.kernels_cache().mkdir(parents=True)
+    assert copies.bundle() == package
+    assert ahead.read_manifest(package / ahead.FOLDER) == ahead.read_manifest(small_build)

@@ -144,3 +144,18 @@ def test_compile_keeps_a_copy_of_the_current_kernels_with_the_package(tmp_path, 
     assert (user / "kernels.f-12.py311.1.nbc").read_bytes() == b"code"
     assert copies.copy_current(kept / "geometry", user, "geometry") == 0  # current already: kept as it is
     assert _compiled.has_run("sweep")  # (the package's copy ran it) and stays silent
+
+
+def test_compile_builds_the_default_call_ahead_of_time_only_where_no_build_fits(monkeypatch) -> None:
+    # make run calls compile every time: a build that fits is kept, not made again (45 s)
+    from pathlib import Path
+
+    from typer.testing import CliRunner
+
+    from omega_prime_visibility._compiled import ahead, copies
+    from omega_prime_visibility.cli import app
+
+    monkeypatch.setattr(ahead, "current_build", lambda: (Path("/fits"), {}))
+    monkeypatch.setattr(copies, "bundle", lambda: None)
+    out = CliRunner().invoke(app, ["compile", "reader", "visilibity", "--jobs", "1"]).output
+    assert "ahead" not in out and out.splitlines()[-1].startswith(("checked in", "compiled in")), out

@@ -35,12 +35,18 @@ from .sources import remembered_sources_key
 FOLDER = "ahead"
 """The build's folder under the package's copy of its kernels (:data:`.sources.BUNDLE`) or the user's cache."""
 MODULE = "omega_prime_visibility_ahead"
-"""The extension module's name (its file: ``omega_prime_visibility_ahead.cpython-311-x86_64-linux-gnu.so``)."""
+"""The extension module's name (its file: ``omega_prime_visibility_ahead-<digest>.cpython-311-x86_64-linux-gnu.so``,
+named by its SHA-256)."""
 SWITCH = "OMEGA_PRIME_VISIBILITY_AHEAD"
 """``OMEGA_PRIME_VISIBILITY_AHEAD=0`` leaves the build aside (every kernel from numba, as before it was built)."""
+FORMAT = 1
+"""The version of the build's layout and of its argument keys (:func:`.kernel.value_key`): a build of another is
+left aside."""
+SUFFIXES = tuple(importlib.machinery.EXTENSION_SUFFIXES)
+"""The file endings this Python loads extensions by (a build for another Python is left aside)."""
 MANIFEST = "manifest.json"
-"""What the build holds: the sources' key, numpy's major version, the extension's SHA-256 and, per kernel, its
-exports and their argument types (:func:`.kernel.value_key`)."""
+"""What the build holds: its format, the sources' key, numpy's major version, numba's version, the extension's file
+name and SHA-256 and, per kernel, its exports and their argument types (:func:`.kernel.value_key`)."""
 
 _LOCK = threading.Lock()
 _EXPORTS: dict[str, list[tuple[tuple, Callable]]] | None = None
@@ -62,22 +68,27 @@ def exports_of(name: str) -> list[tuple[tuple, Callable]]:
     return _EXPORTS.get(name, [])
 
 
-def current_build() -> Path | None:
-    """The folder of the build that fits the current sources and numpy, if any.
+def current_build() -> tuple[Path, dict] | None:
+    """The extension and manifest of the build that fits: made by this format of the build, for the current
+    sources, numpy major version, numba and Python, its file whole (its SHA-256); None where none fits.
 
-    >>> current_build() is None or current_build().name == FOLDER
+    >>> found = current_build()
+    >>> found is None or found[0].parent.name == FOLDER
     True
     """
     key = remembered_sources_key()
     for folder in folders():
         manifest = read_manifest(folder)
-        if manifest is not None and manifest.get("key") == key and manifest.get("numpy") == _numpy_major():
-            path = _extension(folder)
-            try:
-                if path is not None and manifest.get("sha256") == digest(path):
-                    return folder
-            except OSError:
-                pass
+        if manifest is None or [manifest.get(k) for k in ("format", "key", "numpy")] != [FORMAT, key, _numpy_major()]:
+            continue
+        name = manifest.get("extension")
+        if manifest.get("numba") != installed_numba() or not isinstance(name, str) or not name.endswith(SUFFIXES):
+            continue
+        try:  # (the file is named by its digest: a build replaced meanwhile is another file, never this one)
+            if manifest.get("sha256") == digest(folder / name):
+                return folder / name, manifest
+        except OSError:
+            pass
     return None
 
 
@@ -90,6 +101,16 @@ def read_manifest(folder: Path) -> dict | None:
     return manifest if isinstance(manifest, dict) else None
 
 
+def installed_numba() -> str | None:
+    """The version of the numba installed beside the package, read from its distribution's folder name without
+    importing numba (the build is used only with the numba it was compiled by: their machine code is the same)."""
+    spec = importlib.util.find_spec("numba")
+    if spec is None or spec.origin is None:
+        return None
+    found = sorted(Path(spec.origin).parent.parent.glob("numba-*.dist-info"))
+    return found[0].name.removeprefix("numba-").removesuffix(".dist-info") if len(found) == 1 else None
+
+
 def _numpy_major() -> int:
     return int(np.__version__.split(".")[0])
 
@@ -99,22 +120,14 @@ def digest(path: Path) -> str:
     return hashlib.sha256(path.read_bytes()).hexdigest()
 
 
-def _extension(folder: Path) -> Path | None:
-    for suffix in importlib.machinery.EXTENSION_SUFFIXES:
-        if (folder / f"{MODULE}{suffix}").is_file():
-            return folder / f"{MODULE}{suffix}"
-    return None
-
-
 def _load() -> dict[str, list[tuple[tuple, Callable]]]:
     if os.environ.get(SWITCH, "1").strip().lower() in ("0", "no", "false"):
         return {}
-    folder = current_build()
-    if folder is None:
+    found = current_build()
+    if found is None:
         return {}
-    manifest = read_manifest(folder)
+    path, manifest = found
     try:
-        path = _extension(folder)
         spec = importlib.util.spec_from_file_location(MODULE, path)
         module = importlib.util.module_from_spec(spec)
         spec.loader.exec_module(module)
@@ -122,8 +135,8 @@ def _load() -> dict[str, list[tuple[tuple, Callable]]]:
             name: [(_as_key(entry["arguments"]), getattr(module, entry["export"])) for entry in entries]
             for name, entries in manifest["kernels"].items()
         }
-    except (ImportError, OSError, AttributeError, KeyError, TypeError, ValueError):
-        return {}  # (a damaged build: numba serves)
+    except Exception:  # a damaged build, of any kind: numba serves
+        return {}
 
 
 def _as_key(data) -> tuple:

@@ -35,16 +35,18 @@ def type_key(numba_type) -> tuple | None:
     from numba.core import types
     from numba.np.numpy_support import as_dtype
 
-    if isinstance(numba_type, types.Array):
-        if not isinstance(numba_type.dtype, (types.Boolean, types.Integer, types.Float, types.Complex)):
+    kind = type(numba_type)
+    if kind is types.Array:  # (exactly: no subclass of it, no literal, no named tuple)
+        if type(numba_type.dtype) not in (types.Boolean, types.Integer, types.Float, types.Complex):
             return None
         readonly = not numba_type.mutable
-        return ("array", as_dtype(numba_type.dtype).str, numba_type.ndim, numba_type.layout, readonly, True)
-    if isinstance(numba_type, (types.Boolean, types.Integer, types.Float)):
+        key = ("array", as_dtype(numba_type.dtype).str, numba_type.ndim, numba_type.layout, readonly)
+        return (*key, numba_type.aligned)
+    if kind in (types.Boolean, types.Integer, types.Float):
         return ("scalar", as_dtype(numba_type).str)
-    if isinstance(numba_type, types.NoneType):
+    if kind is types.NoneType:
         return ("none",)
-    if isinstance(numba_type, types.BaseTuple):
+    if kind in (types.Tuple, types.UniTuple):
         keys = tuple(type_key(t) for t in numba_type.types)
         return None if None in keys else ("tuple", *keys)
     return None
@@ -56,12 +58,19 @@ def exports(calls: dict[kernel.Kernel, set[tuple]]) -> list[tuple[str, object, k
     left out."""
     found = []
     for k in sorted(calls, key=lambda k: (k.__module__, k.__qualname__)):
+        if set(k.options) - BUILT_OPTIONS:  # (numba's ahead-of-time compiler takes no options)
+            continue
         overloads = {type_key_of_arguments(args): result for args, result in k.dispatcher.overloads.items()}
         for key in sorted(calls[k], key=repr):
             result = overloads.get(key)
             if result is not None and key is not None:
                 found.append((f"kernel_{len(found)}", result.signature, k, key))
     return found
+
+
+BUILT_OPTIONS = {"cache", "inline"}
+"""The kernel options the build keeps as numba's dispatcher does (a kernel with others, such as
+``error_model="numpy"``, is left to numba: the ahead-of-time compiler would drop them)."""
 
 
 def type_key_of_arguments(arguments: tuple) -> tuple | None:
@@ -73,7 +82,7 @@ def type_key_of_arguments(arguments: tuple) -> tuple | None:
 def build(calls: dict[kernel.Kernel, set[tuple]], folder: Path) -> Path:
     """Compile the kernels ``calls`` names into the ahead-of-time build in ``folder`` (replaced whole: another
     process sees the old build or the new one, never a part); the folder."""
-    kernel._numba()  # (kernels' globals typed as their dispatchers)
+    numba = kernel._numba()  # (kernels' globals typed as their dispatchers)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # (numba says its ahead-of-time compiler is to be replaced)
         from numba.pycc import CC
@@ -91,8 +100,11 @@ def build(calls: dict[kernel.Kernel, set[tuple]], folder: Path) -> Path:
             compiler.export(name, signature)(k.py_func)
         compiler.compile()
         (extension,) = partial.glob(f"{ahead.MODULE}.*")
-        manifest = {"key": remembered_sources_key(), "numpy": int(np.__version__.split(".")[0])}
-        manifest |= {"sha256": ahead.digest(extension), "kernels": {}}
+        sha256 = ahead.digest(extension)
+        named = extension.with_name(f"{ahead.MODULE}-{sha256[:16]}{extension.name.removeprefix(ahead.MODULE)}")
+        extension.rename(named)  # (named by its digest: a process reading an older manifest never loads this one)
+        manifest = {"format": ahead.FORMAT, "key": remembered_sources_key(), "numpy": int(np.__version__.split(".")[0])}
+        manifest |= {"numba": numba.__version__, "extension": named.name, "sha256": sha256, "kernels": {}}
         for name, _, k, key in chosen:
             entries = manifest["kernels"].setdefault(f"{k.__module__}:{k.__qualname__}", [])
             entries.append({"export": name, "arguments": key})

@@ -83,9 +83,9 @@ def bundle() -> Path | None:
         key = sources.remembered_sources_key()
         for done in source.glob(f".ran-{key}-*"):
             shutil.copyfile(done, partial / done.name)
-        built = source / ahead.FOLDER
-        if (ahead.read_manifest(built) or {}).get("key") == key:  # the default call's kernels, built ahead of time
-            shutil.copytree(built, partial / ahead.FOLDER)
+        built = ahead.current_build()  # the default call's kernels built ahead of time (here, or the user's)
+        if built is not None:
+            shutil.copytree(built[0].parent, partial / ahead.FOLDER)
         shutil.rmtree(target, ignore_errors=True)
         os.replace(partial, target)
     except OSError:

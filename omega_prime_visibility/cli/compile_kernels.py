@@ -23,6 +23,7 @@ import polars as pl
 import typer
 
 from .. import _compiled
+from .._compiled import ahead
 from ..engines.registry import ENGINES, ENGINES_3D
 from .app import app
 from .common import fail
@@ -126,7 +127,7 @@ def compile_engine(name: str) -> float:
 def compile_ahead(folder: Path | str | None = None) -> float:
     """Run the default call's paths (:data:`AHEAD_OF`) noting the kernels they call from Python, then build those
     ahead of time into ``folder`` (default: the user's cache, see :mod:`.._compiled.ahead`); return the seconds."""
-    from .._compiled import ahead, ahead_build, kernel
+    from .._compiled import ahead_build, kernel
 
     started = time.perf_counter()
     calls = kernel.record_calls()
@@ -170,27 +171,33 @@ def compile_kernels(
     if jobs is not None and jobs < 1:
         raise fail(f"--jobs takes a number of processes, at least 1, not {jobs}")
     jobs = jobs or min(2, len(os.sched_getaffinity(0)))
-    ahead_too = all(n in names for n in AHEAD_OF)
     ready = [n for n in names if _compiled.has_run(f"compile-{n}")]
     todo = [n for n in names if n not in ready]
+    ahead_todo = all(n in names for n in AHEAD_OF) and ahead.current_build() is None
+    then = f", then the default call's ahead of time ({AHEAD})" if ahead_todo else ""
     if not todo:
-        typer.echo(f"the kernels of {', '.join(names)} are compiled already for this version; checking them")
+        typer.echo(f"the kernels of {', '.join(names)} are compiled already for this version; checking them{then}")
     else:
         already = f"; {', '.join(ready)} compiled already" if ready else ""
         typer.echo(
             f"compiling the kernels of {', '.join(todo)}, {jobs} at a time (once per version of the package;"
-            f" a minute or two each on a busy 2-core machine){already}"
+            f" a minute or two each on a busy 2-core machine){then}{already}"
         )
     started = time.perf_counter()
-    # each engine in a fresh process, as on a new installation; this one reports
-    with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn"), max_tasks_per_child=1) as pool:
+    spawn = multiprocessing.get_context("spawn")
+    # each engine in a fresh process, as on a new installation; the build ahead of time in a pool of its own (a
+    # crash of numba's compiler there stops it alone); this one reports
+    with (
+        ProcessPoolExecutor(jobs, mp_context=spawn, max_tasks_per_child=1) as pool,
+        ProcessPoolExecutor(1, mp_context=spawn) as own,
+    ):
         futures = {pool.submit(compile_engine, name): name for name in names}
         pending, finished = set(futures), set()
         while pending:  # a line at least every HEARTBEAT_S seconds: never silent for long
             done, pending = wait(pending, timeout=HEARTBEAT_S, return_when=FIRST_COMPLETED)
             finished |= {futures[f] for f in done}
-            if ahead_too and AHEAD not in futures.values() and all(n in finished for n in AHEAD_OF):
-                ahead_build = pool.submit(compile_ahead)  # once the default call's kernels are compiled
+            if ahead_todo and AHEAD not in futures.values() and all(n in finished for n in AHEAD_OF):
+                ahead_build = own.submit(compile_ahead)  # once the default call's kernels are compiled
                 futures[ahead_build] = AHEAD
                 pending.add(ahead_build)
             for future in done:
@@ -198,8 +205,11 @@ def compile_kernels(
                     seconds = future.result()
                 except Exception as e:
                     if futures[future] == AHEAD:  # (the kernels are compiled: a call loads them from numba's cache)
-                        reason = str(e).strip().splitlines()[-1:] or [type(e).__name__]
-                        typer.echo(f"  {AHEAD}: not built ({reason[0]}); calls load numba's cache instead")
+                        reason = (str(e).strip().splitlines() or [type(e).__name__])[-1]
+                        typer.echo(
+                            f"  {AHEAD}: not built ({reason}; it needs a C compiler, $CC, and setuptools); calls"
+                            " load numba's cache instead"
+                        )
                         continue
                     if isinstance(e, ValueError):
                         raise fail(f"{futures[future]}: {e}") from None

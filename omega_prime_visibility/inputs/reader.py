@@ -337,8 +337,8 @@ def _as_omega_prime(df: pl.DataFrame) -> pl.DataFrame:
 @functools.cache
 def remembered_descriptors() -> tuple[np.ndarray, np.ndarray]:
     """:func:`.osi_wire.field_numbers` and :func:`.osi_wire.message_schema`, read from osi-python's descriptors
-    once per version of osi-python and remembered beside the kernels' cache (importing the descriptors is 20 ms of
-    a short call).
+    once per version of osi-python (and of the kernels' sources) and remembered beside the kernels' cache
+    (importing the descriptors is 20 ms of a short call).
 
     >>> from omega_prime_visibility.inputs.osi_wire import field_numbers, message_schema
     >>> numbers, schema = remembered_descriptors()
@@ -349,7 +349,8 @@ def remembered_descriptors() -> tuple[np.ndarray, np.ndarray]:
 
     from .osi_wire import FIELDS, field_numbers, message_schema
 
-    memo = _compiled.cache_base() / "osi-descriptors" / f"{osi3.__version__}.json"
+    # (per version of osi-python and of the package's kernels' sources, which read them)
+    memo = _compiled.cache_base() / "osi-descriptors" / f"{osi3.__version__}-{_compiled.remembered_sources_key()}.json"
     try:
         known = json.loads(memo.read_text(encoding="ascii"))
         numbers, shape, entries = np.array(known["numbers"]), tuple(known["shape"]), np.array(known["schema"])
