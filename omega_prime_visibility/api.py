@@ -95,7 +95,8 @@ def get_visibility_df(
         ``"raycast3d"`` (the default where ``static_meshes`` are given), ``"raycast3d-high"`` or
         ``"raycast3d-fast"`` (``ENGINES_3D``).
     progress : bool, optional
-        Show a progress bar; by default only for long recordings.
+        Show a progress bar (drawn once the call has run half a second); by default only for recordings of 200
+        frames or more.
     on_invalid : {"warn", "raise"}
         Skip unusable rows (NaN pose, zero-size or invalid outline) with a warning, or raise.
     workers : int, optional

@@ -261,7 +261,7 @@ Recording = Annotated[
         metavar="RECORDING", help="omega-prime MCAP file, or an OSI trace (.osi; its OpenDRIVE map with --map)"
     ),
 ]
-Progress = Annotated[bool, typer.Option(help="show a progress bar")]
+Progress = Annotated[bool, typer.Option(help="show a progress bar (once a run has taken half a second)")]
 
 
 def load_static(path: Path | None):

@@ -8,7 +8,6 @@ import multiprocessing
 import os
 import shutil
 import tempfile
-import warnings
 from collections.abc import Iterator, Mapping
 from concurrent.futures import ProcessPoolExecutor
 from contextlib import contextmanager
@@ -17,7 +16,6 @@ from pathlib import Path
 
 import polars as pl
 import pyarrow as pa
-from tqdm import TqdmExperimentalWarning
 
 from .._compiled import Heartbeat, announce_compilation, mark_compiled
 from ..inputs.objects import ObjectTable
@@ -25,13 +23,9 @@ from ..query import Resolved
 from ..threed.mode import Finisher, with_can_see
 from .output import FileWriter, PartWriter, atomic_directory, join_parts
 from .pipeline import ContainmentLog, chunks, counted_columns, run
+from .progress import Progress
 from .schema import STATUSES, empty_table, to_polars
 from .selection import passive_in_place
-
-with warnings.catch_warnings():  # (in a notebook it says it draws there: what tqdm.auto silences too)
-    warnings.simplefilter("ignore", TqdmExperimentalWarning)
-    # tqdm.auto without its asyncio mix-in, which imports asyncio (a tenth of a short run's imports) for nothing
-    from tqdm.autonotebook import tqdm
 
 PROGRESS_MIN_FRAMES = 200
 PARALLEL_MIN_WORK = 5_000  # (frame, observer) pairs from which all cores are used by default
@@ -94,7 +88,7 @@ def compute(
     if announce_compilation(engine, scene.engine_class, path_key):  # (the checks are done: work starts here)
         beat.start()  # a line every few seconds until the first frames are done: a first call is never silent
     show = objects.n_frames >= PROGRESS_MIN_FRAMES if progress is None else progress
-    bar = tqdm(total=objects.n_frames, disable=not show, desc="visibility", unit="frame")
+    bar = Progress(total=objects.n_frames, show=show, desc="visibility", unit="frame")
     containment = ContainmentLog()
     tables: list[pl.DataFrame] = []
     mode = scene.query.mode
