@@ -135,7 +135,8 @@ def test_compile_keeps_a_copy_of_the_current_kernels_with_the_package(tmp_path, 
     kept = copies.bundle()
     assert kept == tmp_path / "package" / "_kernels"
     files = sorted(p.relative_to(kept).as_posix() for p in kept.rglob("*") if p.is_file())
-    assert files == [f".ran-{key}-sweep", "geometry/kernels.f-12.py311.1.nbc", "geometry/kernels.f-12.py311.nbi"]
+    memo = f"sources/{_compiled.sources.contents_memo().name}"  # (the sources' key by their contents)
+    assert files == [f".ran-{key}-sweep", "geometry/kernels.f-12.py311.1.nbc", "geometry/kernels.f-12.py311.nbi", memo]
     assert _compiled.has_run("sweep") and not _compiled.has_run("visilibity")
     # a user whose cache is empty copies the current one back, never the stale one
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "other-user"))

@@ -62,16 +62,22 @@ def test_the_key_changes_with_any_source_and_only_then(tmp_path: Path) -> None:
 
 
 def test_the_key_is_remembered_by_the_sources_sizes_and_times(tmp_path: Path, monkeypatch) -> None:
+    from omega_prime_visibility._compiled import sources
+
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    monkeypatch.setattr(sources, "BUNDLE", tmp_path / "no-package-copy")
     copy = tmp_path / "pkg"
     shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__", "_kernels"))
     key, stamps = sources_key(copy), source_stamps(copy)
     assert remembered_sources(copy) == (key, stamps)  # computed, then remembered
-    memos = list((tmp_path / "cache" / "omega-prime-visibility" / "sources").iterdir())
-    assert [json.loads(m.read_text()) for m in memos] == [{"key": key, "stamps": stamps}]
+    found = sorted((tmp_path / "cache" / "omega-prime-visibility" / "sources").iterdir())
+    by_contents = [m for m in found if m.name.startswith("contents-")]
+    memos = [m for m in found if m not in by_contents]  # (by sizes and times; by contents for new times)
+    assert [json.loads(m.read_text()) for m in memos + by_contents] == [{"key": key, "stamps": stamps}] * 2
     memos[0].write_text(json.dumps({"key": "0123456789abcdef", "stamps": {}}))  # what was remembered is used ...
     assert remembered_sources_key(copy) == "0123456789abcdef"
     memos[0].write_text("garbage")  # ... unless it is no key
+    by_contents[0].unlink()
     assert remembered_sources_key(copy) == key
     # an edited kernel module (a git pull): a new size or time, so the key is computed anew
     kernels = copy / "geometry" / "kernels.py"
@@ -81,6 +87,33 @@ def test_the_key_is_remembered_by_the_sources_sizes_and_times(tmp_path: Path, mo
     # nowhere to remember it: still the right key
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "pkg" / "__init__.py" / "cannot"))
     assert remembered_sources_key(copy) == sources_key(copy)
+
+
+def test_a_fresh_user_takes_the_key_from_the_package_copy_by_the_sources_contents(tmp_path: Path, monkeypatch) -> None:
+    # the build noted the key of these sources by their contents; a fresh user, whose files have other times (an
+    # install, a container), takes it from there instead of parsing every source (a second of a first call)
+    from omega_prime_visibility._compiled import sources
+
+    copy = tmp_path / "pkg"
+    shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__", "_kernels"))
+    key, stamps = sources_key(copy), source_stamps(copy)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "build"))
+    bundled = tmp_path / "bundle"
+    memo = sources.contents_memo(copy)
+    (bundled / "sources").mkdir(parents=True)
+    sources.write_memo(bundled / "sources" / memo.name, (key, stamps))
+    monkeypatch.setattr(sources, "BUNDLE", bundled)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "fresh"))
+    for path in copy.rglob("*.py"):
+        os.utime(path, ns=(1, 1))  # (the files' times of another machine)
+    parsed = sources.key_and_stamps
+    monkeypatch.setattr(sources, "key_and_stamps", lambda root: pytest.fail("parsed the sources"))
+    assert remembered_sources(copy) == (key, stamps)
+    # an edit: other contents, so it is computed anew, not taken from the copy
+    kernels = copy / "geometry" / "kernels.py"
+    kernels.write_text(kernels.read_text() + "\n# changed\n")
+    monkeypatch.setattr(sources, "key_and_stamps", parsed)
+    assert remembered_sources(copy) == (sources_key(copy), source_stamps(copy)) != (key, stamps)
 
 
 def test_an_edit_stamps_anew_the_kernels_that_reach_it_and_only_those(tmp_path: Path) -> None:

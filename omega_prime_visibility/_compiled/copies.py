@@ -83,6 +83,10 @@ def bundle() -> Path | None:
         key = sources.remembered_sources_key()
         for done in source.glob(f".ran-{key}-*"):
             shutil.copyfile(done, partial / done.name)
+        memo = sources.contents_memo()  # the sources' key and stamps by their contents: no fresh user parses them
+        sources.write_memo(memo, sources.remembered_sources())
+        (partial / "sources").mkdir()
+        shutil.copyfile(memo, partial / "sources" / memo.name)
         built = ahead.current_build()  # the default call's kernels built ahead of time (here, or the user's)
         if built is not None:
             shutil.copytree(built[0].parent, partial / ahead.FOLDER)

@@ -168,26 +168,59 @@ def remembered_sources(root: Path = PACKAGE) -> tuple[str, dict[str, str]]:
 
 
 def _remembered(root: Path) -> tuple[str, dict[str, str]]:
+    paths = python_sources(root)
     stats = hashlib.sha256()
-    for path in python_sources(root):
+    for path in paths:
         info = path.stat()
         stats.update(f"{path.relative_to(root).as_posix()}\0{info.st_size}\0{info.st_mtime_ns}\0".encode())
     memo = cache_base() / "sources" / stats.hexdigest()[:32]
+    found = _read_memo(memo)
+    if found is not None:
+        return found
+    # the sources' contents (a few milliseconds to hash): remembered by an earlier process, or by the package's copy
+    # of its kernels, whose sources are these (a fresh user, container or node, whose files have new times)
+    by_contents = f"contents-{_digest(paths, root)}"
+    found = _read_memo(memo.with_name(by_contents)) or _read_memo(BUNDLE / "sources" / by_contents)
+    if found is None:
+        found = key_and_stamps(root)
+        write_memo(memo.with_name(by_contents), found)
+    write_memo(memo, found)
+    return found
+
+
+def key_and_stamps(root: Path = PACKAGE) -> tuple[str, dict[str, str]]:
+    """:func:`sources_key` and :func:`source_stamps` at once (the import graph parsed once)."""
+    closures = kernel_closures(root)
+    reached = sorted({path for closure in closures.values() for path in closure})
+    stamps = {path.relative_to(root).as_posix(): _digest(closure, root) for path, closure in closures.items()}
+    return _digest(reached, root), stamps
+
+
+def _read_memo(memo: Path) -> tuple[str, dict[str, str]] | None:
     try:
         known = json.loads(memo.read_text(encoding="ascii"))
         if re.fullmatch(r"[0-9a-f]{16}", known["key"]) and isinstance(known["stamps"], dict):
             return known["key"], known["stamps"]
     except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError):
         pass
-    key, stamps = sources_key(root), source_stamps(root)
+    return None
+
+
+def write_memo(memo: Path, found: tuple[str, dict[str, str]]) -> None:
+    """Note the key and stamps ``found`` in the file ``memo`` (whole or not at all; not where it cannot be written)."""
     try:
         memo.parent.mkdir(parents=True, exist_ok=True)
         partial = memo.with_name(f"{memo.name}.{os.getpid()}.partial")
-        partial.write_text(json.dumps({"key": key, "stamps": stamps}), encoding="ascii")
+        partial.write_text(json.dumps({"key": found[0], "stamps": found[1]}), encoding="ascii")
         os.replace(partial, memo)  # whole or not at all, as two processes may start at once
     except OSError:
         pass
-    return key, stamps
+
+
+def contents_memo(root: Path = PACKAGE) -> Path:
+    """The user cache's note of the key and stamps of the current sources, by their contents (the package's copy of
+    its kernels carries it: :func:`.copies.bundle`)."""
+    return cache_base() / "sources" / f"contents-{_digest(python_sources(root), root)}"
 
 
 def remembered_sources_key(root: Path = PACKAGE) -> str:
