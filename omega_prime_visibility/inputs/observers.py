@@ -23,15 +23,28 @@ def describe_idx(present: np.ndarray) -> str:
     return f"{present[:20].tolist()}{' ...' if len(present) > 20 else ''}"
 
 
+def distinct(values: np.ndarray) -> np.ndarray:
+    """The distinct values of a 1-D array, ascending: ``np.unique(values)`` without numpy's masked arrays, which
+    ``np.unique`` imports on its first call (11 ms of a short run).
+
+    >>> distinct(np.array([4, 1, 4, 2])).tolist()
+    [1, 2, 4]
+    """
+    ordered = np.sort(values)
+    keep = np.ones(len(ordered), dtype=bool)
+    np.not_equal(ordered[1:], ordered[:-1], out=keep[1:])
+    return ordered[keep]
+
+
 def resolve_egos(ego_idx: EgoSpec, objects: ObjectTable) -> tuple[np.ndarray, bool]:
     """The observers' idx as an ascending array, and whether the table needs an ``idx_ego`` column."""
-    present = np.unique(objects.idx)
+    present = distinct(objects.idx)
     if isinstance(ego_idx, str):
         if ego_idx != "all":
             raise ValueError(f"ego_idx must be an int, a list of ints or 'all', not {ego_idx!r}")
         return present, True
     many = not isinstance(ego_idx, int | np.integer)
-    egos = np.unique(np.atleast_1d(np.asarray(ego_idx)))
+    egos = distinct(np.atleast_1d(np.asarray(ego_idx)))
     if egos.size == 0 or not np.issubdtype(egos.dtype, np.integer):
         raise ValueError(f"ego_idx must be an int, a list of ints or 'all', not {ego_idx!r}")
     missing = egos[~np.isin(egos, present)]
