@@ -167,7 +167,12 @@ def test_epsilon_is_accepted_and_has_no_effect(bundled: omega_prime.Recording) -
     assert get_visibility_df(df, ego_idx=0, epsilon=1e-6, progress=False).equals(no_wall)
 
 
-def test_hide_progress_is_the_published_name_of_progress_false(bundled: omega_prime.Recording, capsys) -> None:
+def test_hide_progress_is_the_published_name_of_progress_false(
+    bundled: omega_prime.Recording, capsys, monkeypatch
+) -> None:
+    from omega_prime_visibility.table import progress
+
+    monkeypatch.setattr(progress, "DELAY_S", 0.0)  # (the bar of a call this short is drawn at once)
     df = bundled._df
     assert df["frame"].n_unique() >= 200  # long enough for the bar to show by default
     expected = get_visibility_df(df, 0, progress=False)
