@@ -155,8 +155,9 @@ def test_compile_builds_the_default_call_ahead_of_time_only_where_no_build_fits(
 
     from omega_prime_visibility._compiled import ahead, copies
     from omega_prime_visibility.cli import app
+    from omega_prime_visibility.cli.compile_kernels import AHEAD_OF
 
-    monkeypatch.setattr(ahead, "current_build", lambda: (Path("/fits"), {}))
+    monkeypatch.setattr(ahead, "current_build", lambda: (Path("/fits"), {"covers": list(AHEAD_OF)}))
     monkeypatch.setattr(copies, "bundle", lambda: None)
     out = CliRunner().invoke(app, ["compile", "reader", "visilibity", "--jobs", "1"]).output
     assert "ahead" not in out and out.splitlines()[-1].startswith(("checked in", "compiled in")), out

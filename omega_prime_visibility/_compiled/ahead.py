@@ -1,8 +1,8 @@
-"""The ahead-of-time build of the default path's kernels: found, checked against the current sources, loaded.
+"""The ahead-of-time build of the default call's kernels (and the sweep engine's): found, checked, loaded.
 
 ``omega-prime-visibility compile`` (which ``make run`` and building the package run) compiles every kernel the
-default call (the MCAP reader and the ``visilibity`` engine) calls from Python into one extension module, with
-numba's ahead-of-time compiler (:mod:`.ahead_build`), for each argument type it was called with. The module needs
+MCAP reader, the default ``visilibity`` engine and the ``sweep`` engine call from Python into one extension module,
+with numba's ahead-of-time compiler (:mod:`.ahead_build`), for each argument type it was called with. The module needs
 neither numba nor LLVM to load, and is compiled for the processor family's baseline (x86-64 without AVX, or
 aarch64), so it runs on any machine of that family: a wheel, container image or cluster node with another CPU loads
 it too. Its manifest names the sources it was built from (:func:`.sources.sources_key`): after any edit of a kernel's
@@ -53,8 +53,9 @@ _EXPORTS: dict[str, list[tuple[tuple, Callable]]] | None = None
 
 
 def folders() -> list[Path]:
-    """Where a build is looked for, in order: the package's copy of its kernels, then the user's cache."""
-    return [sources.BUNDLE / FOLDER, sources.kernels_cache() / FOLDER]
+    """Where a build is looked for, in order: the user's cache (where ``compile`` builds it), then the package's
+    copy of its kernels (a fresh user's)."""
+    return [sources.kernels_cache() / FOLDER, sources.BUNDLE / FOLDER]
 
 
 def exports_of(name: str) -> list[tuple[tuple, Callable]]:

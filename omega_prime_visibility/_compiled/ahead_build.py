@@ -12,6 +12,7 @@ import os
 import shutil
 import tempfile
 import warnings
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -79,9 +80,10 @@ def type_key_of_arguments(arguments: tuple) -> tuple | None:
     return None if None in keys else ("tuple", *keys)
 
 
-def build(calls: dict[kernel.Kernel, set[tuple]], folder: Path) -> Path:
+def build(calls: dict[kernel.Kernel, set[tuple]], folder: Path, covers: Sequence[str] = ()) -> Path:
     """Compile the kernels ``calls`` names into the ahead-of-time build in ``folder`` (replaced whole: another
-    process sees the old build or the new one, never a part); the folder."""
+    process sees the old build or the new one, never a part), noting the paths that called them (``covers``, the
+    names ``compile`` gives them); the folder."""
     numba = kernel._numba()  # (kernels' globals typed as their dispatchers)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # (numba says its ahead-of-time compiler is to be replaced)
@@ -104,7 +106,8 @@ def build(calls: dict[kernel.Kernel, set[tuple]], folder: Path) -> Path:
         named = extension.with_name(f"{ahead.MODULE}-{sha256[:16]}{extension.name.removeprefix(ahead.MODULE)}")
         extension.rename(named)  # (named by its digest: a process reading an older manifest never loads this one)
         manifest = {"format": ahead.FORMAT, "key": remembered_sources_key(), "numpy": int(np.__version__.split(".")[0])}
-        manifest |= {"numba": numba.__version__, "extension": named.name, "sha256": sha256, "kernels": {}}
+        manifest |= {"numba": numba.__version__, "extension": named.name, "sha256": sha256, "covers": list(covers)}
+        manifest["kernels"] = {}
         for name, _, k, key in chosen:
             entries = manifest["kernels"].setdefault(f"{k.__module__}:{k.__qualname__}", [])
             entries.append({"export": name, "arguments": key})
