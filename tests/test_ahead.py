@@ -131,12 +131,11 @@ from omega_prime_visibility._compiled import ahead_build, kernel
 from omega_prime_visibility.cli import main
 folder, out = sys.argv[1:3]
 calls = kernel.record_calls()
-for ego in ("0", "all"):
-    sys.argv = ["omega-prime-visibility", "run", "highway_merge.mcap", "--ego", ego, "-o", out]
-    try:
-        main()
-    except SystemExit as stop:
-        assert not stop.code, stop.code
+sys.argv = ["omega-prime-visibility", "run", "highway_merge.mcap", "--ego", "0", "-o", out]
+try:
+    main()
+except SystemExit as stop:
+    assert not stop.code, stop.code
 ahead_build.build(calls, Path(folder))
 """
 
@@ -144,7 +143,8 @@ ahead_build.build(calls, Path(folder))
 def test_the_default_call_runs_from_the_build_without_numba(tmp_path: Path) -> None:
     cache = tmp_path / "cache"
     folder = cache / "omega-prime-visibility" / "kernels" / ahead.FOLDER
-    # what compile does (compile_ahead), for the calls below only: noted while they run, then built
+    # what compile does (compile_ahead), for the default call only: noted while it runs, then built; every object as
+    # observer then takes kernels the build lacks from numba, in the same process
     done = subprocess.run([sys.executable, "-c", NOTE_AND_BUILD, str(folder), str(tmp_path / "noted.parquet")],
                           cwd=REPO, capture_output=True, text=True, timeout=1200)  # fmt: skip
     assert done.returncode == 0, done.stderr[-2000:]
