@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import functools
 import importlib
-import sys
 import threading
 from collections.abc import Callable
 from typing import Any
@@ -117,7 +116,7 @@ def _ahead_exports(kernel: Kernel) -> list[tuple[tuple, Callable]]:
 
 def _note(kernel: Kernel, args: tuple) -> None:
     key = value_key(args)
-    if key is not None and CALLED is not None:
+    if key is not None:
         CALLED.setdefault(kernel, set()).add(key)
 
 
@@ -188,12 +187,3 @@ def value_key(value: Any) -> tuple | None:
     if isinstance(value, np.generic) and value.dtype.kind in "biuf" and value.dtype.isnative:
         return ("scalar", value.dtype.str)
     return None
-
-
-def numba_imported() -> bool:
-    """Whether this process imported numba (a default call from the ahead-of-time build does not).
-
-    >>> isinstance(numba_imported(), bool)
-    True
-    """
-    return "numba" in sys.modules
