@@ -75,3 +75,39 @@ def test_in_map_coordinates_with_the_observer_given_it_is_occludes_one(seed: int
     ]
     assert 0 < np.count_nonzero(exact) < len(exact)
     assert np.array_equal(fast, exact)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_a_ray_beyond_the_missed_margin_misses_the_body(seed: int) -> None:
+    """``missed_margin``'s bound, which lets the test pass over pieces that miss the body: every ray whose
+    direction lies outside a body's angular extent by more than the margin misses it by ``_nearest_edge``, for boxes
+    seen from afar, from a micrometre away and from within a ten-thousandth of a millimetre of a corner's line (where
+    the edges' slack is felt), in small and in map coordinates; rays just inside the extent hit it."""
+    from omega_prime_visibility.geometry.object_pairs import missed_margin
+    from omega_prime_visibility.geometry.occlusion import _nearest_edge
+
+    rng = np.random.default_rng(seed)
+    far = np.array([6.1e5, -5.3e6]) if seed == 2 else np.zeros(2)
+    n = 300
+    rings = box_rings(np.zeros(n), np.zeros(n), rng.uniform(0.5, 20, n), rng.uniform(0.5, 3, n), rng.uniform(-3, 3, n))
+    gap = 10.0 ** rng.uniform(-7, 2, n)  # the observer this far beyond a random vertex, along a random direction
+    tested = 0
+    for i in range(n):
+        box = rings.coords[4 * i : 4 * i + 4] + far
+        seg = np.stack([box, np.roll(box, -1, axis=0)], axis=1)
+        turn = rng.uniform(-math.pi, math.pi)
+        observer = box[rng.integers(4)] + gap[i] * np.array([math.cos(turn), math.sin(turn)])
+        start, width, _ = angular_extent(observer, type(rings)(box, np.array([0, 4])))
+        if width[0] >= math.pi:  # (the observer inside the box, or on an edge's line)
+            continue
+        margin = missed_margin(seg, 0, 4, observer[0], observer[1])
+        if not np.isfinite(margin):
+            continue
+        tested += 1
+        for beyond in (1.01, 2.0, 1e3):
+            for direction in (start[0] - beyond * margin, start[0] + width[0] + beyond * margin):
+                d = (math.cos(direction), math.sin(direction))
+                assert _nearest_edge(observer[0], observer[1], *d, seg, 0, 4) == -1
+        inside = start[0] + 0.5 * width[0]
+        assert _nearest_edge(observer[0], observer[1], math.cos(inside), math.sin(inside), seg, 0, 4) >= 0
+    assert tested > n // 2

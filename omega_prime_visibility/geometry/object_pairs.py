@@ -9,18 +9,55 @@ from __future__ import annotations
 import numpy as np
 
 from .._compiled.kernel import njit
-from .kernels import wrap_positive
-from .occlusion import MIN_PIECE, RELATIVE_TOLERANCE, _edge_line_distance, _nearest_edge
+from .kernels import TWO_PI, segment_distance2, wrap_positive
+from .occlusion import MIN_PIECE, RAY_SLACK, RELATIVE_TOLERANCE, _edge_line_distance, _nearest_edge
 from .sorting import insertion_sort
 
 
 @njit(cache=True, inline="always")
-def pieces_occlude(seg, t_start, t_stop, j_start, j_stop, extent_start, extent_width, cuts, k, ox, oy):
+def missed_margin(seg, start, stop, ox, oy):
+    """Radians beyond its angular extent within which a ray from ``(ox, oy)`` may still hit the body of edges
+    ``seg[start:stop]`` (metres) by :func:`.occlusion._nearest_edge`'s slack; ``inf`` when the observer lies too
+    near the body for a bound (then no direction is known to miss it).
+
+    A ray counts as hitting an edge of length ``L`` up to ``RAY_SLACK * L`` beyond its ends, at least ``near`` (the
+    body's distance) from the observer: at most ``RAY_SLACK * L / (near - RAY_SLACK * L)`` radians from a bearing
+    the extent covers. The margin is four times that, plus ``1e-8 / near`` for points rounded by a hundredth of a
+    micrometre (the shifts from map coordinates of ten thousand kilometres) and 1e-9 for the rounding of bearings.
+
+    >>> seg = np.array([[[10.0, -1.0], [10.0, 1.0]], [[10.0, 1.0], [12.0, 1.0]]])
+    >>> bool(2e-9 < missed_margin(seg, 0, 2, 0.0, 0.0) < 2.1e-9), missed_margin(seg, 0, 2, 10.0, 0.0)
+    (True, inf)
+    """
+    longest2 = 0.0
+    near2 = np.inf
+    for e in range(start, stop):
+        ax, ay = seg[e, 0, 0] - ox, seg[e, 0, 1] - oy
+        bx, by = seg[e, 1, 0] - ox, seg[e, 1, 1] - oy
+        longest2 = max(longest2, (bx - ax) ** 2 + (by - ay) ** 2)
+        near2 = min(near2, segment_distance2(ax, ay, bx, by))
+    longest, near = np.sqrt(longest2), np.sqrt(near2)
+    if not near > 1e-6 * longest:  # (NaN too)
+        return np.inf
+    return 1e-9 + (4.0 * RAY_SLACK * longest + 1e-8) / near
+
+
+@njit(cache=True, inline="always")
+def pieces_occlude(
+    seg, t_start, t_stop, j_start, j_stop, extent_start, extent_width, cuts, k, ox, oy, body_offset=0.0,
+    body_width=TWO_PI, body_margin=np.inf,
+):  # fmt: skip
     """The decision of ``occludes_one`` once its cuts are made: whether body ``J`` (``seg[j_start:j_stop]``) is hit
     before target ``T`` (``seg[t_start:t_stop]``) at an end of some piece between the sorted cuts ``cuts[:k]``
     (radians from ``extent_start``), the observer at ``(ox, oy)`` (metres, the frame of ``seg``); the same
     floating-point operations on the same operands as ``occludes_one``, the direction at a cut computed once for
-    the two pieces it bounds (inlined: no reference counting in the callers' loops)."""
+    the two pieces it bounds (inlined: no reference counting in the callers' loops).
+
+    Given ``J``'s angular extent, ``body_width`` radians from ``T``'s extent start minus ``body_offset`` (in
+    ``[0, 2 pi]``), and :func:`missed_margin`, a piece whose middle direction lies outside that extent by more than
+    the margin is passed over without looking for ``J``'s edges: the ray there misses ``J``, as the search would
+    find (about a third of the pieces among crowded, overlapping traffic).
+    """
     cached = -1  # the cut whose direction (cached_x, cached_y) was computed last
     cached_x, cached_y = 0.0, 0.0
     for i in range(k - 1):
@@ -29,6 +66,8 @@ def pieces_occlude(seg, t_start, t_stop, j_start, j_stop, extent_start, extent_w
             continue
         if extent_width <= u0:
             break
+        if body_width + body_margin < wrap_positive(body_offset + 0.5 * (u0 + u1)) < TWO_PI - body_margin:
+            continue  # (the ray misses J)
         mid = extent_start + 0.5 * (u0 + u1)
         dx, dy = np.cos(mid), np.sin(mid)
         body_edge = _nearest_edge(ox, oy, dx, dy, seg, j_start, j_stop)
@@ -77,6 +116,7 @@ def objects_occluded(seg, offsets, start, width, pair_target, pair_body, ox, oy)
     for i in range(n):
         most = max(most, offsets[i + 1] - offsets[i])
     bearing = np.empty(len(seg))
+    margin = np.empty(n)
     have_bearing = np.zeros(n, dtype=np.bool_)
     target_cuts = np.empty(most + 2)
     cuts = np.empty(2 * most + 2)
@@ -90,6 +130,7 @@ def objects_occluded(seg, offsets, start, width, pair_target, pair_body, ox, oy)
             if not have_bearing[body]:
                 for v in range(offsets[body], offsets[body + 1]):
                     bearing[v] = np.arctan2(seg[v, 0, 1] - oy, seg[v, 0, 0] - ox)
+                margin[body] = missed_margin(seg, offsets[body], offsets[body + 1], ox, oy)
                 have_bearing[body] = True
         if t != cut_target:  # the target's cuts: 0, its width and its vertices within it
             target_cuts[0] = 0.0
@@ -111,6 +152,7 @@ def objects_occluded(seg, offsets, start, width, pair_target, pair_body, ox, oy)
                 k += 1
         insertion_sort(cuts, k)
         hit[p] = pieces_occlude(
-            seg, offsets[t], offsets[t + 1], offsets[j], offsets[j + 1], extent_start, extent_width, cuts, k, ox, oy
-        )
+            seg, offsets[t], offsets[t + 1], offsets[j], offsets[j + 1], extent_start, extent_width, cuts, k, ox, oy,
+            wrap_positive(extent_start - start[j]), width[j], margin[j],
+        )  # fmt: skip
     return hit

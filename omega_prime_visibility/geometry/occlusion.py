@@ -107,6 +107,10 @@ def hidden_span(base, lo, hi, num_e, ex, ey, num_f, fx, fy):
     return (lo, swap) if hides_lo else (swap, hi)
 
 
+RAY_SLACK = 1e-12
+"""How far beyond an edge's ends (a fraction of its length) :func:`_nearest_edge` still counts a hit."""
+
+
 @njit(cache=True)
 def _nearest_edge(ox, oy, dx, dy, seg, start, stop):
     """Index of the segment in seg[start:stop] hit first by the ray (o, d), or -1."""
@@ -121,7 +125,7 @@ def _nearest_edge(ox, oy, dx, dy, seg, start, stop):
         wx, wy = ax - ox, ay - oy
         t = (wx * ey - wy * ex) / den
         u = (wx * dy - wy * dx) / den
-        if t > 0.0 and -1e-12 <= u <= 1.0 + 1e-12 and t < best:
+        if t > 0.0 and -RAY_SLACK <= u <= 1.0 + RAY_SLACK and t < best:
             best = t
             arg = j
     return arg
