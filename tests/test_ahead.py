@@ -224,3 +224,36 @@ def test_the_package_copy_keeps_a_build_the_user_cache_lacks(small_build: Path, 
     sources.kernels_cache().mkdir(parents=True)
     assert copies.bundle() == package
     assert ahead.read_manifest(package / ahead.FOLDER) == ahead.read_manifest(small_build)
+
+
+def test_the_processor_level_is_x86_64_v3_only_where_every_processor_has_its_instructions(tmp_path, monkeypatch):
+    monkeypatch.setattr(ahead.platform, "machine", lambda: "x86_64")
+    info = tmp_path / "cpuinfo"
+    every = " ".join(sorted(ahead.V3_FLAGS | {"fpu", "sse2", "avx512f"}))
+    info.write_text(f"processor\t: 0\nflags\t\t: {every}\n\nprocessor\t: 1\nflags\t\t: {every}\n")
+    assert ahead.processor_level(info) == ahead.X86_64_V3
+    info.write_text(f"processor\t: 0\nflags\t\t: {every}\n\nprocessor\t: 1\nflags\t\t: {every.replace('fma', 'f')}\n")
+    assert ahead.processor_level(info) == ""  # (one processor without FMA)
+    assert ahead.processor_level(tmp_path / "none") == ""
+    info.write_text("processor\t: 0\n")
+    assert ahead.processor_level(info) == ""  # (no flags said)
+    monkeypatch.setattr(ahead.platform, "machine", lambda: "aarch64")
+    info.write_text(f"flags\t\t: {every}\n")
+    assert ahead.processor_level(info) == ""
+
+
+def test_a_build_for_x86_64_v3_is_taken_only_where_the_machine_has_it(small_build: Path, tmp_path: Path, monkeypatch):
+    """The build records the level it was compiled for; one for x86-64-v3 is left aside on a machine without those
+    instructions (its code would stop at the first one), a baseline build is taken everywhere."""
+    assert ahead.read_manifest(small_build)["cpu"] == ahead.processor_level()
+    other = tmp_path / ahead.FOLDER
+    other.mkdir()
+    for path in small_build.iterdir():
+        other.joinpath(path.name).write_bytes(path.read_bytes())
+    manifest = json.loads((other / ahead.MANIFEST).read_text())
+    monkeypatch.setattr(ahead, "folders", lambda: [other])
+    for built, here, taken in [("x86-64-v3", "x86-64-v3", True), ("x86-64-v3", "", False), ("", "", True),
+                               ("", "x86-64-v3", True), ("znver9", "x86-64-v3", False)]:  # fmt: skip
+        (other / ahead.MANIFEST).write_text(json.dumps(manifest | {"cpu": built}))
+        monkeypatch.setattr(ahead, "processor_level", lambda cpuinfo=None, level=here: level)
+        assert (ahead.current_build() is not None) == taken, (built, here)

@@ -3,11 +3,12 @@
 ``omega-prime-visibility compile`` (which ``make run`` and building the package run) compiles every kernel the
 MCAP reader, the default ``visilibity`` engine and the ``sweep`` engine call from Python into one extension module,
 with numba's ahead-of-time compiler (:mod:`.ahead_build`), for each argument type it was called with. The module needs
-neither numba nor LLVM to load, and is compiled for the processor family's baseline (x86-64 without AVX, or
-aarch64), so it runs on any machine of that family: a wheel, container image or cluster node with another CPU loads
-it too. Its manifest names the sources it was built from (:func:`.sources.sources_key`): after any edit of a kernel's
-sources, or under another numpy, it is left aside and numba's cache serves (compiling what the edit touched) until
-``compile`` runs again.
+neither numba nor LLVM to load. It is compiled for :func:`processor_level`: x86-64-v3 (AVX2 and FMA, the processors of
+the last ten years) where the machine building it has those instructions and says so (Linux), else the processor
+family's baseline (x86-64 without AVX, or aarch64); a build for x86-64-v3 is loaded only where the machine has them
+too, a baseline build everywhere. Its manifest names the sources it was built from (:func:`.sources.sources_key`):
+after any edit of a kernel's sources, or under another numpy, it is left aside and numba's cache serves (compiling
+what the edit touched) until ``compile`` runs again.
 
 Examples
 --------
@@ -18,11 +19,14 @@ Examples
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import importlib.machinery
 import importlib.util
 import json
 import os
+import platform
+import sys
 import threading
 from collections.abc import Callable
 from pathlib import Path
@@ -45,8 +49,16 @@ left aside."""
 SUFFIXES = tuple(importlib.machinery.EXTENSION_SUFFIXES)
 """The file endings this Python loads extensions by (a build for another Python is left aside)."""
 MANIFEST = "manifest.json"
-"""What the build holds: its format, the sources' key, numpy's major version, numba's version, the extension's file
-name and SHA-256 and, per kernel, its exports and their argument types (:func:`.kernel.value_key`)."""
+"""What the build holds: its format, the sources' key, numpy's major version, numba's version, the processor level
+(:func:`processor_level`), the extension's file name and SHA-256 and, per kernel, its exports and their argument
+types (:func:`.kernel.value_key`)."""
+
+X86_64_V3 = "x86-64-v3"
+"""The processor level a build on a machine with :data:`V3_FLAGS` is compiled for (LLVM's name for it)."""
+V3_FLAGS = frozenset("avx avx2 bmi1 bmi2 f16c fma abm movbe xsave cx16 lahf_lm popcnt pni sse4_1 sse4_2 ssse3".split())
+"""The instructions of x86-64-v3 (and of v2 below it) as Linux's ``/proc/cpuinfo`` names them (``abm``: LZCNT,
+``pni``: SSE3)."""
+CPUINFO = Path("/proc/cpuinfo")
 
 _LOCK = threading.Lock()
 _EXPORTS: dict[str, list[tuple[tuple, Callable]]] | None = None
@@ -85,12 +97,43 @@ def current_build() -> tuple[Path, dict] | None:
         name = manifest.get("extension")
         if manifest.get("numba") != installed_numba() or not isinstance(name, str) or not name.endswith(SUFFIXES):
             continue
+        if manifest.get("cpu", "") not in ("", processor_level()):  # (a build for x86-64-v3 on a machine without)
+            continue
         try:  # (the file is named by its digest: a build replaced meanwhile is another file, never this one)
             if manifest.get("sha256") == digest(folder / name):
                 return folder / name, manifest
         except OSError:
             pass
     return None
+
+
+def processor_level(cpuinfo: Path | None = None) -> str:
+    """The processor level builds are made for and may be loaded on here: :data:`X86_64_V3` on an x86-64 machine
+    whose ``/proc/cpuinfo`` (or ``cpuinfo``) lists every one of :data:`V3_FLAGS` for every processor, else ``""``
+    (the family's baseline: any machine of it runs such a build).
+
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as tmp:
+    ...     info = Path(tmp) / "cpuinfo"
+    ...     _ = info.write_text("flags : fpu sse2 avx avx2")  # (a processor without BMI, FMA, ...)
+    ...     processor_level(info)
+    ''
+    """
+    if cpuinfo is None:
+        return _machine_level()
+    if platform.machine().lower() not in ("x86_64", "amd64"):
+        return ""
+    try:
+        text = cpuinfo.read_text(encoding="utf-8", errors="replace")
+    except OSError:
+        return ""
+    flags = [set(line.partition(":")[2].split()) for line in text.splitlines() if line.startswith("flags")]
+    return X86_64_V3 if flags and all(V3_FLAGS <= one for one in flags) else ""
+
+
+@functools.cache
+def _machine_level() -> str:
+    return processor_level(CPUINFO) if sys.platform.startswith("linux") else ""
 
 
 def read_manifest(folder: Path) -> dict | None:

@@ -97,7 +97,8 @@ def build(calls: dict[kernel.Kernel, set[tuple]], folder: Path, covers: Sequence
     try:
         compiler = CC(ahead.MODULE)
         compiler.output_dir = str(partial)
-        compiler.target_cpu = ""  # the processor family's baseline: any machine of it runs the build
+        level = ahead.processor_level()
+        compiler.target_cpu = level  # x86-64-v3 where this machine has it (loaded only where it is), else the baseline
         for name, signature, k, _ in chosen:
             compiler.export(name, signature)(k.py_func)
         compiler.compile()
@@ -106,7 +107,8 @@ def build(calls: dict[kernel.Kernel, set[tuple]], folder: Path, covers: Sequence
         named = extension.with_name(f"{ahead.MODULE}-{sha256[:16]}{extension.name.removeprefix(ahead.MODULE)}")
         extension.rename(named)  # (named by its digest: a process reading an older manifest never loads this one)
         manifest = {"format": ahead.FORMAT, "key": remembered_sources_key(), "numpy": int(np.__version__.split(".")[0])}
-        manifest |= {"numba": numba.__version__, "extension": named.name, "sha256": sha256, "covers": list(covers)}
+        manifest |= {"numba": numba.__version__, "cpu": level, "extension": named.name, "sha256": sha256}
+        manifest["covers"] = list(covers)
         manifest["kernels"] = {}
         for name, _, k, key in chosen:
             entries = manifest["kernels"].setdefault(f"{k.__module__}:{k.__qualname__}", [])

@@ -175,8 +175,10 @@ def compile_kernels(
     jobs = jobs or min(2, len(os.sched_getaffinity(0)))
     ready = [n for n in names if _compiled.has_run(f"compile-{n}")]
     todo = [n for n in names if n not in ready]
-    built = ahead.current_build()  # (one that fits, holding these paths, is kept)
-    ahead_todo = all(n in names for n in AHEAD_OF) and (built is None or built[1].get("covers") != list(AHEAD_OF))
+    built = ahead.current_build()  # (one that fits, holding these paths, made for this processor level, is kept)
+    kept = built is not None and built[1].get("covers") == list(AHEAD_OF)
+    kept = kept and built[1].get("cpu", "") == ahead.processor_level()
+    ahead_todo = all(n in names for n in AHEAD_OF) and not kept
     then = f", then the default call's ahead of time ({AHEAD})" if ahead_todo else ""
     if not todo:
         typer.echo(f"the kernels of {', '.join(names)} are compiled already for this version; checking them{then}")
