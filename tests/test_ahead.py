@@ -228,6 +228,9 @@ def test_the_package_copy_keeps_a_build_the_user_cache_lacks(small_build: Path, 
 
 def test_the_processor_level_is_x86_64_v3_only_where_every_processor_has_its_instructions(tmp_path, monkeypatch):
     monkeypatch.setattr(ahead.platform, "machine", lambda: "x86_64")
+    # x86-64-v3 (AVX, AVX2, BMI1, BMI2, F16C, FMA, LZCNT, MOVBE, XSAVE) and v2 under it, as Linux names them
+    v3 = "avx avx2 bmi1 bmi2 f16c fma abm movbe xsave cx16 lahf_lm popcnt pni sse4_1 sse4_2 ssse3".split()
+    assert set(v3) <= ahead.V3_FLAGS
     info = tmp_path / "cpuinfo"
     every = " ".join(sorted(ahead.V3_FLAGS | {"fpu", "sse2", "avx512f"}))
     info.write_text(f"processor\t: 0\nflags\t\t: {every}\n\nprocessor\t: 1\nflags\t\t: {every}\n")

@@ -43,9 +43,10 @@ MODULE = "omega_prime_visibility_ahead"
 named by its SHA-256)."""
 SWITCH = "OMEGA_PRIME_VISIBILITY_AHEAD"
 """``OMEGA_PRIME_VISIBILITY_AHEAD=0`` leaves the build aside (every kernel from numba, as before it was built)."""
-FORMAT = 1
+FORMAT = 2
 """The version of the build's layout and of its argument keys (:func:`.kernel.value_key`): a build of another is
-left aside."""
+left aside. 2: the manifest holds the processor level (a package that reads format 1 would not check it, and must
+never load a build for x86-64-v3 on a machine without those instructions)."""
 SUFFIXES = tuple(importlib.machinery.EXTENSION_SUFFIXES)
 """The file endings this Python loads extensions by (a build for another Python is left aside)."""
 MANIFEST = "manifest.json"
