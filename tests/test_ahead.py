@@ -47,6 +47,15 @@ def from_build(small_build: Path, monkeypatch):
     return small_build
 
 
+def _copy_of(build: Path, tmp_path: Path) -> tuple[Path, dict]:
+    """A copy of the build ``build`` in ``tmp_path`` and its manifest, to be changed by a test."""
+    copy = tmp_path / ahead.FOLDER
+    copy.mkdir()
+    for path in build.iterdir():
+        copy.joinpath(path.name).write_bytes(path.read_bytes())
+    return copy, json.loads((copy / ahead.MANIFEST).read_text())
+
+
 def test_the_build_holds_what_was_called(small_build: Path) -> None:
     manifest = json.loads((small_build / ahead.MANIFEST).read_text())
     assert manifest["key"] == ahead.remembered_sources_key()
@@ -82,11 +91,7 @@ def test_the_build_is_taken_only_for_the_types_it_holds(from_build, monkeypatch)
 
 
 def test_a_build_of_other_sources_is_left_aside(small_build: Path, tmp_path: Path, monkeypatch) -> None:
-    stale = tmp_path / ahead.FOLDER
-    stale.mkdir()
-    for path in small_build.iterdir():
-        stale.joinpath(path.name).write_bytes(path.read_bytes())
-    manifest = json.loads((stale / ahead.MANIFEST).read_text())
+    stale, manifest = _copy_of(small_build, tmp_path)
     manifest["key"] = "0" * 16
     (stale / ahead.MANIFEST).write_text(json.dumps(manifest))
     monkeypatch.setattr(ahead, "folders", lambda: [stale])
@@ -200,11 +205,7 @@ def test_types_the_build_never_stands_for() -> None:
 def test_a_build_for_another_numba_numpy_python_or_format_is_left_aside(
     small_build: Path, tmp_path: Path, monkeypatch, change
 ) -> None:
-    other = tmp_path / ahead.FOLDER
-    other.mkdir()
-    for path in small_build.iterdir():
-        other.joinpath(path.name).write_bytes(path.read_bytes())
-    manifest = json.loads((other / ahead.MANIFEST).read_text())
+    other, manifest = _copy_of(small_build, tmp_path)
     monkeypatch.setattr(ahead, "folders", lambda: [other])
     assert ahead.current_build() is not None
     (other / ahead.MANIFEST).write_text(json.dumps(manifest | change))
@@ -249,11 +250,7 @@ def test_a_build_for_x86_64_v3_is_taken_only_where_the_machine_has_it(small_buil
     """The build records the level it was compiled for; one for x86-64-v3 is left aside on a machine without those
     instructions (its code would stop at the first one), a baseline build is taken everywhere."""
     assert ahead.read_manifest(small_build)["cpu"] == ahead.processor_level()
-    other = tmp_path / ahead.FOLDER
-    other.mkdir()
-    for path in small_build.iterdir():
-        other.joinpath(path.name).write_bytes(path.read_bytes())
-    manifest = json.loads((other / ahead.MANIFEST).read_text())
+    other, manifest = _copy_of(small_build, tmp_path)
     monkeypatch.setattr(ahead, "folders", lambda: [other])
     for built, here, taken in [("x86-64-v3", "x86-64-v3", True), ("x86-64-v3", "", False), ("", "", True),
                                ("", "x86-64-v3", True), ("znver9", "x86-64-v3", False)]:  # fmt: skip
