@@ -5,8 +5,8 @@ Each engine: ``omega-prime-visibility run highway_merge.mcap --ego 0 --engine NA
 recording, 201 frames, 7 objects; ``--mode 3d`` for the 3D engines) in a fresh process, first with an empty user
 cache (a private ``XDG_CACHE_HOME``: a fresh user, container or cluster node; the kernels come from the package's
 copy, which ``make run`` and the package's build leave in ``omega_prime_visibility/_kernels``), then again, seven
-times (warm: mostly importing polars and numpy, and numba for the 3D engines; the kernels of the default engine and
-of the sweep come from the build made ahead of time). Then ``omega-prime-visibility compile`` into another empty
+times (warm: mostly importing polars and numpy, and the work; every engine's kernels come from the build made ahead
+of time, numba is never imported). Then ``omega-prime-visibility compile`` into another empty
 cache, as ``make run`` does it (with the package's copy current it only checks). Wall time; the machine may be
 shared, so compare figures of one run. CI reports the same first call after ``pip install -e`` (.ci/pip_check.py).
 """
@@ -44,7 +44,7 @@ def main() -> None:
     args = parser.parse_args()
     print(f"python {sys.version.split()[0]}, {os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}")
     print(f"{'engine':14} {'cold first call':>16} {'target':>8} {'warm call':>10} {'target':>8}   (warm: median of"
-          f" {WARM_RUNS}; visilibity and sweep from the build made ahead of time, without numba)")  # fmt: skip
+          f" {WARM_RUNS}; every engine from the build made ahead of time, without numba)")  # fmt: skip
     with tempfile.TemporaryDirectory() as folder:
         for engine in args.engines:
             cache = Path(folder) / engine

@@ -4,7 +4,8 @@ package and compare them with another's (``polars.DataFrame.equals``).
 Scenes: the bundled and the upstream ``highway_merge.mcap`` (every object as observer, with the upstream README's
 wall, both engines), random crowded highways (:func:`bench.crowded_highway`, with and without a polygon column,
 overlapping vehicles), the tidy synthetic highway with every object as observer, and the urban junction of
-``scenarios/urban.py`` with its buildings (the ego, and every road user on a few frames; both engines).
+``scenarios/urban.py`` with its buildings (the ego, and every road user on a few frames; both engines); in 3D, both
+engines on the bundled recording, the crowded highway's typical sensor set and the town with its buildings' heights.
 
 Usage (the reference from an older commit, unpacked outside the repository)::
 
@@ -79,6 +80,18 @@ def tables(data: Path) -> Iterator[tuple[str, pl.DataFrame]]:
     for engine in ("visilibity", "sweep"):
         out = get_visibility_df(bundled, "all", [WALL], engine=engine, progress=False, workers=1, sensors=offset)
         yield f"bundled-all-offset-wall-{engine}", out
+    # 3D: both engines on the bundled recording (every object as observer), the crowded highway's sensors and the
+    # town's buildings raised to their heights
+    from urban import building_heights
+
+    heights = building_heights(buildings)
+    tall = pl.col("idx") % 7 * 0.25 + 1.4  # cars and vans of 1.4 to 2.9 m, on the ground
+    raised = crowded_highway(50, 60, seed=4).with_columns(height=tall, z=tall / 2, roll=pl.lit(0.0), pitch=pl.lit(0.0))
+    for engine in ("silhouette3d", "raycast3d"):
+        three = {"engine": engine, "mode": "3d", "progress": False, "workers": 1}
+        yield f"bundled-all-{engine}", get_visibility_df(bundled, "all", **three)
+        yield f"crowded-4-typical-{engine}", get_visibility_df(raised, 0, sensors="typical", **three)
+        yield f"urban-ego-{engine}", get_visibility_df(town, 0, buildings, static_occluder_heights=heights, **three)
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -121,7 +121,8 @@ def test_the_switch_leaves_the_build_aside(from_build, monkeypatch) -> None:
 CALL = """
 import sys
 from omega_prime_visibility.cli import main
-sys.argv = ["omega-prime-visibility", "run", "highway_merge.mcap", "--ego", sys.argv[1], "-o", sys.argv[2]]
+ego, out, *more = sys.argv[1:]
+sys.argv = ["omega-prime-visibility", "run", "highway_merge.mcap", "--ego", ego, "-o", out, *more]
 try:
     main()
 finally:
@@ -136,37 +137,38 @@ from omega_prime_visibility._compiled import ahead_build, kernel
 from omega_prime_visibility.cli import main
 folder, out = sys.argv[1:3]
 calls = kernel.record_calls()
-sys.argv = ["omega-prime-visibility", "run", "highway_merge.mcap", "--ego", "0", "-o", out]
-try:
-    main()
-except SystemExit as stop:
-    assert not stop.code, stop.code
+for mode in ("2d", "3d"):  # the default engine of each
+    sys.argv = ["omega-prime-visibility", "run", "highway_merge.mcap", "--ego", "0", "-o", out, "--mode", mode]
+    try:
+        main()
+    except SystemExit as stop:
+        assert not stop.code, stop.code
 ahead_build.build(calls, Path(folder))
 """
 
 
-def test_the_default_call_runs_from_the_build_without_numba(tmp_path: Path) -> None:
+def test_the_default_calls_run_from_the_build_without_numba(tmp_path: Path) -> None:
     cache = tmp_path / "cache"
     folder = cache / "omega-prime-visibility" / "kernels" / ahead.FOLDER
-    # what compile does (compile_ahead), for the default call only: noted while it runs, then built; every object as
-    # observer then takes kernels the build lacks from numba, in the same process
+    # what compile does (compile_ahead), for the default calls of 2D and 3D only: noted while they run, then built;
+    # every object as observer then takes kernels the build lacks from numba, in the same process
     done = subprocess.run([sys.executable, "-c", NOTE_AND_BUILD, str(folder), str(tmp_path / "noted.parquet")],
                           cwd=REPO, capture_output=True, text=True, timeout=1200)  # fmt: skip
     assert done.returncode == 0, done.stderr[-2000:]
     # a user whose cache holds only the build (no package copy): nothing of numba's is loaded, the table is numba's
     env = os.environ | {"XDG_CACHE_HOME": str(cache)}
     env.pop("NUMBA_CACHE_DIR", None)
-    for ego in ("0", "all"):
-        out = tmp_path / f"built-{ego}.parquet"
-        done = subprocess.run([sys.executable, "-c", CALL, ego, str(out)], cwd=REPO, env=env,
+    for ego, mode in (("0", "2d"), ("all", "2d"), ("0", "3d")):
+        out = tmp_path / f"built-{ego}-{mode}.parquet"
+        done = subprocess.run([sys.executable, "-c", CALL, ego, str(out), "--mode", mode], cwd=REPO, env=env,
                               capture_output=True, text=True, timeout=600)  # fmt: skip
         assert done.returncode == 0, done.stderr[-2000:]
         if ego == "0":
             assert done.stderr.strip().endswith("numba not imported"), done.stderr[-2000:]
-        reference = tmp_path / f"numba-{ego}.parquet"
+        reference = tmp_path / f"numba-{ego}-{mode}.parquet"
         off = {ahead.SWITCH: "0", "XDG_CACHE_HOME": os.environ.get("XDG_CACHE_HOME", str(Path.home() / ".cache"))}
-        done = subprocess.run([sys.executable, "-c", CALL, ego, str(reference)], cwd=REPO, env=env | off,
-                              capture_output=True, text=True, timeout=1200)  # fmt: skip
+        done = subprocess.run([sys.executable, "-c", CALL, ego, str(reference), "--mode", mode], cwd=REPO,
+                              env=env | off, capture_output=True, text=True, timeout=1200)  # fmt: skip
         assert done.returncode == 0 and done.stderr.strip().endswith("numba imported"), done.stderr[-2000:]
         assert pq.read_table(out).equals(pq.read_table(reference))
 

@@ -14,8 +14,9 @@ quick): the package's locator is put first among numba's when numba loads its ca
 (:mod:`.hook`, :mod:`.locator`).
 
 Every kernel is declared with :func:`.kernel.njit`, which makes numba's dispatcher only when first needed: the
-default call's kernels (and the sweep engine's) run from a build made ahead of time (:mod:`.ahead`, built by
-``compile`` with :mod:`.ahead_build`) without importing numba, where that build holds them for the current sources.
+kernels the reader and the engines call from Python (2D and 3D) run from a build made ahead of time (:mod:`.ahead`,
+built by ``compile`` with :mod:`.ahead_build`) without importing numba, where that build holds them for the current
+sources.
 """
 
 from .hook import install_locator

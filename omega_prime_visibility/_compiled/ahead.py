@@ -1,14 +1,14 @@
-"""The ahead-of-time build of the default call's kernels (and the sweep engine's): found, checked, loaded.
+"""The ahead-of-time build of the reader's and the engines' kernels: found, checked, loaded.
 
-``omega-prime-visibility compile`` (which ``make run`` and building the package run) compiles every kernel the
-MCAP reader, the default ``visilibity`` engine and the ``sweep`` engine call from Python into one extension module,
-with numba's ahead-of-time compiler (:mod:`.ahead_build`), for each argument type it was called with. The module needs
-neither numba nor LLVM to load. It is compiled for :func:`processor_level`: x86-64-v3 (AVX2 and FMA, the processors of
-the last ten years) where the machine building it has those instructions and says so (Linux), else the processor
-family's baseline (x86-64 without AVX, or aarch64); a build for x86-64-v3 is loaded only where the machine has them
-too, a baseline build everywhere. Its manifest names the sources it was built from (:func:`.sources.sources_key`):
-after any edit of a kernel's sources, or under another numpy, it is left aside and numba's cache serves (compiling
-what the edit touched) until ``compile`` runs again.
+``omega-prime-visibility compile`` (which ``make run`` and building the package run) compiles every kernel the MCAP
+reader and the engines (``visilibity``, ``sweep``, ``raycast3d``, ``silhouette3d``) call from Python into one
+extension module with numba's ahead-of-time compiler (:mod:`.ahead_build`), for each argument type it was called
+with. The module needs neither numba nor LLVM to load. It is compiled for :func:`processor_level`: x86-64-v3 (AVX2
+and FMA, the processors of the last ten years) where the machine building it has those instructions and says so
+(Linux), else the processor family's baseline (x86-64 without AVX, or aarch64); a build for x86-64-v3 is loaded only
+where the machine has them too, a baseline build everywhere. Its manifest names the sources it was built from
+(:func:`.sources.sources_key`): after any edit of a kernel's sources, or under another numpy, it is left aside and
+numba's cache serves (compiling what the edit touched) until ``compile`` runs again.
 
 Examples
 --------

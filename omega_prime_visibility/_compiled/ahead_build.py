@@ -1,8 +1,8 @@
 """Compiling the ahead-of-time build (:mod:`.ahead`) with numba's ahead-of-time compiler (``numba.pycc``).
 
-The kernels and argument types to build are those the default path called from Python while it ran
-(:func:`.kernel.record_calls`), each with the signature numba compiled for those types, so the build holds exactly
-what a default call uses. This module imports numba (and needs setuptools, as numba's ahead-of-time compiler does).
+The kernels and argument types to build are those the reader's and the engines' paths called from Python while they
+ran (:func:`.kernel.record_calls`), each with the signature numba compiled for those types, so the build holds
+exactly what such a call uses. This module imports numba (and needs setuptools, as numba's ahead-of-time compiler does).
 """
 
 from __future__ import annotations

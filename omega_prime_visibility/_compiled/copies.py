@@ -87,7 +87,7 @@ def bundle() -> Path | None:
         sources.write_memo(memo, sources.remembered_sources())
         (partial / "sources").mkdir()
         shutil.copyfile(memo, partial / "sources" / memo.name)
-        built = ahead.current_build()  # the default call's kernels built ahead of time (here, or the user's)
+        built = ahead.current_build()  # the engines' kernels built ahead of time (here, or the user's)
         if built is not None:
             shutil.copytree(built[0].parent, partial / ahead.FOLDER)
         shutil.rmtree(target, ignore_errors=True)
